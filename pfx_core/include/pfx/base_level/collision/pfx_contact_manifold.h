@@ -1,0 +1,86 @@
+// Contact information between two rigid bodies: at most four points (seed chapter 2,
+// "Collision Information" and chapter 10, "Compose Contact Points").
+#pragma once
+
+#include "pfx/base_level/base/pfx_vec_math.h"
+#include "pfx/base_level/solver/pfx_constraint_row.h"
+
+namespace pfx {
+
+// One contact point. The normal points from body A to body B; m_distance is the
+// separation along it (negative when the shapes overlap, positive for a speculative
+// contact that only stops the bodies from closing the gap within the step).
+struct PfxContactPoint {
+  PfxConstraintRow m_constraintRow[3];  // normal, then two friction directions
+  PfxVector3 m_localPointA;             // in the frame of body A
+  PfxVector3 m_localPointB;             // in the frame of body B
+  PfxFloat m_distance;
+  PfxFloat m_approachVelocity;  // normal velocity before solving, for restitution
+  PfxFloat m_maxImpulse;        // largest normal impulse of the last solve
+  PfxUInt32 m_duration;         // frames this point has persisted
+  PfxUInt8 m_shapeIdA;          // which shape of a compound
+  PfxUInt8 m_shapeIdB;
+  PfxUInt16 m_padding;
+
+  const PfxVector3& getNormal() const { return m_constraintRow[0].m_normal; }
+};
+
+// A new point as narrow phase reports it, before it joins a manifold.
+struct PfxContactCandidate {
+  PfxVector3 m_normal;       // world, from A to B
+  PfxVector3 m_pointA;       // world, on the surface of A
+  PfxVector3 m_pointB;       // world, on the surface of B
+  PfxFloat m_distance;
+  PfxUInt8 m_shapeIdA;
+  PfxUInt8 m_shapeIdB;
+};
+
+class PfxContactManifold {
+ public:
+  void reset(PfxUInt32 rigidBodyIdA, PfxUInt32 rigidBodyIdB);
+
+  PfxUInt32 getRigidBodyIdA() const { return m_rigidBodyIdA; }
+  PfxUInt32 getRigidBodyIdB() const { return m_rigidBodyIdB; }
+  PfxUInt32 getNumContacts() const { return m_numContacts; }
+  PfxContactPoint& getContactPoint(PfxUInt32 i) { return m_contactPoints[i]; }
+  const PfxContactPoint& getContactPoint(PfxUInt32 i) const { return m_contactPoints[i]; }
+  PfxFloat getCompositeFriction() const { return m_compositeFriction; }
+  PfxFloat getCompositeRestitution() const { return m_compositeRestitution; }
+  void setCompositeFriction(PfxFloat f) { m_compositeFriction = f; }
+  void setCompositeRestitution(PfxFloat e) { m_compositeRestitution = e; }
+
+  // Replaces the points by the best four of `candidates` (the deepest, then those that
+  // maximise the covered area). A new point close to a point of the previous frame on the
+  // same shapes inherits its accumulated impulses and age, so warm starting carries over;
+  // `matchDistanceSq` bounds how far (squared, in A's frame) such a point may have moved.
+  void update(const PfxContactCandidate* candidates, PfxUInt32 numCandidates,
+              const PfxTransform3& transformA, const PfxTransform3& transformB,
+              PfxFloat matchDistanceSq);
+
+  // Recomputes each point's distance from its anchors and the current poses, and drops
+  // points whose bodies moved apart along the normal by more than `breakDistance` or slid
+  // sideways by more than `breakDistance` (seed chapter 4, pfxRefreshContacts).
+  void refresh(const PfxTransform3& transformA, const PfxTransform3& transformB,
+               PfxFloat breakDistance);
+
+  void removeContactPoint(PfxUInt32 i);
+  void clearContacts() { m_numContacts = 0; }
+
+  // Deepest penetration among the points (0 when none overlap).
+  PfxFloat getPenetrationDepth() const;
+
+ private:
+  PfxContactPoint m_contactPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxUInt32 m_rigidBodyIdA;
+  PfxUInt32 m_rigidBodyIdB;
+  PfxFloat m_compositeFriction;
+  PfxFloat m_compositeRestitution;
+  PfxUInt32 m_numContacts;
+};
+
+// Chooses at most four of `count` candidates: the deepest first, then the ones that make
+// the covered polygon largest. Writes their indices to `chosen` and returns how many.
+PfxUInt32 pfxReduceContactCandidates(const PfxContactCandidate* candidates, PfxUInt32 count,
+                                     PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD]);
+
+}  // namespace pfx

@@ -1,0 +1,68 @@
+// Position, orientation, velocities and behaviour of one rigid body (seed chapter 2).
+#pragma once
+
+#include "pfx/base_level/base/pfx_vec_math.h"
+#include "pfx/base_level/rigidbody/pfx_motion_type.h"
+
+namespace pfx {
+
+class PfxRigidState {
+ public:
+  void reset();
+
+  const PfxVector3& getPosition() const { return m_position; }
+  const PfxQuat& getOrientation() const { return m_orientation; }
+  const PfxVector3& getLinearVelocity() const { return m_linearVelocity; }
+  const PfxVector3& getAngularVelocity() const { return m_angularVelocity; }
+  PfxMotionType getMotionType() const { return static_cast<PfxMotionType>(m_motionType); }
+  PfxUInt32 getRigidBodyId() const { return m_rigidBodyId; }
+  PfxUInt32 getContactFilterSelf() const { return m_contactFilterSelf; }
+  PfxUInt32 getContactFilterTarget() const { return m_contactFilterTarget; }
+  bool isAsleep() const { return m_sleeping != 0; }
+  bool isAwake() const { return m_sleeping == 0; }
+  PfxUInt16 getSleepCount() const { return m_sleepCount; }
+
+  void setPosition(const PfxVector3& p) { m_position = p; }
+  void setOrientation(const PfxQuat& q) { m_orientation = q; }
+  void setLinearVelocity(const PfxVector3& v) { m_linearVelocity = v; }
+  void setAngularVelocity(const PfxVector3& w) { m_angularVelocity = w; }
+  void setMotionType(PfxMotionType t) { m_motionType = t; }
+  void setRigidBodyId(PfxUInt32 id) { m_rigidBodyId = id; }
+  void setContactFilterSelf(PfxUInt32 f) { m_contactFilterSelf = f; }
+  void setContactFilterTarget(PfxUInt32 f) { m_contactFilterTarget = f; }
+  void sleep() { m_sleeping = 1; }
+  void wakeup() { m_sleeping = 0; m_sleepCount = 0; }
+  void incrementSleepCount() { if (m_sleepCount < 0xffff) ++m_sleepCount; }
+  void resetSleepCount() { m_sleepCount = 0; }
+
+  PfxTransform3 getTransform() const { return pfxMakeTransform(m_orientation, m_position); }
+
+  // A body whose every value is finite and whose orientation is a unit quaternion;
+  // anything else would spread NaN through the solver.
+  bool isValid() const;
+
+ private:
+  PfxVector3 m_position;
+  PfxQuat m_orientation;
+  PfxVector3 m_linearVelocity;
+  PfxVector3 m_angularVelocity;
+  PfxUInt32 m_rigidBodyId;
+  PfxUInt32 m_contactFilterSelf;
+  PfxUInt32 m_contactFilterTarget;
+  PfxUInt16 m_sleepCount;
+  PfxUInt8 m_motionType;
+  PfxUInt8 m_sleeping;
+};
+
+// Drives a keyframe body toward a target pose over the next step: the change of pose
+// becomes the linear and angular velocity that the other bodies see (seed 4_motion_type).
+PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,
+                              const PfxQuat& targetOrientation, PfxFloat timeStep);
+
+// Whether two bodies' contact filters let them meet: (SelfA & TargetB) && (TargetA & SelfB).
+inline bool pfxContactFiltersMatch(PfxUInt32 selfA, PfxUInt32 targetA, PfxUInt32 selfB,
+                                   PfxUInt32 targetB) {
+  return (selfA & targetB) != 0 && (targetA & selfB) != 0;
+}
+
+}  // namespace pfx

@@ -1,0 +1,18 @@
+// What the constraint solver needs of one rigid body, copied out before the iterations so
+// that they touch as little memory as possible (seed chapter 2, "Solver Body"). The solver
+// accumulates velocity changes here; pfxSolveConstraints adds them to the states at the end.
+#pragma once
+
+#include "pfx/base_level/base/pfx_vec_math.h"
+
+namespace pfx {
+
+struct PfxSolverBody {
+  PfxVector3 m_deltaLinearVelocity;
+  PfxVector3 m_deltaAngularVelocity;
+  PfxMatrix3 m_inertiaInv;  // world frame
+  PfxFloat m_massInv;
+  PfxUInt32 m_motionType;
+};
+
+}  // namespace pfx

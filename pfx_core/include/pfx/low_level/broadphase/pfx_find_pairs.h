@@ -1,0 +1,36 @@
+// Stage (2b): pairs of bodies whose bounds overlap, by sort and sweep (seed chapter 4).
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
+
+namespace pfx {
+
+struct PfxFindPairsParam {
+  void* workBuff = nullptr;
+  PfxUInt32 workBytes = 0;
+  void* pairBuff = nullptr;
+  PfxUInt32 pairBytes = 0;
+  const PfxBroadphaseProxy* proxies = nullptr;  // sorted by minimum along `axis`
+  PfxUInt32 numProxies = 0;
+  PfxUInt32 maxPairs = 0;
+  int axis = 0;
+};
+
+struct PfxFindPairsResult {
+  PfxBroadphasePair* pairs = nullptr;  // in pairBuff, sorted by pair key
+  PfxUInt32 numPairs = 0;
+  // All overlapping pairs, also those that did not fit: on PFX_ERR_OUT_OF_MAX_PAIRS, a
+  // second call with maxPairs >= numPairsFound succeeds.
+  PfxUInt32 numPairsFound = 0;
+};
+
+PfxUInt32 pfxGetWorkBytesOfFindPairs(PfxUInt32 maxPairs, PfxUInt32 maxTasks = 1);
+PfxUInt32 pfxGetPairBytesOfFindPairs(PfxUInt32 maxPairs);
+
+// A pair is reported when the boxes overlap on all three axes, the two motion types
+// collide (seed chapter 10), the contact filters match, and not both bodies are asleep
+// (or one asleep and the other fixed).
+PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result);
+
+}  // namespace pfx

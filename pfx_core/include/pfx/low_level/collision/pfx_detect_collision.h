@@ -1,0 +1,32 @@
+// Stage (3a): narrow phase over the pairs of the broad phase (seed chapter 4).
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+struct PfxDetectCollisionParam {
+  PfxConstraintPair* contactPairs = nullptr;
+  PfxUInt32 numContactPairs = 0;
+  PfxContactManifold* offsetContactManifolds = nullptr;  // indexed by pfxGetContactId(pair)
+  PfxUInt32 numContactManifolds = 0;
+  const PfxRigidState* offsetRigidStates = nullptr;
+  const PfxCollidable* offsetCollidables = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  // Points up to this far apart are kept as speculative contacts, plus the distance the
+  // two bodies can close within timeStep at their current velocities; that is what keeps
+  // fast bodies from passing through thin walls.
+  PfxFloat contactSlop = 0.01f;
+  PfxFloat timeStep = 0;
+  // Squared distance within which a new point takes over an old point's impulses (the
+  // stable pipeline); 0 starts every point afresh (the simple pipeline).
+  PfxFloat matchDistanceSq = 0;
+};
+
+// Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints).
+PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param);
+
+}  // namespace pfx

@@ -1,0 +1,23 @@
+// Stage (3b): contact points kept from the last frame are brought up to date and those
+// that no longer hold are dropped (seed chapter 4, "Update the Collision Information").
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+struct PfxRefreshContactsParam {
+  PfxConstraintPair* contactPairs = nullptr;
+  PfxUInt32 numContactPairs = 0;
+  PfxContactManifold* offsetContactManifolds = nullptr;
+  PfxUInt32 numContactManifolds = 0;
+  const PfxRigidState* offsetRigidStates = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  PfxFloat breakDistance = 0.02f;  // how far apart or sideways a point may move and stay
+};
+
+PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param);
+
+}  // namespace pfx

@@ -1,0 +1,28 @@
+// Stage (5): positions and orientations advance by the solved velocities (seed chapter 4).
+//
+// Rotation is integrated so that a torque-free body keeps its angular momentum exactly:
+// the body-frame momentum is advanced by a symmetric (Strang) splitting of the free
+// rigid body into exact rotations about its principal axes. This is symplectic, so the
+// energy error stays bounded instead of drifting, and the intermediate-axis instability
+// (the tumbling "tennis racket" flip) is reproduced rather than damped out.
+#pragma once
+
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+// One body. Fixed and trigger bodies and sleeping bodies do not move; keyframe bodies
+// move by their velocity without gyroscopic change.
+void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeStep);
+
+struct PfxUpdateRigidStatesParam {
+  PfxRigidState* states = nullptr;
+  const PfxRigidBody* bodies = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  PfxFloat timeStep = 0;
+};
+
+PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param);
+
+}  // namespace pfx

@@ -1,0 +1,34 @@
+// Stage (4b): contact points become solver rows: one normal row that only pushes, two
+// friction rows bounded by the friction cone (seed chapter 4).
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxSetupContactConstraintsParam {
+  PfxConstraintPair* contactPairs = nullptr;
+  PfxUInt32 numContactPairs = 0;
+  PfxContactManifold* offsetContactManifolds = nullptr;
+  PfxUInt32 numContactManifolds = 0;
+  const PfxRigidState* offsetRigidStates = nullptr;
+  const PfxRigidBody* offsetRigidBodies = nullptr;
+  PfxSolverBody* offsetSolverBodies = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  PfxFloat timeStep = 0;
+  // Fraction of the penetration (beyond `contactSlop`) pushed out per step.
+  PfxFloat separateBias = 0.2f;
+  PfxFloat contactSlop = 0.005f;
+  // Approach speeds below this do not bounce, so resting contacts stay at rest.
+  PfxFloat restitutionThreshold = 0.5f;
+  // Fraction of last frame's impulses applied before iterating (0 disables warm starting).
+  PfxFloat warmStartFactor = 0.85f;
+};
+
+PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param);
+
+}  // namespace pfx

@@ -1,0 +1,21 @@
+// Stage (4a): copy what the solver needs of each body (seed chapter 4).
+#pragma once
+
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxSetupSolverBodiesParam {
+  const PfxRigidState* states = nullptr;
+  const PfxRigidBody* bodies = nullptr;
+  PfxSolverBody* solverBodies = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+};
+
+// Bodies that impulses do not move (fixed, keyframe, trigger, asleep) get zero inverse
+// mass and inertia.
+PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param);
+
+}  // namespace pfx

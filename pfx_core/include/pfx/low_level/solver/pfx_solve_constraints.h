@@ -1,0 +1,31 @@
+// Stage (4c): sequential impulses over contacts (and joints), warm started from the last
+// frame, then a restitution pass; the velocity changes are added to the states at the end
+// (seed chapter 4).
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxSolveConstraintsParam {
+  void* workBuff = nullptr;
+  PfxUInt32 workBytes = 0;
+  PfxConstraintPair* contactPairs = nullptr;
+  PfxUInt32 numContactPairs = 0;
+  PfxContactManifold* offsetContactManifolds = nullptr;
+  PfxUInt32 numContactManifolds = 0;
+  PfxRigidState* offsetRigidStates = nullptr;
+  PfxSolverBody* offsetSolverBodies = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  PfxUInt32 iteration = 10;
+};
+
+PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
+                                            PfxUInt32 numJointPairs = 0, PfxUInt32 maxTasks = 1);
+
+PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param);
+
+}  // namespace pfx

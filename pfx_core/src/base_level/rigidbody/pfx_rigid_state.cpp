@@ -1,0 +1,43 @@
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+#include <cstring>
+
+namespace pfx {
+
+void PfxRigidState::reset() {
+  // Zero the padding too, so that states compare and serialize byte for byte.
+  std::memset(static_cast<void*>(this), 0, sizeof(*this));
+  m_position.setZero();
+  m_orientation.setIdentity();
+  m_linearVelocity.setZero();
+  m_angularVelocity.setZero();
+  m_motionType = kPfxMotionTypeActive;
+  m_contactFilterSelf = 0xffffffffu;
+  m_contactFilterTarget = 0xffffffffu;
+}
+
+bool PfxRigidState::isValid() const {
+  return pfxIsFinite(m_position) && pfxIsUnitQuat(m_orientation) &&
+         pfxIsFinite(m_linearVelocity) && pfxIsFinite(m_angularVelocity) &&
+         m_motionType < kPfxMotionTypeCount;
+}
+
+PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,
+                              const PfxQuat& targetOrientation, PfxFloat timeStep) {
+  if (!(timeStep > 0) || !pfxIsFinite(timeStep) || !pfxIsFinite(targetPosition) ||
+      !pfxIsUnitQuat(targetOrientation)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  const PfxVector3 linear = (targetPosition - state.getPosition()) / timeStep;
+  // The rotation that takes the current orientation to the target, as a rotation vector
+  // over the step (shortest way round).
+  PfxQuat delta = targetOrientation.normalized() * state.getOrientation().conjugate();
+  if (delta.w() < 0) delta.coeffs() = -delta.coeffs();
+  const Eigen::AngleAxis<PfxFloat> aa(delta);
+  const PfxVector3 angular = aa.axis() * (aa.angle() / timeStep);
+  state.setLinearVelocity(linear);
+  state.setAngularVelocity(pfxIsFinite(angular) ? angular : PfxVector3::Zero());
+  return PFX_OK;
+}
+
+}  // namespace pfx
