@@ -1,0 +1,100 @@
+#include "pfx/base_level/collision/pfx_shape.h"
+
+#include <cstring>
+
+namespace pfx {
+
+void PfxShape::reset() {
+  std::memset(static_cast<void*>(this), 0, sizeof(*this));
+  m_offsetPosition.setZero();
+  m_offsetOrientation.setIdentity();
+  m_type = kPfxShapeSphere;
+}
+
+void PfxShape::setSphere(const PfxSphere& sphere) {
+  m_type = kPfxShapeSphere;
+  m_vecData[0] = sphere.m_radius;
+  m_vecData[1] = m_vecData[2] = 0;
+}
+
+void PfxShape::setBox(const PfxBox& box) {
+  m_type = kPfxShapeBox;
+  m_vecData[0] = box.m_half[0];
+  m_vecData[1] = box.m_half[1];
+  m_vecData[2] = box.m_half[2];
+}
+
+void PfxShape::setCapsule(const PfxCapsule& capsule) {
+  m_type = kPfxShapeCapsule;
+  m_vecData[0] = capsule.m_halfLen;
+  m_vecData[1] = capsule.m_radius;
+  m_vecData[2] = 0;
+}
+
+void PfxShape::setCylinder(const PfxCylinder& cylinder) {
+  m_type = kPfxShapeCylinder;
+  m_vecData[0] = cylinder.m_halfLen;
+  m_vecData[1] = cylinder.m_radius;
+  m_vecData[2] = 0;
+}
+
+void PfxShape::setConvexMesh(const PfxConvexMesh* mesh) {
+  m_type = kPfxShapeConvexMesh;
+  m_convexMesh = mesh;
+}
+
+void PfxShape::setLargeTriMesh(const PfxLargeTriMesh* mesh) {
+  m_type = kPfxShapeLargeTriMesh;
+  m_largeMesh = mesh;
+}
+
+PfxInt32 PfxShape::validate() const {
+  if (m_type >= kPfxShapeCount) return PFX_ERR_INVALID_FLAG;
+  if (!pfxIsFinite(m_offsetPosition) || !pfxIsUnitQuat(m_offsetOrientation)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  int numSizes = 0;
+  switch (m_type) {
+    case kPfxShapeSphere: numSizes = 1; break;
+    case kPfxShapeBox: numSizes = 3; break;
+    case kPfxShapeCapsule:
+    case kPfxShapeCylinder: numSizes = 2; break;
+    case kPfxShapeConvexMesh:
+      if (!m_convexMesh) return PFX_ERR_NULL_POINTER;
+      break;
+    case kPfxShapeLargeTriMesh:
+      if (!m_largeMesh) return PFX_ERR_NULL_POINTER;
+      break;
+    default: break;
+  }
+  for (int i = 0; i < numSizes; ++i) {
+    if (!pfxIsFinite(m_vecData[i]) || m_vecData[i] < 0) return PFX_ERR_INVALID_VALUE;
+  }
+  return PFX_OK;
+}
+
+void PfxShape::getAabb(PfxVector3& center, PfxVector3& half) const {
+  // Bounds in the shape's own frame, then rotated into the body frame: the rotated box of
+  // half extents h has half extents |R| h.
+  PfxVector3 localCenter = PfxVector3::Zero();
+  PfxVector3 localHalf;
+  switch (m_type) {
+    case kPfxShapeSphere: localHalf.setConstant(m_vecData[0]); break;
+    case kPfxShapeBox: localHalf = PfxVector3(m_vecData[0], m_vecData[1], m_vecData[2]); break;
+    case kPfxShapeCapsule:
+    case kPfxShapeCylinder:
+      localHalf = PfxVector3(m_vecData[0] + (m_type == kPfxShapeCapsule ? m_vecData[1] : 0),
+                             m_vecData[1], m_vecData[1]);
+      break;
+    case kPfxShapeConvexMesh:
+      localCenter = m_convexMesh->m_aabbCenter;
+      localHalf = m_convexMesh->m_aabbHalf;
+      break;
+    default: localHalf.setZero(); break;
+  }
+  const PfxMatrix3 rotation = m_offsetOrientation.toRotationMatrix();
+  center = m_offsetPosition + rotation * localCenter;
+  half = rotation.cwiseAbs() * localHalf;
+}
+
+}  // namespace pfx
