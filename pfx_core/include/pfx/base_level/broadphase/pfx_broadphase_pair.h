@@ -49,4 +49,9 @@ inline void pfxSetNumConstraints(PfxSortData16& pair, PfxUInt32 n) {
 void pfxInitializePair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA, PfxUInt32 idB,
                        PfxMotionType typeB);
 
+// Whether every pair names bodies below numRigidBodies and a contact (or joint) below
+// numConstraints: the check each stage makes before touching anything.
+bool pfxPairsInRange(const PfxSortData16* pairs, PfxUInt32 numPairs, PfxUInt32 numRigidBodies,
+                     PfxUInt32 numConstraints);
+
 }  // namespace pfx

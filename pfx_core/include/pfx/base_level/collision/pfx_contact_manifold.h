@@ -14,6 +14,8 @@ struct PfxContactPoint {
   PfxConstraintRow m_constraintRow[3];  // normal, then two friction directions
   PfxVector3 m_localPointA;             // in the frame of body A
   PfxVector3 m_localPointB;             // in the frame of body B
+  PfxVector3 m_armA;                    // world offset from A's centre, set up for the solver
+  PfxVector3 m_armB;
   PfxFloat m_distance;
   PfxFloat m_approachVelocity;  // normal velocity before solving, for restitution
   PfxFloat m_maxImpulse;        // largest normal impulse of the last solve

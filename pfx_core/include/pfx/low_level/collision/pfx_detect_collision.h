@@ -19,7 +19,7 @@ struct PfxDetectCollisionParam {
   // Points up to this far apart are kept as speculative contacts, plus the distance the
   // two bodies can close within timeStep at their current velocities; that is what keeps
   // fast bodies from passing through thin walls.
-  PfxFloat contactSlop = 0.01f;
+  PfxFloat contactMargin = 0.02f;
   PfxFloat timeStep = 0;
   // Squared distance within which a new point takes over an old point's impulses (the
   // stable pipeline); 0 starts every point afresh (the simple pipeline).

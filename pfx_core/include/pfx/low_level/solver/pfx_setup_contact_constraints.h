@@ -23,8 +23,6 @@ struct PfxSetupContactConstraintsParam {
   // Fraction of the penetration (beyond `contactSlop`) pushed out per step.
   PfxFloat separateBias = 0.2f;
   PfxFloat contactSlop = 0.005f;
-  // Approach speeds below this do not bounce, so resting contacts stay at rest.
-  PfxFloat restitutionThreshold = 0.5f;
   // Fraction of last frame's impulses applied before iterating (0 disables warm starting).
   PfxFloat warmStartFactor = 0.85f;
 };

@@ -21,6 +21,8 @@ struct PfxSolveConstraintsParam {
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
   PfxUInt32 iteration = 10;
+  // Approach speeds below this do not bounce, so that resting contacts stay at rest.
+  PfxFloat restitutionThreshold = 0.2f;
 };
 
 PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,

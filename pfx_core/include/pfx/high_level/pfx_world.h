@@ -1,0 +1,159 @@
+// The high-level world: owns every buffer, grows them as bodies are added, and runs the
+// simple or the stable pipeline of seed chapter 4 over them. After the first steps have
+// sized the pair and contact buffers, a step allocates no memory.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
+#include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+
+namespace pfx {
+
+enum PfxPipelineType : PfxUInt8 {
+  // No data kept between frames: fastest, but stacks are not stable (seed 1_simple).
+  kPfxPipelineSimple = 0,
+  // Pairs, contact points and impulses carried over, solver warm started (seed 2_stable).
+  kPfxPipelineStable,
+};
+
+struct PfxWorldParam {
+  PfxVector3 worldCenter = PfxVector3::Zero();
+  PfxVector3 worldExtent = PfxVector3::Constant(1000);
+  PfxVector3 gravity = PfxVector3(0, PfxFloat(-9.80665), 0);
+  PfxFloat timeStep = PfxFloat(1) / 60;
+  PfxUInt32 iteration = 10;
+  PfxPipelineType pipeline = kPfxPipelineStable;
+  PfxFloat separateBias = PfxFloat(0.2);
+  // Overlap tolerated without correction, so that resting contacts do not jitter.
+  PfxFloat contactSlop = PfxFloat(0.005);
+  // Shapes closer than this become speculative contacts (plus what velocity closes in a step).
+  PfxFloat contactMargin = PfxFloat(0.02);
+  PfxFloat restitutionThreshold = PfxFloat(0.2);
+  PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
+};
+
+// The stages of a step, in the order they run; index of PfxWorldStats::stageSeconds.
+enum PfxStage : PfxUInt8 {
+  kPfxStageApplyExternalForce = 0,
+  kPfxStageUpdateBroadphaseProxies,
+  kPfxStageFindPairs,
+  kPfxStageDecomposePairs,
+  kPfxStageRefreshContacts,
+  kPfxStageDetectCollision,
+  kPfxStageSetupSolverBodies,
+  kPfxStageSetupContactConstraints,
+  kPfxStageSolveConstraints,
+  kPfxStageUpdateRigidStates,
+  kPfxStageCount
+};
+
+const char* pfxStageName(PfxStage stage);
+
+struct PfxWorldStats {
+  double stageSeconds[kPfxStageCount] = {};  // wall time of each stage in the last step
+  double stepSeconds = 0;
+  PfxUInt32 numPairs = 0;          // broadphase pairs
+  PfxUInt32 numContactPairs = 0;   // pairs with at least one contact point
+  PfxUInt32 numContactPoints = 0;
+  PfxUInt32 numOutOfWorld = 0;
+  PfxFloat maxPenetration = 0;     // deepest overlap among contact points (m, >= 0)
+};
+
+class PfxWorld {
+ public:
+  PfxWorld();
+  ~PfxWorld();
+  PfxWorld(const PfxWorld&) = delete;
+  PfxWorld& operator=(const PfxWorld&) = delete;
+
+  // Validates and takes the parameters; removes every body.
+  PfxInt32 initialize(const PfxWorldParam& param);
+  const PfxWorldParam& getParam() const { return m_param; }
+
+  // Adds a body with one shape or a compound of up to 64 (the shapes are copied). The
+  // state's rigid body id is set to the new id. Rejects an invalid state (NaN, non-unit
+  // orientation), an invalid mass or inertia on a body that forces move, invalid shapes
+  // and too many shapes; the world is unchanged then.
+  PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
+                        const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
+
+  PfxUInt32 getNumRigidBodies() const { return static_cast<PfxUInt32>(m_states.size()); }
+  const PfxRigidState& getRigidState(PfxUInt32 id) const { return m_states[id]; }
+  const PfxRigidBody& getRigidBody(PfxUInt32 id) const { return m_bodies[id]; }
+  const PfxCollidable& getCollidable(PfxUInt32 id) const { return m_collidables[id]; }
+  const PfxRigidState* getRigidStates() const { return m_states.data(); }
+
+  // Replaces a body's state (its id is kept) or attributes, after the same checks as
+  // addRigidBody.
+  PfxInt32 setRigidState(PfxUInt32 id, const PfxRigidState& state);
+  PfxInt32 setRigidBody(PfxUInt32 id, const PfxRigidBody& body);
+
+  // A force and torque (world frame, about the centre of mass) applied during the next
+  // step only; calls add up.
+  PfxInt32 applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque);
+  // Moves a keyframe body to the pose over the next step (seed 4_motion_type).
+  PfxInt32 setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
+                             const PfxQuat& orientation);
+
+  // One step of param.timeStep.
+  PfxInt32 step();
+  const PfxWorldStats& getStats() const { return m_stats; }
+
+  // The pairs of the last step, sorted by key, and their contact manifolds.
+  PfxUInt32 getNumContactPairs() const { return m_numPairs; }
+  const PfxConstraintPair& getContactPair(PfxUInt32 i) const { return m_pairs[i]; }
+  const PfxContactManifold& getContactManifold(const PfxConstraintPair& pair) const {
+    return m_manifolds[pfxGetContactId(pair)];
+  }
+
+ private:
+  PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body) const;
+  void reserveBodies(std::size_t n);
+  PfxInt32 updateBroadphase();
+  PfxInt32 findPairs();
+  void composeStablePairs();
+  void assignSimplePairs();
+  PfxInt32 detectCollision();
+  PfxInt32 solve();
+  void gatherStats();
+
+  PfxWorldParam m_param;
+  PfxWorldStats m_stats;
+
+  std::vector<PfxRigidState> m_states;
+  std::vector<PfxRigidBody> m_bodies;
+  std::vector<PfxCollidable> m_collidables;
+  std::vector<PfxSolverBody> m_solverBodies;
+  std::vector<PfxVector3> m_forces;
+  std::vector<PfxVector3> m_torques;
+  // Compound shapes live here, one block per body, so that collidables can refer to them.
+  std::vector<std::unique_ptr<PfxShape[]>> m_compoundShapes;
+  std::vector<std::unique_ptr<PfxUInt16[]>> m_compoundShapeIds;
+
+  std::vector<PfxBroadphaseProxy> m_proxies;
+  std::vector<PfxSortData32> m_proxySortWork;
+  PfxUInt32 m_numProxies = 0;
+  int m_sweepAxis = 0;
+
+  // Pairs of the current frame (m_pairs) and the scratch the stages write into.
+  std::vector<PfxBroadphasePair> m_pairs;
+  std::vector<PfxBroadphasePair> m_foundPairs;
+  std::vector<PfxBroadphasePair> m_pairSortWork;
+  std::vector<PfxBroadphasePair> m_decomposedPairs;
+  PfxUInt32 m_numPairs = 0;
+  PfxUInt32 m_numFoundPairs = 0;
+  PfxUInt32 m_maxPairs = 0;
+
+  std::vector<PfxContactManifold> m_manifolds;
+  std::vector<PfxUInt32> m_freeManifolds;
+};
+
+}  // namespace pfx

@@ -1,0 +1,420 @@
+#include "pfx/high_level/pfx_world.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
+#include "pfx/low_level/broadphase/pfx_find_pairs.h"
+#include "pfx/low_level/collision/pfx_detect_collision.h"
+#include "pfx/low_level/collision/pfx_refresh_contacts.h"
+#include "pfx/low_level/rigidbody/pfx_apply_external_force.h"
+#include "pfx/low_level/rigidbody/pfx_update_rigid_states.h"
+#include "pfx/low_level/solver/pfx_setup_contact_constraints.h"
+#include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
+#include "pfx/low_level/solver/pfx_solve_constraints.h"
+
+namespace pfx {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Times one stage into the step's statistics.
+class StageTimer {
+ public:
+  StageTimer(PfxWorldStats& stats, PfxStage stage)
+      : m_stats(stats), m_stage(stage), m_start(Clock::now()) {}
+  ~StageTimer() {
+    m_stats.stageSeconds[m_stage] = std::chrono::duration<double>(Clock::now() - m_start).count();
+  }
+
+ private:
+  PfxWorldStats& m_stats;
+  PfxStage m_stage;
+  Clock::time_point m_start;
+};
+
+// A point may move this far (squared, in A's frame) between frames and keep its impulses.
+constexpr PfxFloat kMatchDistanceSq = PfxFloat(0.02 * 0.02);
+
+template <typename T>
+void growTo(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(std::max(n, v.size() * 2));
+}
+
+}  // namespace
+
+const char* pfxStageName(PfxStage stage) {
+  static const char* const kNames[kPfxStageCount] = {
+      "apply_external_force", "update_broadphase_proxies", "find_pairs",
+      "decompose_pairs",      "refresh_contacts",          "detect_collision",
+      "setup_solver_bodies",  "setup_contact_constraints", "solve_constraints",
+      "update_rigid_states"};
+  return stage < kPfxStageCount ? kNames[stage] : "unknown";
+}
+
+PfxWorld::PfxWorld() { initialize(PfxWorldParam()); }
+PfxWorld::~PfxWorld() = default;
+
+PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
+  const bool valid =
+      pfxIsFinite(param.worldCenter) && pfxIsFinite(param.worldExtent) &&
+      param.worldExtent.minCoeff() > 0 && pfxIsFinite(param.gravity) && param.timeStep > 0 &&
+      pfxIsFinite(param.timeStep) && param.iteration > 0 && param.separateBias >= 0 &&
+      param.separateBias <= 1 && param.contactSlop >= 0 && pfxIsFinite(param.contactSlop) &&
+      param.contactMargin >= 0 && pfxIsFinite(param.contactMargin) &&
+      param.restitutionThreshold >= 0 && pfxIsFinite(param.restitutionThreshold);
+  if (!valid) return PFX_ERR_INVALID_VALUE;
+  if (param.pipeline > kPfxPipelineStable ||
+      (param.outOfWorldBehavior & ~PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION |
+                                             PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY)) != 0) {
+    return PFX_ERR_INVALID_FLAG;
+  }
+  m_param = param;
+  m_stats = PfxWorldStats();
+  m_states.clear();
+  m_bodies.clear();
+  m_collidables.clear();
+  m_solverBodies.clear();
+  m_forces.clear();
+  m_torques.clear();
+  m_compoundShapes.clear();
+  m_compoundShapeIds.clear();
+  m_numProxies = 0;
+  m_numPairs = 0;
+  m_numFoundPairs = 0;
+  m_manifolds.clear();
+  m_freeManifolds.clear();
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) const {
+  if (!state.isValid()) return PFX_ERR_INVALID_VALUE;
+  if (pfxMotionTypeIsDynamic(state.getMotionType()) && !body.isValid()) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  if (!(body.getFriction() >= 0) || !pfxIsFinite(body.getFriction()) ||
+      !(body.getRestitution() >= 0) || !(body.getRestitution() <= 1)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  return PFX_OK;
+}
+
+void PfxWorld::reserveBodies(std::size_t n) {
+  if (m_states.capacity() >= n) return;
+  const std::size_t capacity = std::max<std::size_t>(n, m_states.capacity() * 2);
+  m_states.reserve(capacity);
+  m_bodies.reserve(capacity);
+  m_collidables.reserve(capacity);
+  m_forces.reserve(capacity);
+  m_torques.reserve(capacity);
+  m_compoundShapes.reserve(capacity);
+  m_compoundShapeIds.reserve(capacity);
+}
+
+PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
+                                const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId) {
+  if (!shapes) return PFX_ERR_NULL_POINTER;
+  if (numShapes == 0 || numShapes > PFX_MAX_SHAPES_PER_COLLIDABLE) return PFX_ERR_OUT_OF_RANGE;
+  if (const PfxInt32 err = validateBody(state, body); err != PFX_OK) return err;
+  for (PfxUInt32 i = 0; i < numShapes; ++i) {
+    if (const PfxInt32 err = shapes[i].validate(); err != PFX_OK) return err;
+  }
+
+  // Build the collidable aside, so that a failure leaves the world untouched.
+  PfxCollidable collidable;
+  std::unique_ptr<PfxShape[]> compound;
+  std::unique_ptr<PfxUInt16[]> compoundIds;
+  if (numShapes == 1) {
+    collidable.reset();
+  } else {
+    compound.reset(new PfxShape[numShapes]);
+    compoundIds.reset(new PfxUInt16[numShapes]);
+    for (PfxUInt32 i = 0; i < numShapes; ++i) compoundIds[i] = static_cast<PfxUInt16>(i);
+    collidable.reset(compound.get(), compoundIds.get(), numShapes);
+  }
+  for (PfxUInt32 i = 0; i < numShapes; ++i) collidable.addShape(shapes[i]);
+  collidable.finish();
+
+  const PfxUInt32 id = getNumRigidBodies();
+  reserveBodies(id + 1);
+  m_states.push_back(state);
+  m_states.back().setRigidBodyId(id);
+  m_bodies.push_back(body);
+  m_collidables.push_back(collidable);
+  m_forces.push_back(PfxVector3::Zero());
+  m_torques.push_back(PfxVector3::Zero());
+  m_compoundShapes.push_back(std::move(compound));
+  m_compoundShapeIds.push_back(std::move(compoundIds));
+  m_solverBodies.resize(m_states.capacity());
+  m_proxies.resize(m_states.capacity());
+  m_proxySortWork.resize(m_states.capacity());
+  if (outId) *outId = id;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
+  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (const PfxInt32 err = validateBody(state, m_bodies[id]); err != PFX_OK) return err;
+  m_states[id] = state;
+  m_states[id].setRigidBodyId(id);
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
+  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (const PfxInt32 err = validateBody(m_states[id], body); err != PFX_OK) return err;
+  m_bodies[id] = body;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque) {
+  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!pfxIsFinite(force) || !pfxIsFinite(torque)) return PFX_ERR_INVALID_VALUE;
+  m_forces[id] += force;
+  m_torques[id] += torque;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
+                                     const PfxQuat& orientation) {
+  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (m_states[id].getMotionType() != kPfxMotionTypeKeyframe) return PFX_ERR_INVALID_FLAG;
+  return pfxSetKeyframeTarget(m_states[id], position, orientation, m_param.timeStep);
+}
+
+PfxInt32 PfxWorld::updateBroadphase() {
+  const PfxUInt32 numBodies = getNumRigidBodies();
+  const int axis = pfxChooseSweepAxis(m_states.data(), numBodies);
+  PfxUpdateBroadphaseProxiesParam param;
+  param.workBuff = m_proxySortWork.data();
+  param.workBytes = static_cast<PfxUInt32>(m_proxySortWork.size() * sizeof(PfxSortData32));
+  param.offsetRigidStates = m_states.data();
+  param.offsetCollidables = m_collidables.data();
+  param.numRigidBodies = numBodies;
+  PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
+  *arrays[axis] = m_proxies.data();
+  param.worldCenter = m_param.worldCenter;
+  param.worldExtent = m_param.worldExtent;
+  param.outOfWorldBehavior = m_param.outOfWorldBehavior;
+  param.timeStep = m_param.timeStep;
+  PfxUpdateBroadphaseProxiesResult result;
+  const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result);
+  m_numProxies = result.numProxies;
+  m_stats.numOutOfWorld = result.numOutOfWorldProxies;
+  m_sweepAxis = axis;
+  return err;
+}
+
+PfxInt32 PfxWorld::findPairs() {
+  for (;;) {
+    PfxFindPairsParam param;
+    param.workBuff = m_pairSortWork.data();
+    param.workBytes = pfxGetWorkBytesOfFindPairs(m_maxPairs);
+    param.pairBuff = m_foundPairs.data();
+    param.pairBytes = pfxGetPairBytesOfFindPairs(m_maxPairs);
+    param.proxies = m_proxies.data();
+    param.numProxies = m_numProxies;
+    param.maxPairs = m_maxPairs;
+    param.axis = m_sweepAxis;
+    PfxFindPairsResult result;
+    const PfxInt32 err = pfxFindPairs(param, result);
+    if (err == PFX_ERR_OUT_OF_MAX_PAIRS || (err != PFX_OK && m_maxPairs == 0)) {
+      // Only while the scene grows: room for the pairs found and some more.
+      m_maxPairs = std::max<PfxUInt32>(64, result.numPairsFound + result.numPairsFound / 2);
+      m_foundPairs.resize(m_maxPairs);
+      m_pairSortWork.resize(m_maxPairs);
+      continue;
+    }
+    if (err != PFX_OK) return err;
+    m_numFoundPairs = result.numPairs;
+    return PFX_OK;
+  }
+}
+
+void PfxWorld::composeStablePairs() {
+  growTo(m_decomposedPairs, m_numPairs + m_numFoundPairs);
+  PfxDecomposePairsParam param;
+  param.pairBuff = m_decomposedPairs.data();
+  param.pairBytes = static_cast<PfxUInt32>(m_decomposedPairs.size() * sizeof(PfxBroadphasePair));
+  param.previousPairs = m_pairs.data();
+  param.numPreviousPairs = m_numPairs;
+  param.currentPairs = m_foundPairs.data();
+  param.numCurrentPairs = m_numFoundPairs;
+  PfxDecomposePairsResult result;
+  pfxDecomposePairs(param, result);
+
+  for (PfxUInt32 i = 0; i < result.numOutRemovePairs; ++i) {
+    m_freeManifolds.push_back(pfxGetContactId(result.outRemovePairs[i]));
+  }
+  for (PfxUInt32 i = 0; i < result.numOutNewPairs; ++i) {
+    PfxBroadphasePair& pair = result.outNewPairs[i];
+    PfxUInt32 contactId;
+    if (!m_freeManifolds.empty()) {
+      contactId = m_freeManifolds.back();
+      m_freeManifolds.pop_back();
+    } else {
+      contactId = static_cast<PfxUInt32>(m_manifolds.size());
+      if (m_manifolds.size() == m_manifolds.capacity()) {
+        m_manifolds.reserve(std::max<std::size_t>(64, m_manifolds.size() * 2));
+        m_freeManifolds.reserve(m_manifolds.capacity());
+      }
+      m_manifolds.emplace_back();
+    }
+    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+    pfxSetContactId(pair, contactId);
+  }
+
+  growTo(m_pairs, m_numFoundPairs);
+  auto byKey = [](const PfxBroadphasePair& a, const PfxBroadphasePair& b) { return a.key < b.key; };
+  std::merge(result.outKeepPairs, result.outKeepPairs + result.numOutKeepPairs,
+             result.outNewPairs, result.outNewPairs + result.numOutNewPairs, m_pairs.begin(),
+             byKey);
+  m_numPairs = m_numFoundPairs;
+}
+
+void PfxWorld::assignSimplePairs() {
+  growTo(m_pairs, m_numFoundPairs);
+  if (m_manifolds.size() < m_numFoundPairs) m_manifolds.resize(m_pairs.size());
+  for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
+    m_pairs[i] = m_foundPairs[i];
+    pfxSetContactId(m_pairs[i], i);
+    m_manifolds[i].reset(pfxGetObjectIdA(m_pairs[i]), pfxGetObjectIdB(m_pairs[i]));
+  }
+  m_numPairs = m_numFoundPairs;
+}
+
+PfxInt32 PfxWorld::detectCollision() {
+  const bool stable = m_param.pipeline == kPfxPipelineStable;
+  if (stable) {
+    StageTimer timer(m_stats, kPfxStageRefreshContacts);
+    PfxRefreshContactsParam param;
+    param.contactPairs = m_pairs.data();
+    param.numContactPairs = m_numPairs;
+    param.offsetContactManifolds = m_manifolds.data();
+    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    param.offsetRigidStates = m_states.data();
+    param.numRigidBodies = getNumRigidBodies();
+    if (const PfxInt32 err = pfxRefreshContacts(param); err != PFX_OK) return err;
+  }
+  StageTimer timer(m_stats, kPfxStageDetectCollision);
+  PfxDetectCollisionParam param;
+  param.contactPairs = m_pairs.data();
+  param.numContactPairs = m_numPairs;
+  param.offsetContactManifolds = m_manifolds.data();
+  param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+  param.offsetRigidStates = m_states.data();
+  param.offsetCollidables = m_collidables.data();
+  param.numRigidBodies = getNumRigidBodies();
+  param.contactMargin = m_param.contactMargin;
+  param.timeStep = m_param.timeStep;
+  param.matchDistanceSq = stable ? kMatchDistanceSq : 0;
+  return pfxDetectCollision(param);
+}
+
+PfxInt32 PfxWorld::solve() {
+  const PfxUInt32 numBodies = getNumRigidBodies();
+  {
+    StageTimer timer(m_stats, kPfxStageSetupSolverBodies);
+    PfxSetupSolverBodiesParam param;
+    param.states = m_states.data();
+    param.bodies = m_bodies.data();
+    param.solverBodies = m_solverBodies.data();
+    param.numRigidBodies = numBodies;
+    if (const PfxInt32 err = pfxSetupSolverBodies(param); err != PFX_OK) return err;
+  }
+  {
+    StageTimer timer(m_stats, kPfxStageSetupContactConstraints);
+    PfxSetupContactConstraintsParam param;
+    param.contactPairs = m_pairs.data();
+    param.numContactPairs = m_numPairs;
+    param.offsetContactManifolds = m_manifolds.data();
+    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    param.offsetRigidStates = m_states.data();
+    param.offsetRigidBodies = m_bodies.data();
+    param.offsetSolverBodies = m_solverBodies.data();
+    param.numRigidBodies = numBodies;
+    param.timeStep = m_param.timeStep;
+    param.separateBias = m_param.separateBias;
+    param.contactSlop = m_param.contactSlop;
+    param.warmStartFactor = m_param.pipeline == kPfxPipelineStable ? param.warmStartFactor : 0;
+    if (const PfxInt32 err = pfxSetupContactConstraints(param); err != PFX_OK) return err;
+  }
+  StageTimer timer(m_stats, kPfxStageSolveConstraints);
+  PfxSolveConstraintsParam param;
+  param.contactPairs = m_pairs.data();
+  param.numContactPairs = m_numPairs;
+  param.offsetContactManifolds = m_manifolds.data();
+  param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+  param.offsetRigidStates = m_states.data();
+  param.offsetSolverBodies = m_solverBodies.data();
+  param.numRigidBodies = numBodies;
+  param.iteration = m_param.iteration;
+  param.restitutionThreshold = m_param.restitutionThreshold;
+  return pfxSolveConstraints(param);
+}
+
+void PfxWorld::gatherStats() {
+  m_stats.numPairs = m_numPairs;
+  m_stats.numContactPairs = 0;
+  m_stats.numContactPoints = 0;
+  m_stats.maxPenetration = 0;
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[i])];
+    if (manifold.getNumContacts() == 0) continue;
+    ++m_stats.numContactPairs;
+    m_stats.numContactPoints += manifold.getNumContacts();
+    m_stats.maxPenetration = std::max(m_stats.maxPenetration, manifold.getPenetrationDepth());
+  }
+}
+
+PfxInt32 PfxWorld::step() {
+  const Clock::time_point start = Clock::now();
+  const PfxUInt32 numBodies = getNumRigidBodies();
+  {
+    StageTimer timer(m_stats, kPfxStageApplyExternalForce);
+    PfxApplyExternalForceParam param;
+    param.states = m_states.data();
+    param.bodies = m_bodies.data();
+    param.numRigidBodies = numBodies;
+    param.forces = m_forces.data();
+    param.torques = m_torques.data();
+    param.gravity = m_param.gravity;
+    param.timeStep = m_param.timeStep;
+    if (const PfxInt32 err = pfxApplyExternalForce(param); err != PFX_OK) return err;
+    std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
+    std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
+  }
+  {
+    StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies);
+    if (const PfxInt32 err = updateBroadphase(); err != PFX_OK) return err;
+  }
+  {
+    StageTimer timer(m_stats, kPfxStageFindPairs);
+    if (const PfxInt32 err = findPairs(); err != PFX_OK) return err;
+  }
+  {
+    StageTimer timer(m_stats, kPfxStageDecomposePairs);
+    if (m_param.pipeline == kPfxPipelineStable) {
+      composeStablePairs();
+    } else {
+      assignSimplePairs();
+    }
+  }
+  if (const PfxInt32 err = detectCollision(); err != PFX_OK) return err;
+  if (const PfxInt32 err = solve(); err != PFX_OK) return err;
+  {
+    StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
+    PfxUpdateRigidStatesParam param;
+    param.states = m_states.data();
+    param.bodies = m_bodies.data();
+    param.numRigidBodies = numBodies;
+    param.timeStep = m_param.timeStep;
+    if (const PfxInt32 err = pfxUpdateRigidStates(param); err != PFX_OK) return err;
+  }
+  gatherStats();
+  m_stats.stepSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return PFX_OK;
+}
+
+}  // namespace pfx

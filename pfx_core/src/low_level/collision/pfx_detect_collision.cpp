@@ -1,0 +1,62 @@
+#include "pfx/low_level/collision/pfx_detect_collision.h"
+
+#include "pfx/base_level/collision/pfx_contact_shapes.h"
+
+namespace pfx {
+
+namespace {
+
+// Radius of a sphere about the body's origin that holds all its shapes.
+PfxFloat boundingRadius(const PfxCollidable& collidable) {
+  return collidable.getCenter().norm() + collidable.getHalf().norm();
+}
+
+// How close two bodies may come, at their current velocities, within one step.
+PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const PfxRigidState& b,
+                         const PfxCollidable& cb, PfxFloat timeStep) {
+  const PfxFloat linear = (b.getLinearVelocity() - a.getLinearVelocity()).norm();
+  const PfxFloat angular = a.getAngularVelocity().norm() * boundingRadius(ca) +
+                           b.getAngularVelocity().norm() * boundingRadius(cb);
+  return (linear + angular) * timeStep;
+}
+
+}  // namespace
+
+PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param) {
+  if (param.numContactPairs > 0 && (!param.contactPairs || !param.offsetContactManifolds ||
+                                    !param.offsetRigidStates || !param.offsetCollidables)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  if (!(param.contactMargin >= 0) || !pfxIsFinite(param.contactMargin) ||
+      !(param.timeStep >= 0) || !pfxIsFinite(param.timeStep) || !(param.matchDistanceSq >= 0)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
+                       param.numContactManifolds)) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+
+  PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+  for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
+    PfxConstraintPair& pair = param.contactPairs[i];
+    const PfxUInt32 idA = pfxGetObjectIdA(pair);
+    const PfxUInt32 idB = pfxGetObjectIdB(pair);
+    const PfxRigidState& stateA = param.offsetRigidStates[idA];
+    const PfxRigidState& stateB = param.offsetRigidStates[idB];
+    const PfxCollidable& collA = param.offsetCollidables[idA];
+    const PfxCollidable& collB = param.offsetCollidables[idB];
+    const PfxTransform3 transformA = stateA.getTransform();
+    const PfxTransform3 transformB = stateB.getTransform();
+    const PfxFloat threshold =
+        param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
+    const PfxUInt32 numCandidates =
+        pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
+                              PFX_MAX_CONTACT_CANDIDATES);
+    PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+    manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
+    pfxSetNumConstraints(pair, manifold.getNumContacts());
+  }
+  return PFX_OK;
+}
+
+}  // namespace pfx

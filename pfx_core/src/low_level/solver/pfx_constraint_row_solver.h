@@ -1,0 +1,56 @@
+// The arithmetic every solver row shares, contacts and joints alike: effective mass along
+// a direction, and one projected Gauss-Seidel update of a row between two bodies.
+// `receivesA`/`receivesB` are 0 or 1: a body facing a one-way body takes no impulse.
+#pragma once
+
+#include <algorithm>
+
+#include "pfx/base_level/solver/pfx_constraint_row.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+// 1 / (J M^-1 J^T) for a row that pushes B along `normal` at arm rB and A the opposite way
+// at rA; 0 when neither body can move along it.
+inline PfxFloat pfxCalcJacDiagInv(const PfxVector3& normal, const PfxSolverBody& a,
+                                  const PfxVector3& rA, PfxFloat receivesA,
+                                  const PfxSolverBody& b, const PfxVector3& rB,
+                                  PfxFloat receivesB) {
+  const PfxVector3 raXn = rA.cross(normal);
+  const PfxVector3 rbXn = rB.cross(normal);
+  const PfxFloat k = receivesA * (a.m_massInv + raXn.dot(a.m_inertiaInv * raXn)) +
+                     receivesB * (b.m_massInv + rbXn.dot(b.m_inertiaInv * rbXn));
+  return k > PfxFloat(0) ? PfxFloat(1) / k : PfxFloat(0);
+}
+
+// Velocity of B's point rB relative to A's point rA, from the bodies' velocity changes.
+inline PfxVector3 pfxRelativeDeltaVelocity(const PfxSolverBody& a, const PfxVector3& rA,
+                                           const PfxSolverBody& b, const PfxVector3& rB) {
+  return b.m_deltaLinearVelocity + b.m_deltaAngularVelocity.cross(rB) - a.m_deltaLinearVelocity -
+         a.m_deltaAngularVelocity.cross(rA);
+}
+
+inline void pfxApplyRowImpulse(const PfxVector3& normal, PfxFloat impulse, PfxSolverBody& a,
+                               const PfxVector3& rA, PfxFloat receivesA, PfxSolverBody& b,
+                               const PfxVector3& rB, PfxFloat receivesB) {
+  const PfxVector3 linear = normal * impulse;
+  a.m_deltaLinearVelocity -= (receivesA * a.m_massInv) * linear;
+  a.m_deltaAngularVelocity -= receivesA * (a.m_inertiaInv * rA.cross(linear));
+  b.m_deltaLinearVelocity += (receivesB * b.m_massInv) * linear;
+  b.m_deltaAngularVelocity += receivesB * (b.m_inertiaInv * rB.cross(linear));
+}
+
+// One Gauss-Seidel update: the impulse that brings the row to its target velocity, with the
+// accumulated impulse clamped to the row's limits.
+inline void pfxSolveRow(PfxConstraintRow& row, PfxSolverBody& a, const PfxVector3& rA,
+                        PfxFloat receivesA, PfxSolverBody& b, const PfxVector3& rB,
+                        PfxFloat receivesB) {
+  const PfxFloat relative = row.m_normal.dot(pfxRelativeDeltaVelocity(a, rA, b, rB));
+  const PfxFloat previous = row.m_accumImpulse;
+  row.m_accumImpulse = std::clamp(previous + row.m_rhs - row.m_jacDiagInv * relative,
+                                  row.m_lowerLimit, row.m_upperLimit);
+  pfxApplyRowImpulse(row.m_normal, row.m_accumImpulse - previous, a, rA, receivesA, b, rB,
+                     receivesB);
+}
+
+}  // namespace pfx
