@@ -1,0 +1,224 @@
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace pfx {
+
+namespace {
+
+// Points are compared where they lie in the contact plane of the deepest candidate, so
+// that the gap between the two surfaces (pointA against pointB, or a speculative
+// distance) does not count as covered area.
+PfxVector3 projectOntoPlane(const PfxVector3& p, const PfxVector3& normal) {
+  return p - normal * normal.dot(p);
+}
+
+PfxFloat triangleAreaTwice(const PfxVector3& a, const PfxVector3& b, const PfxVector3& c) {
+  return (b - a).cross(c - a).norm();
+}
+
+// Twice the area of the convex hull of four coplanar points. If they are in convex
+// position one of the three ways of pairing them into diagonals gives the hull
+// (|d1 x d2| is twice a quadrilateral's area); if one lies inside the triangle of the
+// others, the largest triangle is the hull. Every other candidate value is smaller, so the
+// maximum of all seven is the hull.
+PfxFloat hullAreaTwice(const PfxVector3& p0, const PfxVector3& p1, const PfxVector3& p2,
+                       const PfxVector3& p3) {
+  PfxFloat area = (p2 - p0).cross(p3 - p1).norm();
+  area = std::max(area, (p1 - p0).cross(p3 - p2).norm());
+  area = std::max(area, (p1 - p0).cross(p2 - p3).norm());
+  area = std::max(area, triangleAreaTwice(p0, p1, p2));
+  area = std::max(area, triangleAreaTwice(p0, p1, p3));
+  area = std::max(area, triangleAreaTwice(p0, p2, p3));
+  area = std::max(area, triangleAreaTwice(p1, p2, p3));
+  return area;
+}
+
+bool isChosen(const PfxUInt32* chosen, PfxUInt32 numChosen, PfxUInt32 i) {
+  for (PfxUInt32 k = 0; k < numChosen; ++k) {
+    if (chosen[k] == i) return true;
+  }
+  return false;
+}
+
+void zeroContactPoint(PfxContactPoint& point) {
+  std::memset(static_cast<void*>(&point), 0, sizeof(point));
+}
+
+}  // namespace
+
+PfxUInt32 pfxReduceContactCandidates(const PfxContactCandidate* candidates, PfxUInt32 count,
+                                     PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD]) {
+  if (!candidates || !chosen || count == 0) return 0;
+  if (count <= PFX_NUM_CONTACTS_PER_MANIFOLD) {
+    for (PfxUInt32 i = 0; i < count; ++i) chosen[i] = i;
+    return count;
+  }
+
+  // Strict comparisons while scanning in index order make every tie go to the lower index.
+  PfxUInt32 deepest = 0;
+  for (PfxUInt32 i = 1; i < count; ++i) {
+    if (candidates[i].m_distance < candidates[deepest].m_distance) deepest = i;
+  }
+  const PfxVector3& normal = candidates[deepest].m_normal;
+  auto planar = [&](PfxUInt32 i) { return projectOntoPlane(candidates[i].m_pointA, normal); };
+
+  // Greedy growth of the covered polygon: the point farthest from the deepest, then the one
+  // that makes the largest triangle, then the one that makes the largest quadrilateral.
+  // A point that adds no length or area is not taken, so a line contact keeps two points
+  // and a point contact one.
+  PfxUInt32 numChosen = 0;
+  chosen[numChosen++] = deepest;
+  const PfxVector3 p0 = planar(deepest);
+
+  PfxUInt32 best = count;
+  PfxFloat bestValue = 0;
+  for (PfxUInt32 i = 0; i < count; ++i) {
+    if (isChosen(chosen, numChosen, i)) continue;
+    const PfxFloat value = (planar(i) - p0).squaredNorm();
+    if (value > bestValue) { bestValue = value; best = i; }
+  }
+  if (best == count) return numChosen;
+  chosen[numChosen++] = best;
+  const PfxVector3 p1 = planar(best);
+
+  best = count;
+  bestValue = 0;
+  for (PfxUInt32 i = 0; i < count; ++i) {
+    if (isChosen(chosen, numChosen, i)) continue;
+    const PfxFloat value = triangleAreaTwice(p0, p1, planar(i));
+    if (value > bestValue) { bestValue = value; best = i; }
+  }
+  if (best == count) return numChosen;
+  chosen[numChosen++] = best;
+  const PfxVector3 p2 = planar(best);
+
+  const PfxFloat triangleArea = triangleAreaTwice(p0, p1, p2);
+  best = count;
+  bestValue = triangleArea;
+  for (PfxUInt32 i = 0; i < count; ++i) {
+    if (isChosen(chosen, numChosen, i)) continue;
+    const PfxFloat value = hullAreaTwice(p0, p1, p2, planar(i));
+    if (value > bestValue) { bestValue = value; best = i; }
+  }
+  if (best == count) return numChosen;
+  chosen[numChosen++] = best;
+  return numChosen;
+}
+
+void PfxContactManifold::reset(PfxUInt32 rigidBodyIdA, PfxUInt32 rigidBodyIdB) {
+  // Whole-object zeroing keeps unused slots deterministic, which a bit-exact
+  // serialization of the world relies on.
+  std::memset(static_cast<void*>(this), 0, sizeof(*this));
+  m_rigidBodyIdA = rigidBodyIdA;
+  m_rigidBodyIdB = rigidBodyIdB;
+}
+
+void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32 numCandidates,
+                                const PfxTransform3& transformA, const PfxTransform3& transformB,
+                                PfxFloat matchDistanceSq) {
+  if (!candidates) numCandidates = 0;
+
+  PfxContactPoint oldPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  const PfxUInt32 numOld = m_numContacts;
+  for (PfxUInt32 i = 0; i < numOld; ++i) oldPoints[i] = m_contactPoints[i];
+
+  PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  const PfxUInt32 numNew = pfxReduceContactCandidates(candidates, numCandidates, chosen);
+  const PfxTransform3 inverseA = transformA.inverse(Eigen::Isometry);
+  const PfxTransform3 inverseB = transformB.inverse(Eigen::Isometry);
+  for (PfxUInt32 i = 0; i < numNew; ++i) {
+    const PfxContactCandidate& candidate = candidates[chosen[i]];
+    PfxContactPoint& point = m_contactPoints[i];
+    zeroContactPoint(point);
+    point.m_localPointA = inverseA * candidate.m_pointA;
+    point.m_localPointB = inverseB * candidate.m_pointB;
+    point.m_distance = candidate.m_distance;
+    point.m_shapeIdA = candidate.m_shapeIdA;
+    point.m_shapeIdB = candidate.m_shapeIdB;
+    point.m_constraintRow[0].m_normal = candidate.m_normal;
+    pfxGetPlaneSpace(candidate.m_normal, point.m_constraintRow[1].m_normal,
+                     point.m_constraintRow[2].m_normal);
+  }
+  m_numContacts = numNew;
+
+  if (matchDistanceSq <= 0 || numOld == 0 || numNew == 0) return;
+
+  // Each old point goes to at most one new point, the closest pairs first, so that two new
+  // points near one old point do not both receive its impulse (which would double the
+  // warm-start push). Ties resolve by new index, then old index.
+  struct Match {
+    PfxFloat distanceSq;
+    PfxUInt32 newIndex;
+    PfxUInt32 oldIndex;
+  };
+  Match matches[PFX_NUM_CONTACTS_PER_MANIFOLD * PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxUInt32 numMatches = 0;
+  for (PfxUInt32 n = 0; n < numNew; ++n) {
+    const PfxContactPoint& newPoint = m_contactPoints[n];
+    for (PfxUInt32 o = 0; o < numOld; ++o) {
+      const PfxContactPoint& oldPoint = oldPoints[o];
+      if (oldPoint.m_shapeIdA != newPoint.m_shapeIdA ||
+          oldPoint.m_shapeIdB != newPoint.m_shapeIdB) {
+        continue;
+      }
+      const PfxFloat distanceSq = (newPoint.m_localPointA - oldPoint.m_localPointA).squaredNorm();
+      if (distanceSq <= matchDistanceSq) matches[numMatches++] = {distanceSq, n, o};
+    }
+  }
+  std::sort(matches, matches + numMatches, [](const Match& a, const Match& b) {
+    if (a.distanceSq != b.distanceSq) return a.distanceSq < b.distanceSq;
+    if (a.newIndex != b.newIndex) return a.newIndex < b.newIndex;
+    return a.oldIndex < b.oldIndex;
+  });
+
+  bool newTaken[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
+  bool oldTaken[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
+  for (PfxUInt32 m = 0; m < numMatches; ++m) {
+    const Match& match = matches[m];
+    if (newTaken[match.newIndex] || oldTaken[match.oldIndex]) continue;
+    newTaken[match.newIndex] = oldTaken[match.oldIndex] = true;
+    PfxContactPoint& newPoint = m_contactPoints[match.newIndex];
+    const PfxContactPoint& oldPoint = oldPoints[match.oldIndex];
+    for (int row = 0; row < 3; ++row) {
+      newPoint.m_constraintRow[row].m_accumImpulse = oldPoint.m_constraintRow[row].m_accumImpulse;
+    }
+    newPoint.m_duration = oldPoint.m_duration + 1;
+  }
+}
+
+void PfxContactManifold::refresh(const PfxTransform3& transformA,
+                                 const PfxTransform3& transformB, PfxFloat breakDistance) {
+  PfxUInt32 numKept = 0;
+  for (PfxUInt32 i = 0; i < m_numContacts; ++i) {
+    PfxContactPoint& point = m_contactPoints[i];
+    const PfxVector3& normal = point.getNormal();
+    const PfxVector3 separation = transformB * point.m_localPointB - transformA * point.m_localPointA;
+    const PfxFloat distance = separation.dot(normal);
+    const PfxVector3 slip = separation - normal * distance;
+    if (distance > breakDistance || slip.squaredNorm() > breakDistance * breakDistance) continue;
+    point.m_distance = distance;
+    if (numKept != i) m_contactPoints[numKept] = point;
+    ++numKept;
+  }
+  m_numContacts = numKept;
+}
+
+void PfxContactManifold::removeContactPoint(PfxUInt32 i) {
+  if (i >= m_numContacts) return;
+  // Shifting rather than swapping in the last point keeps the order, and with it the order
+  // in which the solver visits the points, the same on every run.
+  for (PfxUInt32 k = i + 1; k < m_numContacts; ++k) m_contactPoints[k - 1] = m_contactPoints[k];
+  --m_numContacts;
+}
+
+PfxFloat PfxContactManifold::getPenetrationDepth() const {
+  PfxFloat deepest = 0;
+  for (PfxUInt32 i = 0; i < m_numContacts; ++i) {
+    deepest = std::max(deepest, -m_contactPoints[i].m_distance);
+  }
+  return deepest;
+}
+
+}  // namespace pfx
