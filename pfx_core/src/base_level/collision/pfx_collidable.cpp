@@ -1,7 +1,6 @@
 #include "pfx/base_level/collision/pfx_collidable.h"
 
 #include <cstring>
-#include <limits>
 
 namespace pfx {
 
@@ -38,13 +37,14 @@ PfxInt32 PfxCollidable::addShape(const PfxShape& shape) {
 
 PfxInt32 PfxCollidable::finish() {
   if (m_numShapes == 0) return PFX_ERR_OUT_OF_RANGE;
-  PfxVector3 lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
-  PfxVector3 hi = -lo;
-  for (PfxUInt32 i = 0; i < m_numShapes; ++i) {
-    PfxVector3 c, h;
-    getShape(i).getAabb(c, h);
-    lo = lo.cwiseMin(c - h);
-    hi = hi.cwiseMax(c + h);
+  PfxVector3 center, half;
+  getShape(0).getAabb(center, half);
+  PfxVector3 lo = center - half;
+  PfxVector3 hi = center + half;
+  for (PfxUInt32 i = 1; i < m_numShapes; ++i) {
+    getShape(i).getAabb(center, half);
+    lo = lo.cwiseMin(center - half);
+    hi = hi.cwiseMax(center + half);
   }
   m_center = (lo + hi) * PfxFloat(0.5);
   m_half = (hi - lo) * PfxFloat(0.5);
