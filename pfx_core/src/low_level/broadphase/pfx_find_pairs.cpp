@@ -1,0 +1,102 @@
+#include "pfx/low_level/broadphase/pfx_find_pairs.h"
+
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/low_level/sort/pfx_parallel_sort.h"
+
+namespace pfx {
+
+namespace {
+
+PfxInt32 validateBuffer(const void* buff, PfxUInt32 bytes, PfxUInt64 requiredBytes) {
+  if (!buff) return PFX_ERR_OUT_OF_BUFFER;
+  if (!pfxIsAligned(buff)) return PFX_ERR_INVALID_ALIGNMENT;
+  if (bytes < requiredBytes) return PFX_ERR_OUT_OF_BUFFER;
+  return PFX_OK;
+}
+
+// The sweep stops at the first proxy that starts past the current one's end, which is
+// only right when the array is ordered by minimum along the sweep axis.
+bool isSortedAlongAxis(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies, int axis) {
+  for (PfxUInt32 i = 1; i < numProxies; ++i) {
+    if (pfxGetXMin(proxies[i], axis) < pfxGetXMin(proxies[i - 1], axis)) return false;
+  }
+  return true;
+}
+
+bool overlapOnOtherAxes(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b, int axis) {
+  for (int k = 1; k < 3; ++k) {
+    const int other = (axis + k) % 3;
+    if (pfxGetXMax(a, other) < pfxGetXMin(b, other) ||
+        pfxGetXMax(b, other) < pfxGetXMin(a, other)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// A sleeping body is woken by a moving neighbour, so a pair matters while at least one
+// side is awake and that side is not a fixed body, which never wakes anything.
+bool eitherSideCanMove(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b) {
+  const bool sleepA = pfxGetSleeping(a);
+  const bool sleepB = pfxGetSleeping(b);
+  if (sleepA && sleepB) return false;
+  if (sleepA && pfxGetMotionType(b) == kPfxMotionTypeFixed) return false;
+  if (sleepB && pfxGetMotionType(a) == kPfxMotionTypeFixed) return false;
+  return true;
+}
+
+bool isPair(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b) {
+  return pfxMotionTypesCollide(pfxGetMotionType(a), pfxGetMotionType(b)) &&
+         pfxContactFiltersMatch(pfxGetSelf(a), pfxGetTarget(a), pfxGetSelf(b), pfxGetTarget(b)) &&
+         eitherSideCanMove(a, b);
+}
+
+}  // namespace
+
+PfxUInt32 pfxGetWorkBytesOfFindPairs(PfxUInt32 maxPairs, PfxUInt32 /*maxTasks*/) {
+  // The sweep runs as one task, so the only scratch is the sort's, whatever the number
+  // of tasks the caller plans for.
+  return static_cast<PfxUInt32>(pfxAlignBytes(sizeof(PfxBroadphasePair) * maxPairs));
+}
+
+PfxUInt32 pfxGetPairBytesOfFindPairs(PfxUInt32 maxPairs) {
+  return static_cast<PfxUInt32>(pfxAlignBytes(sizeof(PfxBroadphasePair) * maxPairs));
+}
+
+PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result) {
+  const int axis = param.axis;
+  if (axis < 0 || axis > 2) return PFX_ERR_INVALID_VALUE;
+  if (param.numProxies > 0 && !param.proxies) return PFX_ERR_NULL_POINTER;
+  const PfxUInt64 pairBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.maxPairs;
+  PfxInt32 err = validateBuffer(param.pairBuff, param.pairBytes, pairBytes);
+  if (err != PFX_OK) return err;
+  err = validateBuffer(param.workBuff, param.workBytes, pairBytes);
+  if (err != PFX_OK) return err;
+  if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) return PFX_ERR_INVALID_VALUE;
+
+  PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);
+  const PfxBroadphaseProxy* proxies = param.proxies;
+  PfxUInt32 numFound = 0;
+  for (PfxUInt32 i = 0; i < param.numProxies; ++i) {
+    const PfxBroadphaseProxy& a = proxies[i];
+    const PfxUInt16 end = pfxGetXMax(a, axis);
+    for (PfxUInt32 j = i + 1; j < param.numProxies && pfxGetXMin(proxies[j], axis) <= end; ++j) {
+      const PfxBroadphaseProxy& b = proxies[j];
+      if (!overlapOnOtherAxes(a, b, axis) || !isPair(a, b)) continue;
+      if (numFound < param.maxPairs) {
+        pfxInitializePair(pairs[numFound], pfxGetObjectId(a), pfxGetMotionType(a),
+                          pfxGetObjectId(b), pfxGetMotionType(b));
+      }
+      ++numFound;
+    }
+  }
+
+  const PfxUInt32 numStored = numFound < param.maxPairs ? numFound : param.maxPairs;
+  pfxParallelSort(pairs, numStored, param.workBuff, param.workBytes);
+  result.pairs = pairs;
+  result.numPairs = numStored;
+  result.numPairsFound = numFound;
+  return numFound > param.maxPairs ? PFX_ERR_OUT_OF_MAX_PAIRS : PFX_OK;
+}
+
+}  // namespace pfx
