@@ -1,0 +1,259 @@
+// PfxWorld as a whole: bad input leaves it untouched, a warm step allocates nothing, and
+// the same world stepped the same way gives the same bits.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <new>
+#include <vector>
+
+#include "pfx/high_level/pfx_body_init.h"
+
+using namespace pfx;
+
+// Every heap allocation of this test program passes here, so a test can count them.
+static std::atomic<long> g_allocations{0};
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, std::align_val_t align) {
+  ++g_allocations;
+  const std::size_t a = static_cast<std::size_t>(align);
+  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+
+namespace {
+
+const PfxFloat kNaN = std::numeric_limits<PfxFloat>::quiet_NaN();
+const PfxFloat kInf = std::numeric_limits<PfxFloat>::infinity();
+
+// A ground, a small pyramid, a few spheres, capsules and cylinders: every stage has work.
+void buildScene(PfxWorld& world, PfxPipelineType pipeline) {
+  PfxWorldParam param;
+  param.pipeline = pipeline;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 1, 20)), ground), PFX_OK);
+  for (int layer = 0; layer < 4; ++layer) {
+    for (int i = 0; i < 4 - layer; ++i) {
+      PfxBodyInit init;
+      init.position = PfxVector3(i - 0.5f * (3 - layer), 0.5f + layer * 1.01f, 0);
+      ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), init), PFX_OK);
+    }
+  }
+  for (int i = 0; i < 6; ++i) {
+    PfxBodyInit init;
+    init.position = PfxVector3(-3 + i * 1.2f, 6 + 0.3f * i, 2);
+    init.angularVelocity = PfxVector3(0.1f * i, 0.2f, -0.3f);
+    const PfxShape shape = i % 3 == 0   ? pfxMakeShape(PfxSphere(0.4f))
+                           : i % 3 == 1 ? pfxMakeShape(PfxCapsule(0.5f, 0.3f))
+                                        : pfxMakeShape(PfxCylinder(0.4f, 0.3f));
+    ASSERT_EQ(pfxAddBody(world, shape, init), PFX_OK);
+  }
+}
+
+std::vector<unsigned char> snapshot(const PfxWorld& world) {
+  const auto* begin = reinterpret_cast<const unsigned char*>(world.getRigidStates());
+  return std::vector<unsigned char>(begin,
+                                    begin + world.getNumRigidBodies() * sizeof(PfxRigidState));
+}
+
+PfxRigidState validState() {
+  PfxRigidState s;
+  s.reset();
+  s.setPosition(PfxVector3(0, 5, 0));
+  return s;
+}
+
+PfxRigidBody validBody() {
+  PfxRigidBody b;
+  b.reset();
+  return b;
+}
+
+}  // namespace
+
+TEST(World, AddRigidBodyRejectsBadInputAndChangesNothing) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineStable);
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const PfxUInt32 numBodies = world.getNumRigidBodies();
+  const std::vector<unsigned char> before = snapshot(world);
+  const PfxShape box = pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f));
+
+  auto expectRejected = [&](PfxInt32 expected, const PfxRigidState& s, const PfxRigidBody& b,
+                            const PfxShape* shapes, PfxUInt32 n, const char* what) {
+    PfxUInt32 id = 12345;
+    EXPECT_EQ(world.addRigidBody(s, b, shapes, n, &id), expected) << what;
+    EXPECT_EQ(id, 12345u) << what;
+    EXPECT_EQ(world.getNumRigidBodies(), numBodies) << what;
+    EXPECT_EQ(snapshot(world), before) << what;
+  };
+
+  PfxRigidState s = validState();
+  s.setPosition(PfxVector3(kNaN, 0, 0));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "NaN position");
+  s = validState();
+  s.setPosition(PfxVector3(0, kInf, 0));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "infinite position");
+  s = validState();
+  s.setOrientation(PfxQuat(kNaN, 0, 0, 0));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "NaN orientation");
+  s = validState();
+  s.setOrientation(PfxQuat(2, 0, 0, 0));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "non-unit orientation");
+  s = validState();
+  s.setLinearVelocity(PfxVector3(0, 0, kInf));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "infinite velocity");
+  s = validState();
+  s.setAngularVelocity(PfxVector3(kNaN, 0, 0));
+  expectRejected(PFX_ERR_INVALID_VALUE, s, validBody(), &box, 1, "NaN angular velocity");
+
+  PfxRigidBody b = validBody();
+  b.setMass(0);
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "zero mass");
+  b.setMass(-1);
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "negative mass");
+  b = validBody();
+  b.setInertia(PfxMatrix3(PfxVector3(1, -1, 1).asDiagonal()));
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "negative inertia");
+  b.setInertia(PfxMatrix3::Zero());
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "zero inertia");
+  PfxMatrix3 skew = PfxMatrix3::Identity();
+  skew(0, 1) = 0.5f;
+  b.setInertia(skew);
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "asymmetric inertia");
+  b = validBody();
+  b.setFriction(kNaN);
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "NaN friction");
+  b = validBody();
+  b.setRestitution(1.5f);
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), b, &box, 1, "restitution > 1");
+
+  const PfxShape negativeBox = pfxMakeShape(PfxBox(0.5f, -0.1f, 0.5f));
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), validBody(), &negativeBox, 1, "negative size");
+  const PfxShape nanSphere = pfxMakeShape(PfxSphere(kNaN));
+  expectRejected(PFX_ERR_INVALID_VALUE, validState(), validBody(), &nanSphere, 1, "NaN radius");
+  const PfxShape nullMesh = pfxMakeShape(static_cast<const PfxConvexMesh*>(nullptr));
+  expectRejected(PFX_ERR_NULL_POINTER, validState(), validBody(), &nullMesh, 1, "null mesh");
+  std::vector<PfxShape> many(PFX_MAX_SHAPES_PER_COLLIDABLE + 1, box);
+  expectRejected(PFX_ERR_OUT_OF_RANGE, validState(), validBody(), many.data(),
+                 static_cast<PfxUInt32>(many.size()), "too many shapes");
+  expectRejected(PFX_ERR_OUT_OF_RANGE, validState(), validBody(), many.data(), 0, "no shapes");
+  expectRejected(PFX_ERR_NULL_POINTER, validState(), validBody(), nullptr, 1, "null shapes");
+
+  // A fixed body needs no mass: zero is fine there.
+  PfxRigidState fixed = validState();
+  fixed.setMotionType(kPfxMotionTypeFixed);
+  PfxRigidBody massless = validBody();
+  massless.setMass(0);
+  EXPECT_EQ(world.addRigidBody(fixed, massless, &box, 1), PFX_OK);
+}
+
+TEST(World, SettersRejectBadInputAndChangeNothing) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineStable);
+  const std::vector<unsigned char> before = snapshot(world);
+  PfxRigidState bad = world.getRigidState(3);
+  bad.setLinearVelocity(PfxVector3(kNaN, 0, 0));
+  EXPECT_EQ(world.setRigidState(3, bad), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setRigidState(world.getNumRigidBodies(), world.getRigidState(3)),
+            PFX_ERR_OUT_OF_RANGE);
+  PfxRigidBody badBody = world.getRigidBody(3);
+  badBody.setMass(-2);
+  EXPECT_EQ(world.setRigidBody(3, badBody), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.applyForce(3, PfxVector3(kInf, 0, 0), PfxVector3::Zero()), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.applyForce(999, PfxVector3::Zero(), PfxVector3::Zero()), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(world.setKeyframeTarget(3, PfxVector3::Zero(), PfxQuat::Identity()),
+            PFX_ERR_INVALID_FLAG);
+  EXPECT_EQ(snapshot(world), before);
+  // The forces that were rejected must not act: a step matches a world that never saw them.
+  PfxWorld reference;
+  buildScene(reference, kPfxPipelineStable);
+  ASSERT_EQ(world.step(), PFX_OK);
+  ASSERT_EQ(reference.step(), PFX_OK);
+  EXPECT_EQ(snapshot(world), snapshot(reference));
+}
+
+TEST(World, InitializeRejectsBadParameters) {
+  PfxWorld world;
+  const PfxWorldParam good;
+  ASSERT_EQ(world.initialize(good), PFX_OK);
+  auto rejects = [&](PfxWorldParam p, PfxInt32 code) {
+    EXPECT_EQ(world.initialize(p), code);
+    EXPECT_EQ(world.getParam().timeStep, good.timeStep);
+  };
+  PfxWorldParam p;
+  p.timeStep = 0;
+  rejects(p, PFX_ERR_INVALID_VALUE);
+  p = good;
+  p.timeStep = kNaN;
+  rejects(p, PFX_ERR_INVALID_VALUE);
+  p = good;
+  p.iteration = 0;
+  rejects(p, PFX_ERR_INVALID_VALUE);
+  p = good;
+  p.worldExtent = PfxVector3(10, -1, 10);
+  rejects(p, PFX_ERR_INVALID_VALUE);
+  p = good;
+  p.gravity = PfxVector3(0, kNaN, 0);
+  rejects(p, PFX_ERR_INVALID_VALUE);
+  p = good;
+  p.pipeline = static_cast<PfxPipelineType>(7);
+  rejects(p, PFX_ERR_INVALID_FLAG);
+  p = good;
+  p.outOfWorldBehavior = 0x80;
+  rejects(p, PFX_ERR_INVALID_FLAG);
+}
+
+TEST(World, StepAllocatesNothingAfterWarmUp) {
+  for (PfxPipelineType pipeline : {kPfxPipelineSimple, kPfxPipelineStable}) {
+    PfxWorld world;
+    buildScene(world, pipeline);
+    for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
+    const long before = g_allocations.load();
+    for (int i = 0; i < 240; ++i) ASSERT_EQ(world.step(), PFX_OK);
+    EXPECT_EQ(g_allocations.load() - before, 0) << "pipeline " << int(pipeline);
+    EXPECT_GT(world.getStats().numContactPoints, 0u);
+  }
+}
+
+TEST(World, SameWorldSameStepsGiveIdenticalBits) {
+  for (PfxPipelineType pipeline : {kPfxPipelineSimple, kPfxPipelineStable}) {
+    PfxWorld a, b;
+    buildScene(a, pipeline);
+    buildScene(b, pipeline);
+    for (int i = 0; i < 300; ++i) {
+      ASSERT_EQ(a.step(), PFX_OK);
+      ASSERT_EQ(b.step(), PFX_OK);
+    }
+    EXPECT_EQ(snapshot(a), snapshot(b)) << "pipeline " << int(pipeline);
+    // And the scene did move: not identical because nothing happened.
+    EXPECT_GT((a.getRigidState(15).getPosition() - PfxVector3(-3 + 5 * 1.2f, 7.5f, 2)).norm(), 1);
+  }
+}
+
+TEST(World, ReportsStageTimesAndSkipsRefreshInSimplePipeline) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineSimple);
+  for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const PfxWorldStats& stats = world.getStats();
+  EXPECT_EQ(stats.stageSeconds[kPfxStageRefreshContacts], 0.0);
+  EXPECT_GT(stats.stageSeconds[kPfxStageDetectCollision], 0.0);
+  EXPECT_GT(stats.stepSeconds, 0.0);
+  EXPECT_GT(stats.numPairs, 0u);
+  EXPECT_GE(stats.numPairs, stats.numContactPairs);
+  EXPECT_GE(stats.maxPenetration, 0);
+}
