@@ -509,6 +509,12 @@ TEST(UpdateBroadphaseProxies, BadInputIsRejectedAndNothingWritten) {
   p.proxiesYb = reinterpret_cast<PfxBroadphaseProxy*>(reinterpret_cast<char*>(p.proxiesYb) + 4);
   expectRejected(PFX_ERR_INVALID_ALIGNMENT, p, "misaligned array");
   p = good;
+  p.proxiesZb = p.proxiesY;
+  expectRejected(PFX_ERR_INVALID_VALUE, p, "one array passed twice");
+  p = good;
+  p.workBuff = p.proxiesZ + 1;
+  expectRejected(PFX_ERR_INVALID_VALUE, p, "work buffer inside an array");
+  p = good;
   p.outOfWorldBehavior = 1u << 5;
   expectRejected(PFX_ERR_INVALID_FLAG, p, "unknown behaviour");
   p = good;
@@ -913,6 +919,9 @@ TEST(FindPairs, BadInputIsRejectedAndNothingWritten) {
   p = good;
   p.workBytes -= 16;
   expectRejected(PFX_ERR_OUT_OF_BUFFER, p, "small work buffer");
+  p = good;
+  p.workBuff = p.pairBuff;
+  expectRejected(PFX_ERR_INVALID_VALUE, p, "work buffer is the pair buffer");
 }
 
 // ---------------------------------------------------------------------------------------

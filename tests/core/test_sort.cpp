@@ -126,6 +126,7 @@ TYPED_TEST(SortTest, BadBuffersAreRejectedAndDataUntouched) {
   void* misaligned = reinterpret_cast<char*>(work.data()) + 8;
   EXPECT_EQ(PFX_ERR_INVALID_ALIGNMENT, pfxParallelSort(records.data(), 64, misaligned, bytes));
   EXPECT_EQ(PFX_ERR_OUT_OF_BUFFER, pfxParallelSort(records.data(), 64, work.data(), bytes - 1));
+  EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxParallelSort(records.data(), 64, records.data() + 32, bytes));
   expectSameRecords(records, before);
 }
 

@@ -1,6 +1,6 @@
 #include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
 
-#include <cstdint>
+#include "low_level/pfx_buffer_checks.h"
 
 namespace pfx {
 
@@ -12,12 +12,6 @@ bool isStrictlyAscending(const PfxBroadphasePair* pairs, PfxUInt32 numPairs) {
     if (pairs[i].key <= pairs[i - 1].key) return false;
   }
   return true;
-}
-
-bool rangesOverlap(const void* a, PfxUInt64 bytesA, const void* b, PfxUInt64 bytesB) {
-  const auto beginA = reinterpret_cast<std::uintptr_t>(a);
-  const auto beginB = reinterpret_cast<std::uintptr_t>(b);
-  return bytesA > 0 && bytesB > 0 && beginA < beginB + bytesB && beginB < beginA + bytesA;
 }
 
 // Visits the two arrays in key order and hands every pair to one of the three callbacks.
@@ -69,12 +63,10 @@ PfxInt32 pfxDecomposePairs(const PfxDecomposePairsParam& param, PfxDecomposePair
   const PfxUInt64 previousBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.numPreviousPairs;
   const PfxUInt64 currentBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.numCurrentPairs;
   const PfxUInt64 requiredBytes = previousBytes + currentBytes;
-  if (!param.pairBuff) return PFX_ERR_OUT_OF_BUFFER;
-  if (!pfxIsAligned(param.pairBuff)) return PFX_ERR_INVALID_ALIGNMENT;
-  if (param.pairBytes < requiredBytes) return PFX_ERR_OUT_OF_BUFFER;
-  // The outputs are written while the inputs are still being read.
-  if (rangesOverlap(param.pairBuff, requiredBytes, param.previousPairs, previousBytes) ||
-      rangesOverlap(param.pairBuff, requiredBytes, param.currentPairs, currentBytes)) {
+  const PfxInt32 err = pfxCheckBuffer(param.pairBuff, param.pairBytes, requiredBytes);
+  if (err != PFX_OK) return err;
+  if (pfxRangesOverlap(param.pairBuff, requiredBytes, param.previousPairs, previousBytes) ||
+      pfxRangesOverlap(param.pairBuff, requiredBytes, param.currentPairs, currentBytes)) {
     return PFX_ERR_INVALID_VALUE;
   }
   if (!isStrictlyAscending(param.previousPairs, param.numPreviousPairs) ||

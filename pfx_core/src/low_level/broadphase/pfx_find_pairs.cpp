@@ -2,17 +2,11 @@
 
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/low_level/sort/pfx_parallel_sort.h"
+#include "low_level/pfx_buffer_checks.h"
 
 namespace pfx {
 
 namespace {
-
-PfxInt32 validateBuffer(const void* buff, PfxUInt32 bytes, PfxUInt64 requiredBytes) {
-  if (!buff) return PFX_ERR_OUT_OF_BUFFER;
-  if (!pfxIsAligned(buff)) return PFX_ERR_INVALID_ALIGNMENT;
-  if (bytes < requiredBytes) return PFX_ERR_OUT_OF_BUFFER;
-  return PFX_OK;
-}
 
 // The sweep stops at the first proxy that starts past the current one's end, which is
 // only right when the array is ordered by minimum along the sweep axis.
@@ -68,10 +62,16 @@ PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result
   if (axis < 0 || axis > 2) return PFX_ERR_INVALID_VALUE;
   if (param.numProxies > 0 && !param.proxies) return PFX_ERR_NULL_POINTER;
   const PfxUInt64 pairBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.maxPairs;
-  PfxInt32 err = validateBuffer(param.pairBuff, param.pairBytes, pairBytes);
+  PfxInt32 err = pfxCheckBuffer(param.pairBuff, param.pairBytes, pairBytes);
   if (err != PFX_OK) return err;
-  err = validateBuffer(param.workBuff, param.workBytes, pairBytes);
+  err = pfxCheckBuffer(param.workBuff, param.workBytes, pairBytes);
   if (err != PFX_OK) return err;
+  const PfxUInt64 proxyBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * param.numProxies;
+  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes) ||
+      pfxRangesOverlap(param.pairBuff, pairBytes, param.proxies, proxyBytes) ||
+      pfxRangesOverlap(param.workBuff, pairBytes, param.proxies, proxyBytes)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
   if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) return PFX_ERR_INVALID_VALUE;
 
   PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pfx/low_level/sort/pfx_parallel_sort.h"
+#include "low_level/pfx_buffer_checks.h"
 
 namespace pfx {
 
@@ -137,10 +138,21 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   if (!isValidWorld(param.worldCenter, param.worldExtent) || !isValidTimeStep(param.timeStep)) {
     return PFX_ERR_INVALID_VALUE;
   }
-  if (!param.workBuff) return PFX_ERR_OUT_OF_BUFFER;
-  if (!pfxIsAligned(param.workBuff)) return PFX_ERR_INVALID_ALIGNMENT;
-  if (PfxUInt64(param.workBytes) < PfxUInt64(sizeof(PfxBroadphaseProxy)) * n) {
-    return PFX_ERR_OUT_OF_BUFFER;
+  const PfxUInt64 arrayBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * n;
+  const PfxInt32 err = pfxCheckBuffer(param.workBuff, param.workBytes, arrayBytes);
+  if (err != PFX_OK) return err;
+  // Each array is filled from the first and sorted through the work buffer, so none may
+  // share bytes with another.
+  auto bytesOf = [arrayBytes](const void* array) { return array ? arrayBytes : 0; };
+  for (int a = 0; a < kNumProxyArrays; ++a) {
+    if (pfxRangesOverlap(arrays[a], bytesOf(arrays[a]), param.workBuff, arrayBytes)) {
+      return PFX_ERR_INVALID_VALUE;
+    }
+    for (int b = a + 1; b < kNumProxyArrays; ++b) {
+      if (pfxRangesOverlap(arrays[a], bytesOf(arrays[a]), arrays[b], bytesOf(arrays[b]))) {
+        return PFX_ERR_INVALID_VALUE;
+      }
+    }
   }
   // Checked before anything is written, so that a rejected call leaves states and arrays
   // as they were.

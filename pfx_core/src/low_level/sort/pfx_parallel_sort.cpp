@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "low_level/pfx_buffer_checks.h"
+
 namespace pfx {
 
 namespace {
@@ -17,9 +19,11 @@ template <class Record>
 PfxInt32 validateSort(const Record* data, PfxUInt32 numData, const void* workBuff,
                       PfxUInt32 workBytes) {
   if (numData > 0 && !data) return PFX_ERR_NULL_POINTER;
-  if (!workBuff) return PFX_ERR_OUT_OF_BUFFER;
-  if (!pfxIsAligned(workBuff) || !pfxIsAligned(data)) return PFX_ERR_INVALID_ALIGNMENT;
-  if (PfxUInt64(workBytes) < PfxUInt64(numData) * sizeof(Record)) return PFX_ERR_OUT_OF_BUFFER;
+  if (!pfxIsAligned(data)) return PFX_ERR_INVALID_ALIGNMENT;
+  const PfxUInt64 dataBytes = PfxUInt64(numData) * sizeof(Record);
+  const PfxInt32 err = pfxCheckBuffer(workBuff, workBytes, dataBytes);
+  if (err != PFX_OK) return err;
+  if (pfxRangesOverlap(data, dataBytes, workBuff, dataBytes)) return PFX_ERR_INVALID_VALUE;
   return PFX_OK;
 }
 
