@@ -17,15 +17,19 @@ bool isSortedAlongAxis(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies, 
   return true;
 }
 
-bool overlapOnOtherAxes(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b, int axis) {
-  for (int k = 1; k < 3; ++k) {
-    const int other = (axis + k) % 3;
-    if (pfxGetXMax(a, other) < pfxGetXMin(b, other) ||
-        pfxGetXMax(b, other) < pfxGetXMin(a, other)) {
-      return false;
-    }
-  }
-  return true;
+// One proxy's interval on the two axes other than the sweep axis, read out once per
+// proxy rather than once per candidate.
+struct CrossSection {
+  PfxUInt16 min1, max1, min2, max2;
+};
+
+CrossSection crossSectionOf(const PfxBroadphaseProxy& p, int axis1, int axis2) {
+  return {pfxGetXMin(p, axis1), pfxGetXMax(p, axis1), pfxGetXMin(p, axis2),
+          pfxGetXMax(p, axis2)};
+}
+
+bool crossSectionsOverlap(const CrossSection& a, const CrossSection& b) {
+  return a.min1 <= b.max1 && b.min1 <= a.max1 && a.min2 <= b.max2 && b.min2 <= a.max2;
 }
 
 // A sleeping body is woken by a moving neighbour, so a pair matters while at least one
@@ -77,12 +81,17 @@ PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result
   PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);
   const PfxBroadphaseProxy* proxies = param.proxies;
   PfxUInt32 numFound = 0;
+  const int axis1 = (axis + 1) % 3;
+  const int axis2 = (axis + 2) % 3;
   for (PfxUInt32 i = 0; i < param.numProxies; ++i) {
     const PfxBroadphaseProxy& a = proxies[i];
     const PfxUInt16 end = pfxGetXMax(a, axis);
+    const CrossSection sectionA = crossSectionOf(a, axis1, axis2);
     for (PfxUInt32 j = i + 1; j < param.numProxies && pfxGetXMin(proxies[j], axis) <= end; ++j) {
       const PfxBroadphaseProxy& b = proxies[j];
-      if (!overlapOnOtherAxes(a, b, axis) || !isPair(a, b)) continue;
+      if (!crossSectionsOverlap(sectionA, crossSectionOf(b, axis1, axis2)) || !isPair(a, b)) {
+        continue;
+      }
       if (numFound < param.maxPairs) {
         pfxInitializePair(pairs[numFound], pfxGetObjectId(a), pfxGetMotionType(a),
                           pfxGetObjectId(b), pfxGetMotionType(b));
