@@ -17,8 +17,8 @@ bool isSortedAlongAxis(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies, 
   return true;
 }
 
-// One proxy's interval on the two axes other than the sweep axis, read out once per
-// proxy rather than once per candidate.
+// A proxy's intervals on the two axes other than the sweep axis, unpacked from the
+// proxy's 16-bit fields (the current proxy's only once per sweep step).
 struct CrossSection {
   PfxUInt16 min1, max1, min2, max2;
 };
