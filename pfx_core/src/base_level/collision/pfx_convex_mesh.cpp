@@ -255,6 +255,7 @@ int traceFaceLoop(const WorkMesh& work, int face, PfxUInt8* loop) {
       ++numBoundaryEdges;
     }
   }
+  if (numBoundaryEdges == 0) return 0;
   int length = 0;
   int v = start;
   do {
@@ -352,7 +353,8 @@ PfxInt32 pfxCreateConvexMesh(PfxConvexMesh& mesh, const PfxFloat* vertices, PfxU
     for (int k = 0; k < 3; ++k) out.m_facetVertIds[t][k] = static_cast<PfxUInt8>(work.tris[t][k]);
   }
 
-  mesh = out;
+  // Byte copy, padding included, so that equal meshes serialize to equal bytes.
+  std::memcpy(static_cast<void*>(&mesh), &out, sizeof(out));
   return PFX_OK;
 }
 

@@ -26,12 +26,16 @@ struct PfxConvexMesh {
   PfxVector3 m_aabbHalf;
 };
 
-// Builds a convex mesh from a triangle list. Rejects (PFX_ERR_NOT_CONVEX) a mesh with a
-// vertex outside any face plane by more than a relative tolerance, or one that is not
-// closed, and rejects too many vertices or triangles (PFX_ERR_OUT_OF_RANGE), out-of-range
-// indices, NaN vertices (PFX_ERR_INVALID_VALUE) and zero-area triangles or zero volume
-// (PFX_ERR_DEGENERATE). Triangle winding may be either way: it is made outward here.
-// `mesh` is only written on success.
+// Builds a convex mesh from a triangle list (xyz per vertex, three indices per triangle).
+// Vertices no triangle uses are dropped and vertices with identical coordinates are
+// welded, so a triangle soup works. Rejects null arrays (PFX_ERR_NULL_POINTER); no
+// triangles, an index count that is not a multiple of 3, an out-of-range index, more than
+// 64 triangles or 34 distinct vertices (PFX_ERR_OUT_OF_RANGE); a NaN or infinite vertex
+// (PFX_ERR_INVALID_VALUE); a zero-area triangle or zero volume (PFX_ERR_DEGENERATE); a
+// surface that is not closed (every edge in exactly two triangles) or a vertex outside any
+// triangle's plane by more than 1e-4 of the bounds' diagonal (PFX_ERR_NOT_CONVEX).
+// Triangle winding may be either way: it is made outward here. `mesh` is only written on
+// success.
 PfxInt32 pfxCreateConvexMesh(PfxConvexMesh& mesh, const PfxFloat* vertices, PfxUInt32 numVertices,
                              const PfxUInt16* indices, PfxUInt32 numIndices);
 

@@ -24,6 +24,7 @@ struct PfxMassProperties {
   PfxMatrix3 inertia;  // about centerOfMass
 };
 
+// A large mesh is an open surface for static ground: it has no volume and so no mass.
 PfxFloat pfxCalcVolume(const PfxShape& shape);
 
 // One shape of uniform density, including its offset pose.
