@@ -8,8 +8,8 @@ namespace pfx {
 
 namespace {
 
-// The geometry is checked in double: the input is float, so every float coordinate is
-// exact here, and the plane tests below measure the input, not our own round-off.
+// The geometry is checked in double: every input coordinate is exact there, so the plane
+// tests below measure the input, not our own round-off.
 using Vec3d = Eigen::Vector3d;
 
 constexpr int kMaxIndices = 3 * PFX_CONVEX_MESH_MAX_FACETS;
@@ -44,8 +44,8 @@ struct WorkMesh {
 
 // Maps every referenced input vertex to a compact id. Vertices with identical coordinates
 // become one: triangle soups (STL, or meshes split for texture seams) repeat a corner once
-// per triangle, and without welding no edge would be shared. Ids follow the input order of
-// the first occurrence, so an already compact input keeps its numbering.
+// per triangle, and without welding no edge would be shared. Ids follow the input vertex
+// order, so an already compact input keeps its numbering.
 PfxInt32 compactVertices(const PfxFloat* vertices, const PfxUInt16* indices, int numIndices,
                          WorkMesh& work) {
   PfxUInt16 used[kMaxIndices];
