@@ -1,0 +1,26 @@
+// Sutherland-Hodgman clipping of a convex polygon (or a segment, or a point) by a plane.
+#pragma once
+
+#include "pfx/base_level/base/pfx_vec_math.h"
+
+namespace pfx {
+
+// Enough for any face of a convex mesh clipped by the side planes of another face, and for
+// a cylinder cap clipped by a box face.
+constexpr PfxUInt32 PFX_MAX_CLIP_VERTICES = 2 * PFX_CONVEX_MESH_MAX_VERTICES + 4;
+
+// Keeps the part of the polygon in[0..numIn) with dot(normal, p) <= offset and writes it to
+// out (at most `capacity` points; `out` must not alias `in`). Two points are a segment and
+// stay two points at most; one point is kept or dropped. Returns the number written.
+PfxUInt32 pfxClipPolygonByPlane(const PfxVector3* in, PfxUInt32 numIn, const PfxVector3& normal,
+                                PfxFloat offset, PfxVector3* out, PfxUInt32 capacity);
+
+}  // namespace pfx
+
+namespace pfx {
+
+// Drops points within `tolerance` of an earlier point and returns how many remain: a face
+// of zero size clips to copies of one point, which are one contact.
+PfxUInt32 pfxRemoveDuplicatePoints(PfxVector3* points, PfxUInt32 count, PfxFloat tolerance);
+
+}  // namespace pfx

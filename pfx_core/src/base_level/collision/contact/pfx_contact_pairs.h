@@ -1,0 +1,34 @@
+// The pair routines behind pfxContactConvexShapes. Each reports contacts with the normal
+// pointing from its first shape to its second, through a PfxContactSink that keeps only
+// those within the sink's threshold.
+#pragma once
+
+#include "base_level/collision/contact/pfx_contact_sink.h"
+#include "pfx/base_level/collision/pfx_shape.h"
+
+namespace pfx {
+
+// Two swept spheres: a sphere is a zero-length segment, a capsule a segment (world end
+// points) with a radius. When the segments touch, the normal is the common perpendicular
+// of two crossing segments, or else A's +Y (then +Z) made perpendicular to the segments.
+void pfxContactSweptSpheres(const PfxVector3& a0, const PfxVector3& a1, PfxFloat radiusA,
+                            const PfxVector3& b0, const PfxVector3& b1, PfxFloat radiusB,
+                            const PfxMatrix3& rotationA, PfxContactSink& sink);
+
+// A box against a swept sphere (world end points p0, p1 of its segment). Exact closest
+// points while the segment is outside the box, separating axes once it is inside.
+void pfxContactBoxSweptSphere(const PfxVector3& half, const PfxTransform3& boxTransform,
+                              const PfxVector3& p0, const PfxVector3& p1, PfxFloat radius,
+                              PfxContactSink& sink);
+
+// Two polyhedra (boxes or convex meshes): separating axes, then face clipping.
+void pfxContactPolyhedra(const PfxShape& shapeA, const PfxTransform3& transformA,
+                         const PfxShape& shapeB, const PfxTransform3& transformB,
+                         PfxContactSink& sink);
+
+// Any two convex shapes: GJK distance, EPA depth, then clipping of the supporting faces.
+void pfxContactConvexGeneral(const PfxShape& shapeA, const PfxTransform3& transformA,
+                             const PfxShape& shapeB, const PfxTransform3& transformB,
+                             PfxContactSink& sink);
+
+}  // namespace pfx

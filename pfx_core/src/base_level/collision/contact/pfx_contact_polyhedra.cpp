@@ -1,0 +1,305 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "base_level/collision/contact/pfx_clip_polygon.h"
+#include "base_level/collision/contact/pfx_closest_points.h"
+#include "base_level/collision/contact/pfx_contact_pairs.h"
+#include "base_level/collision/contact/pfx_polyhedron.h"
+
+namespace pfx {
+
+namespace {
+
+// A polyhedron with its vertices, face normals and planes in the frame of shape A.
+struct PosedPolyhedron {
+  const PfxPolyhedron* topology;
+  const PfxVector3* verts;
+  const PfxVector3* normals;
+  const PfxFloat* planeDist;
+  PfxVector3 centroid;
+
+  PfxVector3 faceVertex(PfxUInt32 face, PfxUInt32 k) const {
+    return verts[topology->m_faceVertIds[topology->m_faceFirstVert[face] + k]];
+  }
+  PfxUInt32 faceSize(PfxUInt32 face) const { return topology->m_faceNumVerts[face]; }
+  PfxFloat minAlong(const PfxVector3& axis) const {
+    PfxFloat lo = std::numeric_limits<PfxFloat>::max();
+    for (PfxUInt32 v = 0; v < topology->m_numVerts; ++v) lo = std::min(lo, axis.dot(verts[v]));
+    return lo;
+  }
+  PfxFloat maxAlong(const PfxVector3& axis) const { return -minAlong(-axis); }
+  PfxFloat faceArea(PfxUInt32 face) const {
+    PfxVector3 sum = PfxVector3::Zero();
+    const PfxUInt32 n = faceSize(face);
+    const PfxVector3 origin = faceVertex(face, 0);
+    for (PfxUInt32 k = 1; k + 1 < n; ++k) {
+      sum += (faceVertex(face, k) - origin).cross(faceVertex(face, k + 1) - origin);
+    }
+    return PfxFloat(0.5) * sum.norm();
+  }
+};
+
+struct FaceQuery {
+  PfxFloat separation = -std::numeric_limits<PfxFloat>::max();
+  PfxUInt32 face = 0;
+};
+
+struct EdgeQuery {
+  PfxFloat separation = -std::numeric_limits<PfxFloat>::max();
+  PfxUInt32 edgeA = 0;
+  PfxUInt32 edgeB = 0;
+  PfxVector3 axis = PfxVector3::Zero();  // from A to B
+  bool found = false;
+};
+
+// Largest distance of `other` in front of a face plane of `poly`; positive means separated.
+FaceQuery queryFaces(const PosedPolyhedron& poly, const PosedPolyhedron& other,
+                     PfxFloat threshold) {
+  FaceQuery best;
+  for (PfxUInt32 f = 0; f < poly.topology->m_numFaces; ++f) {
+    const PfxFloat separation = other.minAlong(poly.normals[f]) - poly.planeDist[f];
+    if (separation > best.separation) {
+      best.separation = separation;
+      best.face = f;
+      if (separation > threshold) break;
+    }
+  }
+  return best;
+}
+
+// Gauss-map test (Gregorius, GDC 2013): two edges can only give a face of the Minkowski
+// difference when the arcs of their face normals cross on the unit sphere. a, b are A's
+// normals; c, d are B's normals negated.
+bool isMinkowskiFace(const PfxVector3& a, const PfxVector3& b, const PfxVector3& c,
+                     const PfxVector3& d) {
+  const PfxVector3 bxa = b.cross(a);
+  const PfxVector3 dxc = d.cross(c);
+  const PfxFloat cba = c.dot(bxa);
+  const PfxFloat dba = d.dot(bxa);
+  const PfxFloat adc = a.dot(dxc);
+  const PfxFloat bdc = b.dot(dxc);
+  return cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0;
+}
+
+EdgeQuery queryEdges(const PosedPolyhedron& a, const PosedPolyhedron& b, PfxFloat threshold) {
+  EdgeQuery best;
+  const PfxPolyhedron& ta = *a.topology;
+  const PfxPolyhedron& tb = *b.topology;
+  for (PfxUInt32 i = 0; i < ta.m_numEdges; ++i) {
+    const PfxVector3& pa = a.verts[ta.m_edgeVertIds[i][0]];
+    const PfxVector3 ea = a.verts[ta.m_edgeVertIds[i][1]] - pa;
+    const PfxFloat lenSqA = ea.squaredNorm();
+    if (lenSqA <= PFX_EPSILON * PFX_EPSILON) continue;
+    const PfxUInt8 fa0 = ta.m_edgeFaces[i][0];
+    const PfxUInt8 fa1 = ta.m_edgeFaces[i][1];
+    const bool knownA = fa0 != PFX_POLYHEDRON_NO_FACE && fa1 != PFX_POLYHEDRON_NO_FACE;
+    for (PfxUInt32 j = 0; j < tb.m_numEdges; ++j) {
+      const PfxVector3& pb = b.verts[tb.m_edgeVertIds[j][0]];
+      const PfxVector3 eb = b.verts[tb.m_edgeVertIds[j][1]] - pb;
+      const PfxFloat lenSqB = eb.squaredNorm();
+      if (lenSqB <= PFX_EPSILON * PFX_EPSILON) continue;
+      const PfxUInt8 fb0 = tb.m_edgeFaces[j][0];
+      const PfxUInt8 fb1 = tb.m_edgeFaces[j][1];
+      const bool known = knownA && fb0 != PFX_POLYHEDRON_NO_FACE && fb1 != PFX_POLYHEDRON_NO_FACE;
+      if (known && !isMinkowskiFace(a.normals[fa0], a.normals[fa1], -b.normals[fb0],
+                                    -b.normals[fb1])) {
+        continue;
+      }
+      PfxVector3 axis = ea.cross(eb);
+      const PfxFloat axisLenSq = axis.squaredNorm();
+      // Parallel edges: their plane is a face direction, already tested.
+      if (axisLenSq <= PfxFloat(1e-8) * lenSqA * lenSqB) continue;
+      axis /= std::sqrt(axisLenSq);
+
+      PfxFloat separation;
+      const PfxVector3 fromCentroid = pa - a.centroid;
+      const PfxFloat side = axis.dot(fromCentroid);
+      if (known && side * side > PfxFloat(1e-8) * fromCentroid.squaredNorm()) {
+        if (side < 0) axis = -axis;
+        separation = axis.dot(pb - pa);
+      } else {
+        // The edge's faces are unknown or A is flat here: measure both ways by support
+        // and keep the better, which is a valid separation either way.
+        const PfxFloat forward = b.minAlong(axis) - a.maxAlong(axis);
+        const PfxFloat backward = a.minAlong(axis) - b.maxAlong(axis);
+        if (backward > forward) axis = -axis;
+        separation = std::max(forward, backward);
+      }
+      if (separation > best.separation) {
+        best.separation = separation;
+        best.edgeA = i;
+        best.edgeB = j;
+        best.axis = axis;
+        best.found = true;
+        if (separation > threshold) return best;
+      }
+    }
+  }
+  return best;
+}
+
+class PolyhedraContact {
+ public:
+  PolyhedraContact(const PosedPolyhedron& a, const PosedPolyhedron& b,
+                   const PfxTransform3& transformA, PfxContactSink& sink)
+      : m_a(a), m_b(b), m_transformA(transformA), m_sink(sink) {}
+
+  void run(PfxFloat faceTolerance) {
+    m_mergeDistance = PfxFloat(1e-2) * faceTolerance;
+    const PfxFloat threshold = m_sink.getThreshold();
+    const FaceQuery faceA = queryFaces(m_a, m_b, threshold);
+    if (faceA.separation >= threshold) return;
+    const FaceQuery faceB = queryFaces(m_b, m_a, threshold);
+    if (faceB.separation >= threshold) return;
+    const EdgeQuery edge = queryEdges(m_a, m_b, threshold);
+    if (edge.found && edge.separation >= threshold) return;
+
+    // Faces are preferred within a tolerance: they give full manifolds for resting
+    // contact, and an edge pair that only ties a face adds nothing but jitter.
+    const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
+    if (edge.found && edge.separation > bestFace + faceTolerance) {
+      edgeContact(edge);
+      return;
+    }
+    bool referenceIsA = faceA.separation + faceTolerance >= faceB.separation;
+    if (std::abs(faceA.separation - faceB.separation) <= faceTolerance) {
+      // A tie: the larger face is the reference, so that the smaller one is clipped to it.
+      referenceIsA = m_a.faceArea(faceA.face) >= m_b.faceArea(faceB.face);
+    }
+    if (referenceIsA) {
+      faceContact(m_a, faceA.face, m_b, true);
+    } else {
+      faceContact(m_b, faceB.face, m_a, false);
+    }
+  }
+
+ private:
+  // Clips the face of `incident` that most opposes the reference face against the
+  // reference face's side planes; every clipped point within the threshold is a contact.
+  void faceContact(const PosedPolyhedron& reference, PfxUInt32 refFace,
+                   const PosedPolyhedron& incident, bool referenceIsA) {
+    const PfxVector3 refNormal = reference.normals[refFace];
+    const PfxFloat refDist = reference.planeDist[refFace];
+
+    PfxUInt32 incFace = 0;
+    PfxFloat minDot = std::numeric_limits<PfxFloat>::max();
+    for (PfxUInt32 f = 0; f < incident.topology->m_numFaces; ++f) {
+      const PfxFloat d = incident.normals[f].dot(refNormal);
+      if (d < minDot) {
+        minDot = d;
+        incFace = f;
+      }
+    }
+
+    PfxVector3 bufferA[PFX_MAX_CLIP_VERTICES];
+    PfxVector3 bufferB[PFX_MAX_CLIP_VERTICES];
+    PfxVector3* polygon = bufferA;
+    PfxVector3* scratch = bufferB;
+    PfxUInt32 count = std::min<PfxUInt32>(incident.faceSize(incFace), PFX_MAX_CLIP_VERTICES);
+    for (PfxUInt32 k = 0; k < count; ++k) polygon[k] = incident.faceVertex(incFace, k);
+
+    const PfxUInt32 refSize = reference.faceSize(refFace);
+    PfxVector3 refCentre = PfxVector3::Zero();
+    for (PfxUInt32 k = 0; k < refSize; ++k) refCentre += reference.faceVertex(refFace, k);
+    refCentre /= PfxFloat(std::max<PfxUInt32>(refSize, 1));
+
+    for (PfxUInt32 k = 0; k < refSize && count > 0; ++k) {
+      const PfxVector3 v0 = reference.faceVertex(refFace, k);
+      const PfxVector3 v1 = reference.faceVertex(refFace, (k + 1) % refSize);
+      PfxVector3 sideNormal = (v1 - v0).cross(refNormal);
+      if (sideNormal.squaredNorm() <= PFX_EPSILON * PFX_EPSILON) continue;
+      if (sideNormal.dot(refCentre - v0) > 0) sideNormal = -sideNormal;
+      count = pfxClipPolygonByPlane(polygon, count, sideNormal, sideNormal.dot(v0), scratch,
+                                    PFX_MAX_CLIP_VERTICES);
+      std::swap(polygon, scratch);
+    }
+
+    count = pfxRemoveDuplicatePoints(polygon, count, m_mergeDistance);
+    if (count == 0) {
+      // Round-off clipped everything away: the deepest incident vertex stands for the face.
+      PfxFloat best = std::numeric_limits<PfxFloat>::max();
+      for (PfxUInt32 k = 0; k < incident.faceSize(incFace); ++k) {
+        const PfxVector3 p = incident.faceVertex(incFace, k);
+        if (refNormal.dot(p) < best) {
+          best = refNormal.dot(p);
+          polygon[0] = p;
+        }
+      }
+      count = 1;
+    }
+    for (PfxUInt32 k = 0; k < count; ++k) {
+      const PfxVector3& p = polygon[k];
+      const PfxFloat dist = refNormal.dot(p) - refDist;
+      const PfxVector3 onReference = p - refNormal * dist;
+      if (referenceIsA) {
+        emit(refNormal, onReference, p, dist);
+      } else {
+        emit(-refNormal, p, onReference, dist);
+      }
+    }
+  }
+
+  void edgeContact(const EdgeQuery& edge) {
+    const PfxPolyhedron& ta = *m_a.topology;
+    const PfxPolyhedron& tb = *m_b.topology;
+    PfxFloat s, t;
+    PfxVector3 onA, onB;
+    pfxClosestPointsSegmentSegment(
+        m_a.verts[ta.m_edgeVertIds[edge.edgeA][0]], m_a.verts[ta.m_edgeVertIds[edge.edgeA][1]],
+        m_b.verts[tb.m_edgeVertIds[edge.edgeB][0]], m_b.verts[tb.m_edgeVertIds[edge.edgeB][1]], s,
+        t, onA, onB);
+    emit(edge.axis, onA, onB, edge.separation);
+  }
+
+  void emit(const PfxVector3& normal, const PfxVector3& onA, const PfxVector3& onB,
+            PfxFloat dist) {
+    m_sink.add(m_transformA.linear() * normal, m_transformA * onA, m_transformA * onB, dist);
+  }
+
+  const PosedPolyhedron& m_a;
+  const PosedPolyhedron& m_b;
+  const PfxTransform3& m_transformA;
+  PfxContactSink& m_sink;
+  PfxFloat m_mergeDistance = 0;
+};
+
+PfxFloat shapeSize(const PfxShape& shape) {
+  return shape.getType() == kPfxShapeBox ? shape.getBox().m_half.maxCoeff()
+                                         : shape.getConvexMesh()->m_aabbHalf.maxCoeff();
+}
+
+}  // namespace
+
+void pfxContactPolyhedra(const PfxShape& shapeA, const PfxTransform3& transformA,
+                         const PfxShape& shapeB, const PfxTransform3& transformB,
+                         PfxContactSink& sink) {
+  PfxPolyhedron polyA, polyB;
+  polyA.build(shapeA);
+  polyB.build(shapeB);
+
+  // Everything is compared in A's frame: B's vertices and planes are moved there once.
+  const PfxMatrix3 rotation = transformA.linear().transpose() * transformB.linear();
+  const PfxVector3 translation =
+      transformA.linear().transpose() * (transformB.translation() - transformA.translation());
+  PfxVector3 vertsB[PFX_CONVEX_MESH_MAX_VERTICES];
+  PfxVector3 normalsB[PFX_CONVEX_MESH_MAX_FACETS];
+  PfxFloat planeDistB[PFX_CONVEX_MESH_MAX_FACETS];
+  for (PfxUInt32 v = 0; v < polyB.m_numVerts; ++v) {
+    vertsB[v] = rotation * polyB.m_verts[v] + translation;
+  }
+  for (PfxUInt32 f = 0; f < polyB.m_numFaces; ++f) {
+    normalsB[f] = rotation * polyB.m_faceNormals[f];
+    planeDistB[f] = polyB.m_facePlaneDist[f] + normalsB[f].dot(translation);
+  }
+
+  const PosedPolyhedron a{&polyA, polyA.m_verts, polyA.m_faceNormals, polyA.m_facePlaneDist,
+                          polyA.m_centroid};
+  const PosedPolyhedron b{&polyB, vertsB, normalsB, planeDistB,
+                          rotation * polyB.m_centroid + translation};
+  const PfxFloat faceTolerance =
+      PfxFloat(1e-3) * std::min(shapeSize(shapeA), shapeSize(shapeB)) + PfxFloat(1e-5);
+  PolyhedraContact(a, b, transformA, sink).run(faceTolerance);
+}
+
+}  // namespace pfx

@@ -1,0 +1,226 @@
+#include "base_level/collision/contact/pfx_gjk.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pfx {
+
+namespace {
+
+constexpr int kMaxIterations = 64;
+// Stop once the lower bound of the distance is within this fraction of the upper bound
+// (squared terms): about 1e-5 relative in distance, near float resolution.
+constexpr PfxFloat kRelativeTolerance = PfxFloat(1e-9);
+
+PfxFloat segmentWeight(const PfxVector3& a, const PfxVector3& b) {
+  const PfxVector3 ab = b - a;
+  const PfxFloat lenSq = ab.squaredNorm();
+  if (lenSq <= PfxFloat(0)) return 0;
+  return std::min(std::max(-a.dot(ab) / lenSq, PfxFloat(0)), PfxFloat(1));
+}
+
+// Keeps the simplex vertices with a positive weight and returns the closest point.
+PfxVector3 reduce(PfxSimplexVertex* simplex, PfxUInt32& size, const PfxFloat* weights) {
+  PfxVector3 v = PfxVector3::Zero();
+  PfxUInt32 kept = 0;
+  for (PfxUInt32 i = 0; i < size; ++i) {
+    if (weights[i] <= 0) continue;
+    v += simplex[i].w * weights[i];
+    simplex[kept++] = simplex[i];
+  }
+  if (kept == 0) {  // only when every weight rounded to zero: keep the first vertex
+    kept = 1;
+    v = simplex[0].w;
+  }
+  size = kept;
+  return v;
+}
+
+// Closest point of the simplex to the origin; shrinks the simplex to the smallest face that
+// holds it. Returns false when the origin lies inside a full tetrahedron.
+bool closestOnSimplex(PfxSimplexVertex* simplex, PfxUInt32& size, PfxVector3& v) {
+  PfxFloat weights[4] = {1, 0, 0, 0};
+  if (size == 2) {
+    const PfxFloat t = segmentWeight(simplex[0].w, simplex[1].w);
+    weights[0] = 1 - t;
+    weights[1] = t;
+  } else if (size == 3) {
+    pfxClosestToOriginOnTriangle(simplex[0].w, simplex[1].w, simplex[2].w, weights);
+  } else if (size == 4) {
+    // The closest point lies on a face that the origin is in front of (seen from the
+    // fourth vertex). A flat tetrahedron counts every face as such a face.
+    static const int kFaces[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
+    PfxFloat bestDistSq = -1;
+    for (const auto& f : kFaces) {
+      const PfxVector3& a = simplex[f[0]].w;
+      const PfxVector3& b = simplex[f[1]].w;
+      const PfxVector3& c = simplex[f[2]].w;
+      const PfxVector3 n = (b - a).cross(c - a);
+      const PfxFloat originSide = -n.dot(a);
+      const PfxFloat oppositeSide = n.dot(simplex[f[3]].w - a);
+      if (originSide * oppositeSide > 0) continue;
+      PfxFloat w[3];
+      pfxClosestToOriginOnTriangle(a, b, c, w);
+      const PfxFloat distSq = (a * w[0] + b * w[1] + c * w[2]).squaredNorm();
+      if (bestDistSq < 0 || distSq < bestDistSq) {
+        bestDistSq = distSq;
+        weights[0] = weights[1] = weights[2] = weights[3] = 0;
+        weights[f[0]] = w[0];
+        weights[f[1]] = w[1];
+        weights[f[2]] = w[2];
+      }
+    }
+    if (bestDistSq < 0) {
+      v.setZero();
+      return false;
+    }
+  }
+  v = reduce(simplex, size, weights);
+  return true;
+}
+
+}  // namespace
+
+void pfxClosestToOriginOnTriangle(const PfxVector3& a, const PfxVector3& b, const PfxVector3& c,
+                                  PfxFloat weights[3]) {
+  // Voronoi regions of the vertices, then the edges, then the inside (Ericson 5.1.5).
+  const PfxVector3 ab = b - a;
+  const PfxVector3 ac = c - a;
+  const PfxFloat d1 = -ab.dot(a);
+  const PfxFloat d2 = -ac.dot(a);
+  weights[0] = weights[1] = weights[2] = 0;
+  if (d1 <= 0 && d2 <= 0) {
+    weights[0] = 1;
+    return;
+  }
+  const PfxFloat d3 = -ab.dot(b);
+  const PfxFloat d4 = -ac.dot(b);
+  if (d3 >= 0 && d4 <= d3) {
+    weights[1] = 1;
+    return;
+  }
+  const PfxFloat vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) {
+    weights[1] = d1 / (d1 - d3);
+    weights[0] = 1 - weights[1];
+    return;
+  }
+  const PfxFloat d5 = -ab.dot(c);
+  const PfxFloat d6 = -ac.dot(c);
+  if (d6 >= 0 && d5 <= d6) {
+    weights[2] = 1;
+    return;
+  }
+  const PfxFloat vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) {
+    weights[2] = d2 / (d2 - d6);
+    weights[0] = 1 - weights[2];
+    return;
+  }
+  const PfxFloat va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0 && (d4 - d3) + (d5 - d6) > 0) {
+    weights[2] = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    weights[1] = 1 - weights[2];
+    return;
+  }
+  const PfxFloat denom = va + vb + vc;
+  if (denom > PfxFloat(1e-12) * (ab.cross(ac).squaredNorm() + PfxFloat(1e-30)) && denom > 0) {
+    weights[1] = vb / denom;
+    weights[2] = vc / denom;
+    weights[0] = 1 - weights[1] - weights[2];
+    return;
+  }
+  // A degenerate (flat) triangle: the best of its three edges.
+  const PfxVector3* corners[3] = {&a, &b, &c};
+  PfxFloat bestDistSq = -1;
+  for (int e = 0; e < 3; ++e) {
+    const PfxVector3& p = *corners[e];
+    const PfxVector3& q = *corners[(e + 1) % 3];
+    const PfxFloat t = segmentWeight(p, q);
+    const PfxFloat distSq = (p + (q - p) * t).squaredNorm();
+    if (bestDistSq < 0 || distSq < bestDistSq) {
+      bestDistSq = distSq;
+      weights[0] = weights[1] = weights[2] = 0;
+      weights[e] = 1 - t;
+      weights[(e + 1) % 3] = t;
+    }
+  }
+}
+
+PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance) {
+  PfxGjkResult result;
+  PfxSimplexVertex* simplex = result.simplex;
+  PfxUInt32 size = 1;
+
+  PfxVector3 dir = a.m_position - b.m_position;
+  if (dir.squaredNorm() <= PFX_EPSILON * PFX_EPSILON) dir = a.m_rotation.col(1);
+  simplex[0].a = a.support(-dir);
+  simplex[0].b = b.support(dir);
+  simplex[0].w = simplex[0].a - simplex[0].b;
+  PfxVector3 v = simplex[0].w;
+  const PfxFloat toleranceSq = tolerance * tolerance;
+  bool overlap = false;
+
+  for (int iter = 0; iter < kMaxIterations; ++iter) {
+    const PfxFloat vv = v.squaredNorm();
+    if (vv <= toleranceSq) {
+      overlap = true;
+      break;
+    }
+    PfxSimplexVertex next;
+    next.a = a.support(-v);
+    next.b = b.support(v);
+    next.w = next.a - next.b;
+    if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
+    bool repeated = false;
+    for (PfxUInt32 i = 0; i < size; ++i) {
+      if ((simplex[i].w - next.w).squaredNorm() <= PfxFloat(1e-12) * vv) repeated = true;
+    }
+    if (repeated) break;
+
+    PfxSimplexVertex saved[4];
+    const PfxUInt32 savedSize = size;
+    std::copy(simplex, simplex + size, saved);
+    simplex[size++] = next;
+    PfxVector3 closest;
+    if (!closestOnSimplex(simplex, size, closest)) {
+      overlap = true;
+      v.setZero();
+      break;
+    }
+    if (closest.squaredNorm() >= vv) {
+      // Round-off stalled the descent: the previous simplex was as close as it gets.
+      std::copy(saved, saved + savedSize, simplex);
+      size = savedSize;
+      break;
+    }
+    v = closest;
+  }
+
+  result.simplexSize = size;
+  if (overlap) {
+    result.distance = 0;
+  } else {
+    result.distance = v.norm();
+  }
+  // The closest points share the barycentric weights of v on the final simplex.
+  PfxFloat weights[4] = {1, 0, 0, 0};
+  if (size == 2) {
+    const PfxFloat t = segmentWeight(simplex[0].w, simplex[1].w);
+    weights[0] = 1 - t;
+    weights[1] = t;
+  } else if (size == 3) {
+    pfxClosestToOriginOnTriangle(simplex[0].w, simplex[1].w, simplex[2].w, weights);
+  } else if (size == 4) {
+    weights[0] = weights[1] = weights[2] = weights[3] = PfxFloat(0.25);
+  }
+  result.pointA.setZero();
+  result.pointB.setZero();
+  for (PfxUInt32 i = 0; i < size; ++i) {
+    result.pointA += simplex[i].a * weights[i];
+    result.pointB += simplex[i].b * weights[i];
+  }
+  return result;
+}
+
+}  // namespace pfx
