@@ -13,8 +13,11 @@ bool isSweptSphere(PfxShapeType type) {
   return type == kPfxShapeSphere || type == kPfxShapeCapsule;
 }
 
-bool isPolyhedron(PfxShapeType type) {
-  return type == kPfxShapeBox || type == kPfxShapeConvexMesh;
+// A box with a zero extent is left to GJK/EPA: its faces of zero area make the Gauss map
+// of its edges meet only at arc ends, where the separating-axis pruning is not reliable.
+bool isSolidPolyhedron(const PfxShape& shape) {
+  return shape.getType() == kPfxShapeConvexMesh ||
+         (shape.getType() == kPfxShapeBox && shape.getBox().m_half.minCoeff() > PFX_EPSILON);
 }
 
 // A mesh within the layout limits; pfxCreateConvexMesh builds only such meshes, but a
@@ -86,7 +89,7 @@ void contactPair(const PfxShape& shapeA, const PfxTransform3& transformA, const 
     sink.setSwapped(true);
     contactPair(shapeB, transformB, shapeA, transformA, sink);
     sink.setSwapped(false);
-  } else if (isPolyhedron(typeA) && isPolyhedron(typeB)) {
+  } else if (isSolidPolyhedron(shapeA) && isSolidPolyhedron(shapeB)) {
     pfxContactPolyhedra(shapeA, transformA, shapeB, transformB, sink);
   } else {
     pfxContactConvexGeneral(shapeA, transformA, shapeB, transformB, sink);

@@ -66,8 +66,11 @@ bool deepestContact(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat sca
   const PfxGjkResult gjk = pfxGjkDistance(a, b, touching);
   if (gjk.distance - radii >= threshold) return false;
 
-  if (gjk.distance > touching) {
-    contact.normal = (gjk.pointB - gjk.pointA) / gjk.distance;
+  const PfxVector3 gap = gjk.pointB - gjk.pointA;
+  if (gjk.distance > touching && gap.squaredNorm() > touching * touching) {
+    // The points are rebuilt from the simplex separately, so their gap, not the simplex
+    // distance, gives the unit normal.
+    contact.normal = gap.normalized();
     contact.pointA = gjk.pointA;
     contact.pointB = gjk.pointB;
     contact.distance = gjk.distance;

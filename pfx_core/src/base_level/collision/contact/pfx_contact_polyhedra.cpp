@@ -158,10 +158,7 @@ class PolyhedraContact {
     // Faces are preferred within a tolerance: they give full manifolds for resting
     // contact, and an edge pair that only ties a face adds nothing but jitter.
     const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
-    if (edge.found && edge.separation > bestFace + faceTolerance) {
-      edgeContact(edge);
-      return;
-    }
+    if (edge.found && edge.separation > bestFace + faceTolerance && edgeContact(edge)) return;
     bool referenceIsA = faceA.separation + faceTolerance >= faceB.separation;
     if (std::abs(faceA.separation - faceB.separation) <= faceTolerance) {
       // A tie: the larger face is the reference, so that the smaller one is clipped to it.
@@ -240,16 +237,59 @@ class PolyhedraContact {
     }
   }
 
-  void edgeContact(const EdgeQuery& edge) {
+  // Returns false when the closest points of the two edges do not lie on the separating
+  // axis at the separation found (their lines cross beyond an end), which only flat shapes
+  // produce; a face contact then describes the pair.
+  bool edgeContact(const EdgeQuery& edge) {
     const PfxPolyhedron& ta = *m_a.topology;
     const PfxPolyhedron& tb = *m_b.topology;
+    // Parallel edges share the axis; the ones furthest towards each other touch.
+    const PfxUInt32 edgeA = supportingEdge(m_a, edge.edgeA, edge.axis);
+    const PfxUInt32 edgeB = supportingEdge(m_b, edge.edgeB, -edge.axis);
     PfxFloat s, t;
     PfxVector3 onA, onB;
     pfxClosestPointsSegmentSegment(
-        m_a.verts[ta.m_edgeVertIds[edge.edgeA][0]], m_a.verts[ta.m_edgeVertIds[edge.edgeA][1]],
-        m_b.verts[tb.m_edgeVertIds[edge.edgeB][0]], m_b.verts[tb.m_edgeVertIds[edge.edgeB][1]], s,
-        t, onA, onB);
-    emit(edge.axis, onA, onB, edge.separation);
+        m_a.verts[ta.m_edgeVertIds[edgeA][0]], m_a.verts[ta.m_edgeVertIds[edgeA][1]],
+        m_b.verts[tb.m_edgeVertIds[edgeB][0]], m_b.verts[tb.m_edgeVertIds[edgeB][1]], s, t, onA,
+        onB);
+    const PfxVector3 gap = onB - onA;
+    const PfxFloat along = edge.axis.dot(gap);
+    const PfxFloat tolerance = m_mergeDistance + PfxFloat(1e-4) * std::abs(edge.separation);
+    if ((gap - edge.axis * along).norm() > tolerance ||
+        std::abs(along - edge.separation) > tolerance) {
+      return false;
+    }
+    emit(edge.axis, onA, onB, along);
+    return true;
+  }
+
+  // Among the edges of `poly` parallel to edge `found`, the one furthest along `dir`.
+  static PfxUInt32 supportingEdge(const PosedPolyhedron& poly, PfxUInt32 found,
+                                  const PfxVector3& dir) {
+    const PfxPolyhedron& topology = *poly.topology;
+    const auto endPoints = [&](PfxUInt32 e, PfxVector3& p0, PfxVector3& p1) {
+      p0 = poly.verts[topology.m_edgeVertIds[e][0]];
+      p1 = poly.verts[topology.m_edgeVertIds[e][1]];
+    };
+    PfxVector3 f0, f1;
+    endPoints(found, f0, f1);
+    const PfxVector3 along = f1 - f0;
+    PfxUInt32 best = found;
+    PfxFloat bestReach = dir.dot(f0 + f1);
+    for (PfxUInt32 e = 0; e < topology.m_numEdges; ++e) {
+      PfxVector3 p0, p1;
+      endPoints(e, p0, p1);
+      const PfxVector3 other = p1 - p0;
+      if (other.cross(along).squaredNorm() > PfxFloat(1e-8) * other.squaredNorm() *
+                                                 along.squaredNorm()) {
+        continue;
+      }
+      if (dir.dot(p0 + p1) > bestReach) {
+        bestReach = dir.dot(p0 + p1);
+        best = e;
+      }
+    }
+    return best;
   }
 
   void emit(const PfxVector3& normal, const PfxVector3& onA, const PfxVector3& onB,

@@ -86,6 +86,7 @@ PfxUInt32 PfxConvexCore::supportingFace(const PfxVector3& worldDir, PfxVector3* 
       }
       const int j = (axis + 1) % 3;
       const int k = (axis + 2) % 3;
+      if (std::abs(dir[axis]) < kFaceCosine) break;
       localNormal.setZero();
       localNormal[axis] = signOf(dir[axis]);
       PfxVector3 centre = PfxVector3::Zero();
@@ -137,6 +138,7 @@ PfxUInt32 PfxConvexCore::supportingFace(const PfxVector3& worldDir, PfxVector3* 
       for (PfxUInt32 f = 1; f < m_mesh->m_numFaces; ++f) {
         if (dir.dot(m_mesh->m_faceNormals[f]) > dir.dot(m_mesh->m_faceNormals[best])) best = f;
       }
+      if (dir.dot(m_mesh->m_faceNormals[best]) < kFaceCosine) break;
       localNormal = m_mesh->m_faceNormals[best];
       const PfxUInt32 first = m_mesh->m_faceFirstVert[best];
       const PfxUInt32 size = m_mesh->m_faceNumVerts[best];

@@ -1,21 +1,28 @@
 #include "base_level/collision/contact/pfx_epa.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kMaxVerts = 64;
+constexpr PfxUInt32 kMaxVerts = 128;
 constexpr PfxUInt32 kMaxFaces = 2 * kMaxVerts;
 constexpr PfxUInt32 kMaxHorizon = 3 * kMaxFaces;
-constexpr int kMaxIterations = 48;
+constexpr int kMaxIterations = 124;
+// Twice a face's area, squared, below which its normal is noise.
+constexpr PfxFloat kMinFaceAreaSq = PfxFloat(1e-24);
+// A face this close to coplanar with a new vertex is replaced too, so that no sliver of
+// nearly coplanar faces folds the polytope inwards.
+constexpr PfxFloat kCoplanarSlack = PfxFloat(1e-6);
+// Support points closer than this (squared) to a vertex are that vertex.
+constexpr PfxFloat kSameVertexSq = PfxFloat(1e-12);
 
 struct Face {
   PfxUInt8 v[3];
   PfxVector3 normal;  // outward, unit
   PfxFloat dist;      // of the origin's projection along the normal
-  bool alive;
 };
 
 class Polytope {
@@ -49,13 +56,17 @@ class Polytope {
 
   // Expands towards the face nearest the origin until the support point no longer moves
   // the boundary by more than `tolerance`. Returns the index of that face.
-  int expand(PfxFloat tolerance) {
+  int expand(PfxFloat tolerance, bool& converged) {
+    converged = false;
     int best = nearestFace();
     for (int iter = 0; iter < kMaxIterations && best >= 0; ++iter) {
       const Face& face = m_faces[best];
       const PfxSimplexVertex s = supportAlong(face.normal);
-      if (face.normal.dot(s.w) - face.dist <= tolerance) break;
-      if (m_numVerts >= kMaxVerts) break;
+      if (face.normal.dot(s.w) - face.dist <= tolerance) {
+        converged = true;
+        break;
+      }
+      if (m_numVerts >= kMaxVerts || isKnownVertex(s.w)) break;
       const PfxUInt8 newVert = static_cast<PfxUInt8>(m_numVerts);
       m_verts[m_numVerts++] = s;
       if (!carve(newVert)) break;
@@ -65,6 +76,15 @@ class Polytope {
   }
 
   const Face& face(int i) const { return m_faces[i]; }
+
+  // A support point that is already a vertex cannot push the boundary out: round-off has
+  // made the nearest face look further in than it is.
+  bool isKnownVertex(const PfxVector3& w) const {
+    for (PfxUInt32 i = 0; i < m_numVerts; ++i) {
+      if ((m_verts[i].w - w).squaredNorm() <= kSameVertexSq) return true;
+    }
+    return false;
+  }
   const PfxSimplexVertex& vert(PfxUInt32 i) const { return m_verts[i]; }
 
  private:
@@ -120,14 +140,14 @@ class Polytope {
     if (m_numFaces >= kMaxFaces) return false;
     const PfxVector3& a = m_verts[i].w;
     PfxVector3 n = (m_verts[j].w - a).cross(m_verts[k].w - a);
-    const PfxFloat len = n.norm();
-    if (!(len > PfxFloat(1e-12))) return false;
-    n /= len;
+    if (!(n.squaredNorm() > kMinFaceAreaSq)) return false;
+    n.normalize();
     Face& f = m_faces[m_numFaces++];
     f.v[0] = i;
     f.v[1] = j;
     f.v[2] = k;
-    // Faces face away from a point inside the polytope, whatever order they came in.
+    // Every face is turned away from the first tetrahedron's centre, which stays inside the
+    // growing polytope: round-off cannot leave a face wound inwards.
     if (n.dot(a - m_interior) < 0) {
       n = -n;
       f.v[1] = k;
@@ -135,29 +155,32 @@ class Polytope {
     }
     f.normal = n;
     f.dist = n.dot(a);
-    f.alive = true;
     return true;
   }
 
   int nearestFace() const {
     int best = -1;
     for (PfxUInt32 i = 0; i < m_numFaces; ++i) {
-      if (m_faces[i].alive && (best < 0 || m_faces[i].dist < m_faces[best].dist)) {
+      if (best < 0 || m_faces[i].dist < m_faces[best].dist) {
         best = static_cast<int>(i);
       }
     }
     return best;
   }
 
-  // Removes the faces that see the new vertex and closes the hole with a fan from it.
+  // Removes the faces that see the new vertex and closes the hole with a fan from it. Checks
+  // everything before changing anything: on false the polytope is as it was.
   bool carve(PfxUInt8 newVert) {
     const PfxVector3& w = m_verts[newVert].w;
+    bool visible[kMaxFaces];
     PfxUInt8 horizon[kMaxHorizon][2];
     PfxUInt32 numHorizon = 0;
+    PfxUInt32 numVisible = 0;
     for (PfxUInt32 i = 0; i < m_numFaces; ++i) {
-      Face& f = m_faces[i];
-      if (!f.alive || f.normal.dot(w - m_verts[f.v[0]].w) <= 0) continue;
-      f.alive = false;
+      const Face& f = m_faces[i];
+      visible[i] = f.normal.dot(w - m_verts[f.v[0]].w) > -kCoplanarSlack;
+      if (!visible[i]) continue;
+      ++numVisible;
       for (int e = 0; e < 3; ++e) {
         const PfxUInt8 from = f.v[e];
         const PfxUInt8 to = f.v[(e + 1) % 3];
@@ -180,10 +203,19 @@ class Polytope {
         }
       }
     }
-    if (numHorizon == 0) return false;
+    if (numHorizon == 0 || m_numFaces - numVisible + numHorizon > kMaxFaces) return false;
     for (PfxUInt32 h = 0; h < numHorizon; ++h) {
-      if (!addFace(horizon[h][0], horizon[h][1], newVert)) return false;
+      const PfxVector3& a = m_verts[horizon[h][0]].w;
+      if ((m_verts[horizon[h][1]].w - a).cross(w - a).squaredNorm() <= kMinFaceAreaSq) {
+        return false;
+      }
     }
+    PfxUInt32 kept = 0;
+    for (PfxUInt32 i = 0; i < m_numFaces; ++i) {
+      if (!visible[i]) m_faces[kept++] = m_faces[i];
+    }
+    m_numFaces = kept;
+    for (PfxUInt32 h = 0; h < numHorizon; ++h) addFace(horizon[h][0], horizon[h][1], newVert);
     return true;
   }
 
@@ -198,12 +230,16 @@ class Polytope {
 
 }  // namespace
 
-bool pfxEpaPenetration(const PfxConvexCore& a, const PfxConvexCore& b,
-                       const PfxSimplexVertex* simplex, PfxUInt32 simplexSize,
-                       PfxFloat tolerance, PfxEpaResult& result) {
+namespace {
+
+// One EPA run from `simplex`. The reported depth is the overlap of the shapes along the
+// found normal: an upper bound of the true depth, where the face distance is a lower bound
+// that falls short by the chord error on curved surfaces.
+bool runEpa(const PfxConvexCore& a, const PfxConvexCore& b, const PfxSimplexVertex* simplex,
+            PfxUInt32 simplexSize, PfxFloat tolerance, PfxEpaResult& result, bool& converged) {
   Polytope polytope(a, b);
   if (!polytope.start(simplex, simplexSize, tolerance)) return false;
-  const int best = polytope.expand(tolerance);
+  const int best = polytope.expand(tolerance, converged);
   if (best < 0) return false;
   const Face& face = polytope.face(best);
   const PfxSimplexVertex& v0 = polytope.vert(face.v[0]);
@@ -215,11 +251,49 @@ bool pfxEpaPenetration(const PfxConvexCore& a, const PfxConvexCore& b,
   pfxClosestToOriginOnTriangle(v0.w - shift, v1.w - shift, v2.w - shift, weights);
   const PfxVector3 pointA = v0.a * weights[0] + v1.a * weights[1] + v2.a * weights[2];
   const PfxVector3 pointB = v0.b * weights[0] + v1.b * weights[1] + v2.b * weights[2];
-  if (!pfxIsFinite(pointA) || !pfxIsFinite(pointB) || !pfxIsFinite(face.dist)) return false;
+  const PfxFloat overlap = face.normal.dot(a.support(face.normal) - b.support(-face.normal));
+  const PfxFloat correction = std::max(overlap - face.dist, PfxFloat(0)) * PfxFloat(0.5);
+  if (!pfxIsFinite(pointA) || !pfxIsFinite(pointB) || !pfxIsFinite(overlap)) return false;
   result.normal = face.normal;
-  result.depth = face.dist;
-  result.pointA = pointA;
-  result.pointB = pointB;
+  result.depth = face.dist + 2 * correction;
+  result.pointA = pointA + face.normal * correction;
+  result.pointB = pointB - face.normal * correction;
+  return true;
+}
+
+}  // namespace
+
+bool pfxEpaPenetration(const PfxConvexCore& a, const PfxConvexCore& b,
+                       const PfxSimplexVertex* simplex, PfxUInt32 simplexSize,
+                       PfxFloat tolerance, PfxEpaResult& result) {
+  PfxEpaResult first;
+  bool converged = false;
+  const bool found = runEpa(a, b, simplex, simplexSize, tolerance, first, converged);
+  if (found && converged && simplexSize == 4) {
+    result = first;
+    return true;
+  }
+  // GJK stops on any simplex that touches the origin, which for shapes with coincident
+  // centres is a diagonal through the inside; a polytope grown from there can stall or
+  // settle on a face of its own. A tetrahedron of supports in four spread directions holds
+  // the origin well inside; both depths are overlaps along real directions, so the
+  // smaller is the better answer.
+  PfxSimplexVertex spread[4];
+  const PfxFloat corners[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  for (int i = 0; i < 4; ++i) {
+    const PfxVector3 dir(corners[i][0], corners[i][1], corners[i][2]);
+    spread[i].a = a.support(dir);
+    spread[i].b = b.support(-dir);
+    spread[i].w = spread[i].a - spread[i].b;
+  }
+  PfxEpaResult second;
+  const bool foundAgain = runEpa(a, b, spread, 4, tolerance, second, converged);
+  if (foundAgain && (!found || second.depth < first.depth)) {
+    result = second;
+    return true;
+  }
+  if (!found) return false;
+  result = first;
   return true;
 }
 
