@@ -1,0 +1,121 @@
+#include "bench_cli.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace pfxbench {
+
+namespace {
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+bool parseNumber(const std::string& text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0' && std::isfinite(value);
+}
+
+// "1/60" or "0.0166".
+bool parseTimeStep(const std::string& text, double& dt) {
+  const std::size_t slash = text.find('/');
+  double numerator = 0, denominator = 1;
+  if (slash == std::string::npos) {
+    if (!parseNumber(text, numerator)) return false;
+  } else if (!parseNumber(text.substr(0, slash), numerator) ||
+             !parseNumber(text.substr(slash + 1), denominator) || denominator == 0) {
+    return false;
+  }
+  dt = numerator / denominator;
+  return dt > 0 && std::isfinite(dt);
+}
+
+bool parsePositiveInts(const std::string& name, const std::string& text, std::vector<int>& out,
+                       std::string& error) {
+  out.clear();
+  for (const std::string& item : splitList(text)) {
+    char* end = nullptr;
+    const long value = std::strtol(item.c_str(), &end, 10);
+    if (end == item.c_str() || *end != '\0' || value < 1 || value > 1000000) {
+      error = name + ": not a positive integer: '" + item + "'";
+      return false;
+    }
+    out.push_back(static_cast<int>(value));
+  }
+  if (out.empty()) error = name + ": no value given";
+  return !out.empty();
+}
+
+}  // namespace
+
+const char* usage() {
+  return "usage: pfx_bench [--scene NAME[,NAME...]] [--engine NAME[,NAME...]] [--dt DT[,DT...]]\n"
+         "                 [--iterations N[,N...]] [--substeps N[,N...]] [--threads N[,N...]]\n"
+         "                 [--seconds S] [--out DIR]\n"
+         "  Steps each scene with each engine for each combination of the settings and\n"
+         "  prints one TSV row per error metric on stdout. DT is 1/60 or 0.0166.\n"
+         "  Defaults: every scene, every engine built, dt 1/30,1/60,1/120,1/240,1/480,1/960,\n"
+         "  10 iterations, 1 sub-step, 1 thread, each scene's own duration.\n"
+         "  --out DIR also writes DIR/results.tsv and one plot per scene, DIR/<scene>.png.\n";
+}
+
+bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string option = argv[i];
+    if (option == "--help" || option == "-h") {
+      options.help = true;
+      continue;
+    }
+    if (i + 1 >= argc) {
+      error = option + ": missing value (or unknown option)";
+      return false;
+    }
+    const std::string value = argv[++i];
+    if (option == "--scene") {
+      options.scenes = splitList(value);
+    } else if (option == "--engine") {
+      options.engines = splitList(value);
+    } else if (option == "--dt") {
+      options.timeSteps.clear();
+      for (const std::string& item : splitList(value)) {
+        double dt = 0;
+        if (!parseTimeStep(item, dt)) {
+          error = "--dt: not a time step: '" + item + "'";
+          return false;
+        }
+        options.timeSteps.push_back(dt);
+      }
+      if (options.timeSteps.empty()) {
+        error = "--dt: no value given";
+        return false;
+      }
+    } else if (option == "--iterations") {
+      if (!parsePositiveInts(option, value, options.iterations, error)) return false;
+    } else if (option == "--substeps") {
+      if (!parsePositiveInts(option, value, options.substeps, error)) return false;
+    } else if (option == "--threads") {
+      if (!parsePositiveInts(option, value, options.threads, error)) return false;
+    } else if (option == "--seconds") {
+      if (!parseNumber(value, options.seconds) || options.seconds <= 0) {
+        error = "--seconds: not a positive duration: '" + value + "'";
+        return false;
+      }
+    } else if (option == "--out") {
+      options.outDir = value;
+    } else {
+      error = "unknown option: " + option;
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace pfxbench

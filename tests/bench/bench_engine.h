@@ -1,0 +1,99 @@
+// The one interface every engine of the benchmark sits behind: build a scene with the
+// step settings, step it, read the bodies back. Adapters live one per file
+// (bench_engine_<name>.cpp); a peer's adapter is compiled only when CMake finds its library.
+//
+// Settings matched in every engine: time step (dt / substeps per solver step), solver
+// iterations, gravity, mass and principal inertia (given explicitly, never recomputed by
+// the engine), shape sizes, initial pose and velocities, friction combined as sqrt(a b) and
+// restitution as max(a, b) as pfx does, no damping, no sleeping.
+//
+// Settings that could not be matched:
+// - Contact model. pfx, Bullet and ODE solve hard contacts with sequential impulses
+//   (projected Gauss-Seidel); MuJoCo solves soft contacts (solref 0.02 s, solimp default)
+//   by convex optimisation with its default Newton solver, so its "iterations" are Newton
+//   iterations, it stops early at its default tolerance (1e-8), and resting boxes sink
+//   into each other by design.
+// - Penetration recovery. pfx: Baumgarte bias 0.2 beyond a 5 mm slop. ODE: ERP 0.2 and a
+//   5 mm contact surface layer (the same meaning), global CFM left at ODE's 1e-5 for
+//   conditioning. Bullet: erp2 0.2 beyond a 5 mm linear slop, split impulse off and full
+//   warm starting, as pfx. MuJoCo: governed by solref/solimp.
+// - Friction cone. pfx: two tangent rows clamped by the current normal impulse. Bullet:
+//   the same kind. ODE: dContactApprox1 (pyramid scaled by the normal force). MuJoCo:
+//   its default pyramidal cone with condim 3 and the maximum of the two geoms' friction,
+//   which equals sqrt(a b) only because every scene gives all bodies the same friction.
+// - Restitution. MuJoCo has no coefficient of restitution (it is ignored there); the
+//   scenes use 0. pfx, Bullet and ODE bounce only above 0.2 m/s of approach.
+// - Contact points. pfx keeps at most 4 per pair; ODE is asked for 4 per pair and step;
+//   Bullet keeps 4 per persistent manifold; MuJoCo generates its own set every step.
+// - Collision margins. Bullet's convex margin (default 4 cm) is lowered to a tenth of the
+//   smallest half extent where that is smaller, since thin boxes cannot hold it; pfx adds
+//   2 cm of speculative margin; ODE and MuJoCo use none.
+// - Tunnelling. pfx always uses speculative contacts. Bullet's continuous collision is
+//   switched on for every dynamic body (motion threshold and swept sphere = the shape's
+//   inner radius), as a Bullet user facing fast bodies would; ODE and MuJoCo have none.
+// - Gyroscopic term. pfx integrates the free rotation with its own exact-momentum
+//   integrator; Bullet uses its default implicit gyroscopic term; ODE its default
+//   gyroscopic torque; MuJoCo its default semi-implicit Euler integrator.
+// - Precision. pfx and Bullet (Debian build) are single precision, ODE and MuJoCo double.
+// - Cost of the default solver. MuJoCo 2.2's Newton solver factorises a dense Hessian over
+//   all degrees of freedom, so its step time grows with the cube of the number of free
+//   bodies in contact; scenes beyond 500 free bodies (rain) are skipped for MuJoCo.
+// - Threads. No engine is run on more than one thread yet (pfx's world has no task
+//   manager, Debian's Bullet is built without BT_THREADSAFE, MuJoCo steps one model on
+//   one thread); runs asking for more threads are skipped, not faked.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_scene.h"
+
+namespace pfxbench {
+
+struct EngineSettings {
+  double dt = 1.0 / 60;  // time advanced by one step()
+  int substeps = 1;      // solver steps of dt / substeps inside one step()
+  int iterations = 10;   // solver iterations per solver step
+  int threads = 1;
+};
+
+struct BodyState {
+  Vec3 position = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+  Vec3 linearVelocity = Vec3::Zero();   // world frame
+  Vec3 angularVelocity = Vec3::Zero();  // world frame
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  // False (with the reason) for a scene this engine cannot run at all here; such runs are
+  // skipped and reported, not counted as failures.
+  virtual bool supports(const Scene&, const EngineSettings&, std::string& /*reason*/) const {
+    return true;
+  }
+  // Creates every body of the scene; on failure says why in `error`.
+  virtual bool build(const Scene& scene, const EngineSettings& settings, std::string& error) = 0;
+  // Advances the world by settings.dt; false (with `error`) if the engine failed.
+  virtual bool step(std::string& error) = 0;
+  // The state of every body, in the scene's order, fixed bodies included.
+  virtual void readBodies(std::vector<BodyState>& states) const = 0;
+};
+
+struct EngineInfo {
+  const char* name;
+  // Null when the engine's library was not found when the benchmark was configured.
+  std::unique_ptr<Engine> (*create)();
+  int maxThreads;
+};
+
+// Every engine the benchmark knows, built or not, in the order of the default sweep.
+const std::vector<EngineInfo>& knownEngines();
+
+std::unique_ptr<Engine> createPfxEngine();
+std::unique_ptr<Engine> createBulletEngine();
+std::unique_ptr<Engine> createOdeEngine();
+std::unique_ptr<Engine> createMujocoEngine();
+
+}  // namespace pfxbench

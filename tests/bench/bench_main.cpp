@@ -1,0 +1,193 @@
+// pfx_bench: error against run time for pfx and its peers, on the same scenes in the same
+// run. See bench_cli.cpp for the command line and bench_engine.h for what each engine is
+// set to.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bench_cli.h"
+#include "bench_engine.h"
+#include "bench_report.h"
+#include "bench_run.h"
+#include "bench_scene.h"
+
+using namespace pfxbench;
+
+namespace {
+
+struct Job {
+  const Scene* scene;
+  const EngineInfo* engine;
+  EngineSettings settings;
+  double seconds;
+};
+
+std::string describeTimeStep(double dt) {
+  const double rate = 1 / dt;
+  char text[48];
+  if (std::abs(rate - std::round(rate)) < 1e-6 * rate) {
+    std::snprintf(text, sizeof(text), "1/%.0f", rate);
+  } else {
+    std::snprintf(text, sizeof(text), "%.6g", dt);
+  }
+  return text;
+}
+
+std::string describeJob(const Job& job) {
+  std::string text = job.scene->name;
+  if (job.scene->variant != "-") text += "/" + job.scene->variant;
+  return text + " " + job.engine->name + " dt=" + describeTimeStep(job.settings.dt) +
+         " it=" + std::to_string(job.settings.iterations) +
+         " sub=" + std::to_string(job.settings.substeps) +
+         " thr=" + std::to_string(job.settings.threads);
+}
+
+// The engines asked for (all known ones by default) that were built; says on stderr which
+// are skipped. False for a name the benchmark does not know.
+bool selectEngines(const Options& options, std::vector<const EngineInfo*>& selected) {
+  std::vector<std::string> names = options.engines;
+  if (names.empty()) {
+    for (const EngineInfo& info : knownEngines()) names.push_back(info.name);
+  }
+  for (const std::string& name : names) {
+    const EngineInfo* found = nullptr;
+    for (const EngineInfo& info : knownEngines()) {
+      if (name == info.name) found = &info;
+    }
+    if (!found) {
+      std::fprintf(stderr, "unknown engine '%s' (known: pfx, bullet, ode, mujoco)\n", name.c_str());
+      return false;
+    }
+    if (!found->create) {
+      std::fprintf(stderr, "%s: skipped, its library was not found when pfx_bench was configured\n",
+                   name.c_str());
+      continue;
+    }
+    selected.push_back(found);
+  }
+  return true;
+}
+
+bool selectScenes(const Options& options, std::vector<Scene>& scenes) {
+  const std::vector<std::string>& names = options.scenes.empty() ? sceneNames() : options.scenes;
+  for (const std::string& name : names) {
+    std::vector<Scene> variants;
+    if (!buildScene(name, variants)) {
+      std::fprintf(stderr, "unknown scene '%s' (known:", name.c_str());
+      for (const std::string& known : sceneNames()) std::fprintf(stderr, " %s", known.c_str());
+      std::fprintf(stderr, ")\n");
+      return false;
+    }
+    scenes.insert(scenes.end(), variants.begin(), variants.end());
+  }
+  return true;
+}
+
+std::vector<Job> planJobs(const Options& options, const std::vector<Scene>& scenes,
+                          const std::vector<const EngineInfo*>& engines) {
+  std::vector<Job> jobs;
+  std::set<std::string> warned;
+  for (const Scene& scene : scenes) {
+    for (const EngineInfo* engine : engines) {
+      for (double dt : options.timeSteps) {
+        for (int iterations : options.iterations) {
+          for (int substeps : options.substeps) {
+            for (int threads : options.threads) {
+              if (threads > engine->maxThreads) {
+                const std::string key = std::string(engine->name) + std::to_string(threads);
+                if (warned.insert(key).second) {
+                  std::fprintf(stderr, "%s: skipped with %d threads, it runs on %d here\n",
+                               engine->name, threads, engine->maxThreads);
+                }
+                continue;
+              }
+              const double seconds = options.seconds > 0 ? options.seconds : scene.duration;
+              jobs.push_back({&scene, engine, {dt, substeps, iterations, threads}, seconds});
+            }
+          }
+        }
+      }
+    }
+  }
+  return jobs;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  std::string error;
+  if (!parseOptions(argc, argv, options, error)) {
+    std::fprintf(stderr, "%s\n%s", error.c_str(), usage());
+    return 2;
+  }
+  if (options.help) {
+    std::printf("%s", usage());
+    return 0;
+  }
+  std::vector<const EngineInfo*> engines;
+  std::vector<Scene> scenes;
+  if (!selectEngines(options, engines) || !selectScenes(options, scenes)) return 2;
+  const std::vector<Job> jobs = planJobs(options, scenes, engines);
+
+  std::ofstream tsvFile;
+  if (!options.outDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.outDir, ec);
+    tsvFile.open(options.outDir + "/results.tsv");
+    if (!tsvFile) {
+      std::fprintf(stderr, "cannot write %s/results.tsv\n", options.outDir.c_str());
+      return 2;
+    }
+    writeTsvHeader(tsvFile);
+  }
+  writeTsvHeader(std::cout);
+  std::cout.flush();
+
+  double totalWork = 0;
+  for (const Job& job : jobs) totalWork += runWork(*job.scene, job.settings, job.seconds);
+  Progress progress(totalWork);
+  std::vector<ResultRow> rows;
+  int failures = 0;
+  for (const Job& job : jobs) {
+    const std::string label = describeJob(job);
+    progress.setLabel(label);
+    const RunResult result = runScene(*job.engine, *job.scene, job.settings, job.seconds, progress);
+    if (result.skipped) {
+      progress.log(label + ": skipped: " + result.error);
+      continue;
+    }
+    if (!result.ok) {
+      ++failures;
+      progress.log(label + ": FAILED: " + result.error);
+      continue;
+    }
+    char timing[128];
+    std::snprintf(timing, sizeof(timing), ": %.4f ms per step, %.5f wall s per simulated s",
+                  1e3 * result.wallSecondsPerSimSecond * job.settings.dt,
+                  result.wallSecondsPerSimSecond);
+    progress.log(label + timing);
+    for (const auto& [metric, value] : result.metrics) {
+      const ResultRow row{job.scene->name, job.engine->name, job.scene->variant, job.settings.dt,
+                          job.settings.substeps, job.settings.iterations, job.settings.threads,
+                          result.wallSecondsPerSimSecond, metricName(metric), value};
+      writeTsvRow(std::cout, row);
+      if (tsvFile) writeTsvRow(tsvFile, row);
+      rows.push_back(row);
+    }
+    std::cout.flush();
+  }
+  progress.finish();
+  if (!options.outDir.empty()) {
+    tsvFile.close();
+    writePlots(rows, options.outDir);
+  }
+  if (failures > 0) std::fprintf(stderr, "%d run(s) failed\n", failures);
+  return failures > 0 ? 1 : 0;
+}

@@ -1,0 +1,30 @@
+// One run: a scene stepped by one engine with one set of step settings, timed around the
+// steps only, judged by the scene's metrics. Runs that need position_error also run the
+// reference: the same scene and engine at dt / 16 with four times the iterations.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bench_engine.h"
+#include "bench_progress.h"
+#include "bench_scene.h"
+
+namespace pfxbench {
+
+struct RunResult {
+  bool ok = false;
+  bool skipped = false;  // the engine cannot run this scene here; `error` says why
+  std::string error;
+  double wallSecondsPerSimSecond = 0;
+  std::vector<std::pair<Metric, double>> metrics;
+};
+
+// Relative cost of a run for the progress bar (body steps, reference included).
+double runWork(const Scene& scene, const EngineSettings& settings, double seconds);
+
+RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSettings& settings,
+                   double seconds, Progress& progress);
+
+}  // namespace pfxbench

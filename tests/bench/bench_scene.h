@@ -1,0 +1,98 @@
+// Engine-neutral description of a benchmark scene: bodies with one shape each, gravity,
+// how long to simulate, and which error metrics judge it. Every engine adapter builds its
+// world from this alone, so that all engines run the very same scene.
+//
+// Frame conventions are pfx's: Y is up in the scenes, capsules and cylinders lie along
+// their body's X axis. Adapters of engines with other conventions convert.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace pfxbench {
+
+using Vec3 = Eigen::Vector3d;
+using Quat = Eigen::Quaterniond;
+
+enum class ShapeType { Sphere, Box, Capsule, Cylinder };
+
+struct ShapeDesc {
+  ShapeType type = ShapeType::Box;
+  Vec3 halfExtents = Vec3::Zero();  // box
+  double radius = 0;                // sphere, capsule, cylinder
+  double halfLength = 0;            // capsule, cylinder: half length of the axis along X
+
+  static ShapeDesc sphere(double radius);
+  static ShapeDesc box(const Vec3& halfExtents);
+  static ShapeDesc capsule(double halfLength, double radius);
+  static ShapeDesc cylinder(double halfLength, double radius);
+
+  double volume() const;
+  // Radius of the largest sphere about the centre that fits inside the shape.
+  double innerRadius() const;
+  // Radius of the smallest sphere about the centre that holds the shape.
+  double outerRadius() const;
+};
+
+// Principal moments of inertia of a uniform solid of the given mass, about its centre,
+// along the body axes.
+Vec3 principalInertia(const ShapeDesc& shape, double mass);
+
+struct BodyDesc {
+  ShapeDesc shape;
+  bool fixed = false;
+  double mass = 0;              // dynamic bodies only
+  Vec3 inertia = Vec3::Zero();  // principal moments along the body axes, dynamic bodies only
+  Vec3 position = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+  Vec3 linearVelocity = Vec3::Zero();   // world frame
+  Vec3 angularVelocity = Vec3::Zero();  // world frame
+  double friction = 0.6;
+  double restitution = 0;
+};
+
+BodyDesc makeDynamicBody(const ShapeDesc& shape, double mass, const Vec3& position,
+                         const Quat& orientation = Quat::Identity());
+BodyDesc makeFixedBody(const ShapeDesc& shape, const Vec3& position,
+                       const Quat& orientation = Quat::Identity());
+
+// The error figures a scene is judged by; each becomes one TSV row per run.
+enum class Metric { StackDrift, PenetrationMax, EnergyDrift, MomentumDrift, Escaped, PositionError };
+const char* metricName(Metric metric);
+
+struct Aabb {
+  Vec3 min = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(std::numeric_limits<double>::infinity());
+  bool contains(const Vec3& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
+};
+
+struct Scene {
+  std::string name;
+  std::string variant = "-";  // e.g. a chain's mass ratio; "-" for scenes without variants
+  Vec3 gravity = Vec3(0, -9.80665, 0);
+  double duration = 5;        // simulated seconds unless the command line says otherwise
+  std::vector<BodyDesc> bodies;
+  std::vector<Metric> metrics;
+  // `escaped` counts dynamic bodies whose centre ends outside this box.
+  Aabb keepInside;
+  bool hasMetric(Metric metric) const;
+};
+
+// Names of every scene this build knows, in the order of the default sweep.
+const std::vector<std::string>& sceneNames();
+// Builds every variant of the named scene; false for an unknown name.
+bool buildScene(const std::string& name, std::vector<Scene>& variants);
+
+// Rigid-body scenes (bench_scenes_rigid.cpp).
+void buildPyramidScene(std::vector<Scene>& variants);
+void buildTowerScene(std::vector<Scene>& variants);
+void buildSpinnerScene(std::vector<Scene>& variants);
+void buildRainScene(std::vector<Scene>& variants);
+void buildBulletScene(std::vector<Scene>& variants);
+
+}  // namespace pfxbench
