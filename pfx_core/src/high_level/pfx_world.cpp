@@ -25,7 +25,7 @@ class StageTimer {
   StageTimer(PfxWorldStats& stats, PfxStage stage)
       : m_stats(stats), m_stage(stage), m_start(Clock::now()) {}
   ~StageTimer() {
-    m_stats.stageSeconds[m_stage] = std::chrono::duration<double>(Clock::now() - m_start).count();
+    m_stats.stageSeconds[m_stage] += std::chrono::duration<double>(Clock::now() - m_start).count();
   }
 
  private:
@@ -60,7 +60,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   const bool valid =
       pfxIsFinite(param.worldCenter) && pfxIsFinite(param.worldExtent) &&
       param.worldExtent.minCoeff() > 0 && pfxIsFinite(param.gravity) && param.timeStep > 0 &&
-      pfxIsFinite(param.timeStep) && param.iteration > 0 && param.separateBias >= 0 &&
+      pfxIsFinite(param.timeStep) && param.iteration > 0 && param.subStep > 0 && param.separateBias >= 0 &&
       param.separateBias <= 1 && param.contactSlop >= 0 && pfxIsFinite(param.contactSlop) &&
       param.contactMargin >= 0 && pfxIsFinite(param.contactMargin) &&
       param.restitutionThreshold >= 0 && pfxIsFinite(param.restitutionThreshold);
@@ -312,8 +312,20 @@ PfxInt32 PfxWorld::detectCollision() {
   return pfxDetectCollision(param);
 }
 
-PfxInt32 PfxWorld::solve() {
+PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   const PfxUInt32 numBodies = getNumRigidBodies();
+  {
+    StageTimer timer(m_stats, kPfxStageApplyExternalForce);
+    PfxApplyExternalForceParam param;
+    param.states = m_states.data();
+    param.bodies = m_bodies.data();
+    param.numRigidBodies = numBodies;
+    param.forces = m_forces.data();
+    param.torques = m_torques.data();
+    param.gravity = m_param.gravity;
+    param.timeStep = timeStep;
+    if (const PfxInt32 err = pfxApplyExternalForce(param); err != PFX_OK) return err;
+  }
   {
     StageTimer timer(m_stats, kPfxStageSetupSolverBodies);
     PfxSetupSolverBodiesParam param;
@@ -334,24 +346,34 @@ PfxInt32 PfxWorld::solve() {
     param.offsetRigidBodies = m_bodies.data();
     param.offsetSolverBodies = m_solverBodies.data();
     param.numRigidBodies = numBodies;
-    param.timeStep = m_param.timeStep;
+    param.timeStep = timeStep;
     param.separateBias = m_param.separateBias;
     param.contactSlop = m_param.contactSlop;
     param.warmStartFactor = m_param.pipeline == kPfxPipelineStable ? param.warmStartFactor : 0;
     if (const PfxInt32 err = pfxSetupContactConstraints(param); err != PFX_OK) return err;
   }
-  StageTimer timer(m_stats, kPfxStageSolveConstraints);
-  PfxSolveConstraintsParam param;
-  param.contactPairs = m_pairs.data();
-  param.numContactPairs = m_numPairs;
-  param.offsetContactManifolds = m_manifolds.data();
-  param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
-  param.offsetRigidStates = m_states.data();
-  param.offsetSolverBodies = m_solverBodies.data();
+  {
+    StageTimer timer(m_stats, kPfxStageSolveConstraints);
+    PfxSolveConstraintsParam param;
+    param.contactPairs = m_pairs.data();
+    param.numContactPairs = m_numPairs;
+    param.offsetContactManifolds = m_manifolds.data();
+    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    param.offsetRigidStates = m_states.data();
+    param.offsetSolverBodies = m_solverBodies.data();
+    param.numRigidBodies = numBodies;
+    param.iteration = m_param.iteration;
+    param.timeStep = timeStep;
+    param.restitutionThreshold = m_param.restitutionThreshold;
+    if (const PfxInt32 err = pfxSolveConstraints(param); err != PFX_OK) return err;
+  }
+  StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
+  PfxUpdateRigidStatesParam param;
+  param.states = m_states.data();
+  param.bodies = m_bodies.data();
   param.numRigidBodies = numBodies;
-  param.iteration = m_param.iteration;
-  param.restitutionThreshold = m_param.restitutionThreshold;
-  return pfxSolveConstraints(param);
+  param.timeStep = timeStep;
+  return pfxUpdateRigidStates(param);
 }
 
 void PfxWorld::gatherStats() {
@@ -370,21 +392,7 @@ void PfxWorld::gatherStats() {
 
 PfxInt32 PfxWorld::step() {
   const Clock::time_point start = Clock::now();
-  const PfxUInt32 numBodies = getNumRigidBodies();
-  {
-    StageTimer timer(m_stats, kPfxStageApplyExternalForce);
-    PfxApplyExternalForceParam param;
-    param.states = m_states.data();
-    param.bodies = m_bodies.data();
-    param.numRigidBodies = numBodies;
-    param.forces = m_forces.data();
-    param.torques = m_torques.data();
-    param.gravity = m_param.gravity;
-    param.timeStep = m_param.timeStep;
-    if (const PfxInt32 err = pfxApplyExternalForce(param); err != PFX_OK) return err;
-    std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
-    std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
-  }
+  for (double& seconds : m_stats.stageSeconds) seconds = 0;
   {
     StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies);
     if (const PfxInt32 err = updateBroadphase(); err != PFX_OK) return err;
@@ -402,16 +410,12 @@ PfxInt32 PfxWorld::step() {
     }
   }
   if (const PfxInt32 err = detectCollision(); err != PFX_OK) return err;
-  if (const PfxInt32 err = solve(); err != PFX_OK) return err;
-  {
-    StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
-    PfxUpdateRigidStatesParam param;
-    param.states = m_states.data();
-    param.bodies = m_bodies.data();
-    param.numRigidBodies = numBodies;
-    param.timeStep = m_param.timeStep;
-    if (const PfxInt32 err = pfxUpdateRigidStates(param); err != PFX_OK) return err;
+  const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
+  for (PfxUInt32 i = 0; i < m_param.subStep; ++i) {
+    if (const PfxInt32 err = subStep(subTimeStep); err != PFX_OK) return err;
   }
+  std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
+  std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
   gatherStats();
   m_stats.stepSeconds = std::chrono::duration<double>(Clock::now() - start).count();
   return PFX_OK;

@@ -29,7 +29,11 @@ struct PfxWorldParam {
   PfxVector3 worldExtent = PfxVector3::Constant(1000);
   PfxVector3 gravity = PfxVector3(0, PfxFloat(-9.80665), 0);
   PfxFloat timeStep = PfxFloat(1) / 60;
-  PfxUInt32 iteration = 10;
+  // The solver and the integrator run subStep times per step, at timeStep / subStep, on
+  // the contacts found once per step: small steps converge stacks and chains far better
+  // than more iterations of one large step.
+  PfxUInt32 subStep = 1;
+  PfxUInt32 iteration = 10;  // per sub-step
   PfxPipelineType pipeline = kPfxPipelineStable;
   PfxFloat separateBias = PfxFloat(0.2);
   // Overlap tolerated without correction, so that resting contacts do not jitter.
@@ -58,7 +62,8 @@ enum PfxStage : PfxUInt8 {
 const char* pfxStageName(PfxStage stage);
 
 struct PfxWorldStats {
-  double stageSeconds[kPfxStageCount] = {};  // wall time of each stage in the last step
+  double stageSeconds[kPfxStageCount] = {};  // wall time of each stage in the last step,
+                                             // summed over its sub-steps
   double stepSeconds = 0;
   PfxUInt32 numPairs = 0;          // broadphase pairs
   PfxUInt32 numContactPairs = 0;   // pairs with at least one contact point
@@ -122,7 +127,7 @@ class PfxWorld {
   void composeStablePairs();
   void assignSimplePairs();
   PfxInt32 detectCollision();
-  PfxInt32 solve();
+  PfxInt32 subStep(PfxFloat timeStep);
   void gatherStats();
 
   PfxWorldParam m_param;

@@ -18,6 +18,10 @@ void setupPoint(PfxContactPoint& cp, const PfxRigidState& stateA, const PfxSolve
                 const PfxSetupContactConstraintsParam& param) {
   cp.m_armA = stateA.getOrientation() * cp.m_localPointA;
   cp.m_armB = stateB.getOrientation() * cp.m_localPointB;
+  // The separation at the current poses, which may have moved since the points were found
+  // (sub-steps share one collision detection).
+  cp.m_distance = cp.getNormal().dot(stateB.getPosition() + cp.m_armB - stateA.getPosition() -
+                                     cp.m_armA);
   const PfxVector3 relativeVelocity =
       pointVelocity(stateB, cp.m_armB) - pointVelocity(stateA, cp.m_armA);
 
@@ -27,16 +31,16 @@ void setupPoint(PfxContactPoint& cp, const PfxRigidState& stateA, const PfxSolve
   cp.m_approachVelocity = normalVelocity;
   cp.m_maxImpulse = 0;
 
-  // A speculative contact lets the bodies close the gap within the step but no further;
-  // an overlap beyond the slop is pushed out by a fraction per step.
-  const PfxFloat targetVelocity =
-      cp.m_distance > 0
-          ? -cp.m_distance / param.timeStep
-          : param.separateBias * std::max(PfxFloat(0), -cp.m_distance - param.contactSlop) /
-                param.timeStep;
+  // A speculative contact lets the bodies close the gap within the step but no further.
+  // An overlap beyond the slop is pushed out by a fraction per step through the split
+  // impulse, which moves the bodies but leaves their velocities alone.
+  const PfxFloat targetVelocity = cp.m_distance > 0 ? -cp.m_distance / param.timeStep : 0;
   normalRow.m_jacDiagInv =
       pfxCalcJacDiagInv(normal, bodyA, cp.m_armA, receivesA, bodyB, cp.m_armB, receivesB);
   normalRow.m_rhs = (targetVelocity - normalVelocity) * normalRow.m_jacDiagInv;
+  const PfxFloat overlap = std::max(PfxFloat(0), -cp.m_distance - param.contactSlop);
+  cp.m_pushRhs = param.separateBias * overlap / param.timeStep * normalRow.m_jacDiagInv;
+  cp.m_pushImpulse = 0;
   normalRow.m_lowerLimit = 0;
   normalRow.m_upperLimit = std::numeric_limits<PfxFloat>::max();
   normalRow.m_accumImpulse *= param.warmStartFactor;
@@ -53,6 +57,33 @@ void setupPoint(PfxContactPoint& cp, const PfxRigidState& stateA, const PfxSolve
     row.m_lowerLimit = 0;
     row.m_upperLimit = 0;
     row.m_accumImpulse *= param.warmStartFactor;
+  }
+}
+
+// K_ij = J_i M^-1 J_j^T over the normal rows of one manifold.
+void setupNormalCoupling(PfxContactManifold& manifold, const PfxSolverBody& a, PfxFloat receivesA,
+                         const PfxSolverBody& b, PfxFloat receivesB) {
+  const PfxUInt32 n = manifold.getNumContacts();
+  PfxVector3 angularA[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxVector3 angularB[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxVector3 torqueA[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxVector3 torqueB[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    torqueA[i] = cp.m_armA.cross(cp.getNormal());
+    torqueB[i] = cp.m_armB.cross(cp.getNormal());
+    angularA[i] = receivesA * (a.m_inertiaInv * torqueA[i]);
+    angularB[i] = receivesB * (b.m_inertiaInv * torqueB[i]);
+  }
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxVector3& ni = manifold.getContactPoint(i).getNormal();
+    for (PfxUInt32 j = i; j < n; ++j) {
+      const PfxFloat linear = ni.dot(manifold.getContactPoint(j).getNormal()) *
+                              (receivesA * a.m_massInv + receivesB * b.m_massInv);
+      const PfxFloat k = linear + torqueA[i].dot(angularA[j]) + torqueB[i].dot(angularB[j]);
+      manifold.setNormalCoupling(i, j, k);
+      manifold.setNormalCoupling(j, i, k);
+    }
   }
 }
 
@@ -86,11 +117,13 @@ PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param
     manifold.setCompositeRestitution(std::max(bodyA.getRestitution(), bodyB.getRestitution()));
     const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
     const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
+    const PfxSolverBody& solverA = param.offsetSolverBodies[idA];
+    const PfxSolverBody& solverB = param.offsetSolverBodies[idB];
     for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
-      setupPoint(manifold.getContactPoint(c), param.offsetRigidStates[idA],
-                 param.offsetSolverBodies[idA], receivesA, param.offsetRigidStates[idB],
-                 param.offsetSolverBodies[idB], receivesB, param);
+      setupPoint(manifold.getContactPoint(c), param.offsetRigidStates[idA], solverA, receivesA,
+                 param.offsetRigidStates[idB], solverB, receivesB, param);
     }
+    setupNormalCoupling(manifold, solverA, receivesA, solverB, receivesB);
   }
   return PFX_OK;
 }

@@ -11,6 +11,8 @@ PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param) {
     PfxSolverBody& solverBody = param.solverBodies[i];
     solverBody.m_deltaLinearVelocity.setZero();
     solverBody.m_deltaAngularVelocity.setZero();
+    solverBody.m_pushLinearVelocity.setZero();
+    solverBody.m_pushAngularVelocity.setZero();
     solverBody.m_motionType = state.getMotionType();
     if (pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake()) {
       const PfxRigidBody& body = param.bodies[i];

@@ -29,14 +29,102 @@ void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
   }
 }
 
+// Sweeps of the small problem of one manifold's normal rows; it converges in a few.
+constexpr int kBlockSweeps = 8;
+
+// Solves the normal rows of one manifold together, as a small projected Gauss-Seidel on
+// the manifold's own coupling matrix K: the points of one face hold a body up jointly, and
+// solving them one at a time lets it rock between them, which tall stacks turn into sway.
+// `residual` is each row's target velocity minus its current velocity; `impulse` is the
+// accumulated impulse, updated; `delta` receives the change to apply.
+void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
+                      PfxFloat* impulse, PfxFloat* delta) {
+  const PfxUInt32 n = manifold.getNumContacts();
+  for (PfxUInt32 i = 0; i < n; ++i) delta[i] = 0;
+  for (int sweep = 0; sweep < kBlockSweeps; ++sweep) {
+    for (PfxUInt32 i = 0; i < n; ++i) {
+      const PfxFloat kii = manifold.getNormalCoupling(i, i);
+      if (kii <= 0) continue;
+      PfxFloat r = residual[i];
+      for (PfxUInt32 j = 0; j < n; ++j) r -= manifold.getNormalCoupling(i, j) * delta[j];
+      delta[i] = std::max(impulse[i] + delta[i] + r / kii, PfxFloat(0)) - impulse[i];
+    }
+  }
+  for (PfxUInt32 i = 0; i < n; ++i) impulse[i] += delta[i];
+}
+
+// Applies normal impulses `delta` at the manifold's points to linear/angular velocities.
+void applyNormalImpulses(const PfxContactManifold& manifold, const PfxFloat* delta,
+                         const PairBodies& p, PfxVector3 PfxSolverBody::*linear,
+                         PfxVector3 PfxSolverBody::*angular) {
+  PfxVector3 force = PfxVector3::Zero();
+  PfxVector3 torqueA = PfxVector3::Zero();
+  PfxVector3 torqueB = PfxVector3::Zero();
+  for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    const PfxVector3 impulse = cp.getNormal() * delta[i];
+    force += impulse;
+    torqueA += cp.m_armA.cross(impulse);
+    torqueB += cp.m_armB.cross(impulse);
+  }
+  p.a.*linear -= (p.receivesA * p.a.m_massInv) * force;
+  p.a.*angular -= p.receivesA * (p.a.m_inertiaInv * torqueA);
+  p.b.*linear += (p.receivesB * p.b.m_massInv) * force;
+  p.b.*angular += p.receivesB * (p.b.m_inertiaInv * torqueB);
+}
+
+PfxFloat normalVelocity(const PfxContactPoint& cp, const PfxSolverBody& a, const PfxSolverBody& b,
+                        PfxVector3 PfxSolverBody::*linear, PfxVector3 PfxSolverBody::*angular) {
+  return cp.getNormal().dot(b.*linear + (b.*angular).cross(cp.m_armB) - a.*linear -
+                            (a.*angular).cross(cp.m_armA));
+}
+
 void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
+  const PfxUInt32 n = manifold.getNumContacts();
+  PfxFloat residual[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat impulse[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat delta[PFX_NUM_CONTACTS_PER_MANIFOLD];
+
+  // Velocities: each row's rhs is (target - initial velocity) scaled by its effective mass.
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    const PfxConstraintRow& row = cp.m_constraintRow[0];
+    const PfxFloat target = row.m_jacDiagInv > 0 ? row.m_rhs / row.m_jacDiagInv : 0;
+    residual[i] = target - normalVelocity(cp, p.a, p.b, &PfxSolverBody::m_deltaLinearVelocity,
+                                          &PfxSolverBody::m_deltaAngularVelocity);
+    impulse[i] = row.m_accumImpulse;
+  }
+  solveNormalBlock(manifold, residual, impulse, delta);
+  applyNormalImpulses(manifold, delta, p, &PfxSolverBody::m_deltaLinearVelocity,
+                      &PfxSolverBody::m_deltaAngularVelocity);
+  bool pushing = false;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    PfxContactPoint& cp = manifold.getContactPoint(i);
+    cp.m_constraintRow[0].m_accumImpulse = impulse[i];
+    cp.m_maxImpulse = std::max(cp.m_maxImpulse, impulse[i]);
+    pushing = pushing || cp.m_pushRhs > 0 || cp.m_pushImpulse > 0;
+  }
+
+  // Split impulses push overlaps apart through the push velocities only.
+  if (pushing) {
+    for (PfxUInt32 i = 0; i < n; ++i) {
+      const PfxContactPoint& cp = manifold.getContactPoint(i);
+      const PfxFloat jacDiagInv = cp.m_constraintRow[0].m_jacDiagInv;
+      const PfxFloat target = jacDiagInv > 0 ? cp.m_pushRhs / jacDiagInv : 0;
+      residual[i] = target - normalVelocity(cp, p.a, p.b, &PfxSolverBody::m_pushLinearVelocity,
+                                            &PfxSolverBody::m_pushAngularVelocity);
+      impulse[i] = cp.m_pushImpulse;
+    }
+    solveNormalBlock(manifold, residual, impulse, delta);
+    applyNormalImpulses(manifold, delta, p, &PfxSolverBody::m_pushLinearVelocity,
+                        &PfxSolverBody::m_pushAngularVelocity);
+    for (PfxUInt32 i = 0; i < n; ++i) manifold.getContactPoint(i).m_pushImpulse = impulse[i];
+  }
+
   const PfxFloat friction = manifold.getCompositeFriction();
-  for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
-    PfxContactPoint& cp = manifold.getContactPoint(c);
-    PfxConstraintRow& normalRow = cp.m_constraintRow[0];
-    pfxSolveRow(normalRow, p.a, cp.m_armA, p.receivesA, p.b, cp.m_armB, p.receivesB);
-    cp.m_maxImpulse = std::max(cp.m_maxImpulse, normalRow.m_accumImpulse);
-    const PfxFloat limit = friction * normalRow.m_accumImpulse;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    PfxContactPoint& cp = manifold.getContactPoint(i);
+    const PfxFloat limit = friction * cp.m_constraintRow[0].m_accumImpulse;
     for (int k = 1; k < 3; ++k) {
       PfxConstraintRow& row = cp.m_constraintRow[k];
       row.m_lowerLimit = -limit;
@@ -80,7 +168,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   if (param.numRigidBodies > 0 && (!param.offsetRigidStates || !param.offsetSolverBodies)) {
     return PFX_ERR_NULL_POINTER;
   }
-  if (!(param.restitutionThreshold >= 0) || !pfxIsFinite(param.restitutionThreshold)) {
+  if (!(param.restitutionThreshold >= 0) || !pfxIsFinite(param.restitutionThreshold) ||
+      !(param.timeStep > 0) || !pfxIsFinite(param.timeStep)) {
     return PFX_ERR_INVALID_VALUE;
   }
   if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
@@ -106,12 +195,23 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
     applyRestitution(m, p, param.restitutionThreshold);
   });
 
+  // Velocities take the solved changes; positions take the split impulses' push over the
+  // step, which is then forgotten.
   for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
     PfxRigidState& state = param.offsetRigidStates[i];
     const PfxSolverBody& solverBody = param.offsetSolverBodies[i];
     if (solverBody.m_massInv == 0) continue;
     state.setLinearVelocity(state.getLinearVelocity() + solverBody.m_deltaLinearVelocity);
     state.setAngularVelocity(state.getAngularVelocity() + solverBody.m_deltaAngularVelocity);
+    if (solverBody.m_pushLinearVelocity.isZero(0) && solverBody.m_pushAngularVelocity.isZero(0)) {
+      continue;
+    }
+    state.setPosition(state.getPosition() + solverBody.m_pushLinearVelocity * param.timeStep);
+    const PfxVector3 turn = solverBody.m_pushAngularVelocity * param.timeStep;
+    const PfxQuat spin(0, turn.x(), turn.y(), turn.z());
+    PfxQuat q = state.getOrientation();
+    q.coeffs() += PfxFloat(0.5) * (spin * q).coeffs();
+    state.setOrientation(q.normalized());
   }
   return PFX_OK;
 }

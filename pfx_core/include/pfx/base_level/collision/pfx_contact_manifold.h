@@ -19,6 +19,8 @@ struct PfxContactPoint {
   PfxFloat m_distance;
   PfxFloat m_approachVelocity;  // normal velocity before solving, for restitution
   PfxFloat m_maxImpulse;        // largest normal impulse of the last solve
+  PfxFloat m_pushRhs;           // split impulse that would push the overlap out, from rest
+  PfxFloat m_pushImpulse;       // accumulated split impulse of this step
   PfxUInt32 m_duration;         // frames this point has persisted
   PfxUInt8 m_shapeIdA;          // which shape of a compound
   PfxUInt8 m_shapeIdB;
@@ -49,6 +51,10 @@ class PfxContactManifold {
   PfxFloat getCompositeFriction() const { return m_compositeFriction; }
   PfxFloat getCompositeRestitution() const { return m_compositeRestitution; }
   void setCompositeFriction(PfxFloat f) { m_compositeFriction = f; }
+  // J_i M^-1 J_j^T between the normal rows of points i and j, set up for the solver,
+  // which solves the points of a manifold together (they rock against each other).
+  PfxFloat getNormalCoupling(PfxUInt32 i, PfxUInt32 j) const { return m_normalCoupling[i][j]; }
+  void setNormalCoupling(PfxUInt32 i, PfxUInt32 j, PfxFloat k) { m_normalCoupling[i][j] = k; }
   void setCompositeRestitution(PfxFloat e) { m_compositeRestitution = e; }
 
   // Replaces the points by the best four of `candidates` (the deepest, then those that
@@ -73,6 +79,7 @@ class PfxContactManifold {
 
  private:
   PfxContactPoint m_contactPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat m_normalCoupling[PFX_NUM_CONTACTS_PER_MANIFOLD][PFX_NUM_CONTACTS_PER_MANIFOLD];
   PfxUInt32 m_rigidBodyIdA;
   PfxUInt32 m_rigidBodyIdB;
   PfxFloat m_compositeFriction;

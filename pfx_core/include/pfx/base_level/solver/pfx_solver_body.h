@@ -1,6 +1,9 @@
 // What the constraint solver needs of one rigid body, copied out before the iterations so
 // that they touch as little memory as possible (seed chapter 2, "Solver Body"). The solver
 // accumulates velocity changes here; pfxSolveConstraints adds them to the states at the end.
+// Overlaps are pushed out by split impulses: "push" velocities that move the body during
+// the solve's position correction but are then forgotten, so that pushing bodies apart
+// never adds kinetic energy (which would make stacks rock and topple).
 #pragma once
 
 #include "pfx/base_level/base/pfx_vec_math.h"
@@ -10,6 +13,8 @@ namespace pfx {
 struct PfxSolverBody {
   PfxVector3 m_deltaLinearVelocity;
   PfxVector3 m_deltaAngularVelocity;
+  PfxVector3 m_pushLinearVelocity;
+  PfxVector3 m_pushAngularVelocity;
   PfxMatrix3 m_inertiaInv;  // world frame
   PfxFloat m_massInv;
   PfxUInt32 m_motionType;

@@ -20,11 +20,12 @@ struct PfxSetupContactConstraintsParam {
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
   PfxFloat timeStep = 0;
-  // Fraction of the penetration (beyond `contactSlop`) pushed out per step.
+  // Fraction of the penetration (beyond `contactSlop`) pushed out per step, by split
+  // impulses that move the bodies apart without giving them velocity.
   PfxFloat separateBias = 0.2f;
   PfxFloat contactSlop = 0.005f;
   // Fraction of last frame's impulses applied before iterating (0 disables warm starting).
-  PfxFloat warmStartFactor = 0.85f;
+  PfxFloat warmStartFactor = 1.0f;
 };
 
 PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param);

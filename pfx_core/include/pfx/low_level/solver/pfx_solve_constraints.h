@@ -21,6 +21,7 @@ struct PfxSolveConstraintsParam {
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
   PfxUInt32 iteration = 10;
+  PfxFloat timeStep = 0;  // over which the split impulses push overlapping bodies apart
   // Approach speeds below this do not bounce, so that resting contacts stay at rest.
   PfxFloat restitutionThreshold = 0.2f;
 };
