@@ -1,7 +1,9 @@
 #include "bench_cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <sstream>
 
 namespace pfxbench {
@@ -74,8 +76,16 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
       options.help = true;
       continue;
     }
+    static const char* const kOptionsWithValue[] = {"--scene",    "--engine",  "--dt",
+                                                    "--iterations", "--substeps", "--threads",
+                                                    "--seconds",  "--out"};
+    if (std::find(std::begin(kOptionsWithValue), std::end(kOptionsWithValue), option) ==
+        std::end(kOptionsWithValue)) {
+      error = "unknown option: " + option;
+      return false;
+    }
     if (i + 1 >= argc) {
-      error = option + ": missing value (or unknown option)";
+      error = option + ": missing value";
       return false;
     }
     const std::string value = argv[++i];
@@ -110,9 +120,6 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
       }
     } else if (option == "--out") {
       options.outDir = value;
-    } else {
-      error = "unknown option: " + option;
-      return false;
     }
   }
   return true;
