@@ -9,14 +9,16 @@
 //
 // Settings that could not be matched:
 // - Contact model. pfx, Bullet and ODE solve hard contacts with sequential impulses
-//   (projected Gauss-Seidel); MuJoCo solves soft contacts (solref 0.02 s, solimp default)
+//   (projected Gauss-Seidel; pfx solves the normal rows of one manifold as a block, the
+//   others row by row); MuJoCo solves soft contacts (solref 0.02 s, solimp default)
 //   by convex optimisation with its default Newton solver, so its "iterations" are Newton
 //   iterations, it stops early at its default tolerance (1e-8), and resting boxes sink
 //   into each other by design.
-// - Penetration recovery. pfx: Baumgarte bias 0.2 beyond a 5 mm slop. ODE: ERP 0.2 and a
-//   5 mm contact surface layer (the same meaning), global CFM left at ODE's 1e-5 for
-//   conditioning. Bullet: erp2 0.2 beyond a 5 mm linear slop, split impulse off and full
-//   warm starting, as pfx. MuJoCo: governed by solref/solimp.
+// - Penetration recovery. pfx: split impulses push an overlap beyond a 5 mm slop out by
+//   0.2 of it per step without adding velocity. Bullet: the same (split impulse for every
+//   overlap, erp2 0.2, 5 mm linear slop, full turn). ODE: no split impulse; ERP 0.2 as a
+//   velocity bias with a 5 mm contact surface layer, global CFM left at ODE's 1e-5 for
+//   conditioning. MuJoCo: governed by its soft-contact solref/solimp.
 // - Friction cone. pfx: two tangent rows clamped by the current normal impulse. Bullet:
 //   the same kind. ODE: dContactApprox1 (pyramid scaled by the normal force). MuJoCo:
 //   its default pyramidal cone with condim 3 and the maximum of the two geoms' friction,
@@ -38,9 +40,12 @@
 // - Cost of the default solver. MuJoCo 2.2's Newton solver factorises a dense Hessian over
 //   all degrees of freedom, so its step time grows with the cube of the number of free
 //   bodies in contact; scenes beyond 500 free bodies (rain) are skipped for MuJoCo.
+// - Sub-steps. Every engine runs its collision detection again in each sub-step: pfx is
+//   stepped N times at dt / N. PfxWorldParam::subStep, which shares one collision
+//   detection among the sub-steps, is not what `substeps` measures.
 // - Threads. No engine is run on more than one thread yet (pfx's world has no task
-//   manager, Debian's Bullet is built without BT_THREADSAFE, MuJoCo steps one model on
-//   one thread); runs asking for more threads are skipped, not faked.
+//   manager, the Bullet adapter uses the single-threaded btDiscreteDynamicsWorld, MuJoCo
+//   steps one model on one thread); runs asking for more threads are skipped, not faked.
 #pragma once
 
 #include <memory>

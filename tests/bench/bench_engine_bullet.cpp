@@ -66,11 +66,14 @@ class BulletEngine final : public Engine {
     m_world->setGravity(toBt(scene.gravity));
     btContactSolverInfo& info = m_world->getSolverInfo();
     info.m_numIterations = settings.iterations;
-    // pfx: Baumgarte correction (0.2, Bullet's default erp2) beyond a 5 mm slop, full warm
-    // start, no split impulse.
+    // As pfx: every overlap beyond a 5 mm slop is pushed out by split impulses, a fifth per
+    // step (Bullet's default erp2), rotation included; warm starting in full.
     info.m_linearSlop = btScalar(0.005);
+    info.m_splitImpulse = 1;
+    info.m_splitImpulsePenetrationThreshold = 0;
+    info.m_splitImpulseTurnErp = 1;
+    info.m_erp2 = btScalar(0.2);
     info.m_warmstartingFactor = 1;
-    info.m_splitImpulse = 0;
     m_subTimeStep = btScalar(settings.dt / settings.substeps);
     m_substeps = settings.substeps;
 
