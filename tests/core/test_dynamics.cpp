@@ -153,33 +153,42 @@ TEST(Dynamics, BlockSlidesWithAnalyticAcceleration) {
   }
 }
 
-// A ball dropped from height h onto the ground with restitution e rises to e^2 h.
+// A ball dropped from height h onto the ground with restitution e rises to e^2 h. The
+// integrator (symplectic Euler, like every engine compared here) itself peaks u dt / 2 short
+// of a launch at speed u, so at dt = 1/60 the answer to expect is e^2 h - e sqrt(2 g h) dt / 2;
+// at dt = 1/240 that term is below 1.5 % and e^2 h itself is the answer.
 TEST(Dynamics, BouncingBallReboundsToRestitutionSquaredHeight) {
-  for (PfxFloat e : {0.5f, 0.8f}) {
-    PfxWorld world;
-    ASSERT_EQ(world.initialize(defaultParam()), PFX_OK);
-    addFixedBox(world, PfxVector3(0, -1, 0), PfxVector3(5, 1, 5));
-    const PfxFloat radius = 0.1f;
-    const PfxFloat h = 2.0f;  // drop height of the ball's bottom
-    PfxBodyInit init;
-    init.position = PfxVector3(0, h + radius, 0);
-    init.restitution = e;
-    PfxUInt32 ball = 0;
-    ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(radius)), init, &ball), PFX_OK);
-    bool bounced = false;
-    PfxFloat peak = 0;
-    for (int i = 0; i < 240; ++i) {
-      ASSERT_EQ(world.step(), PFX_OK);
-      const PfxRigidState& s = world.getRigidState(ball);
-      if (!bounced && s.getLinearVelocity().y() > 0) bounced = true;
-      if (bounced) {
-        peak = std::max(peak, s.getPosition().y() - radius);
-        if (s.getLinearVelocity().y() < 0) break;
+  for (PfxFloat timeStep : {1.0f / 60.0f, 1.0f / 240.0f}) {
+    for (PfxFloat e : {0.5f, 0.8f}) {
+      PfxWorld world;
+      ASSERT_EQ(world.initialize(defaultParam(timeStep)), PFX_OK);
+      addFixedBox(world, PfxVector3(0, -1, 0), PfxVector3(5, 1, 5));
+      const PfxFloat radius = 0.1f;
+      const PfxFloat h = 2.0f;  // drop height of the ball's bottom
+      PfxBodyInit init;
+      init.position = PfxVector3(0, h + radius, 0);
+      init.restitution = e;
+      PfxUInt32 ball = 0;
+      ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(radius)), init, &ball), PFX_OK);
+      bool bounced = false;
+      PfxFloat peak = 0;
+      for (int i = 0; i < static_cast<int>(4 / timeStep); ++i) {
+        ASSERT_EQ(world.step(), PFX_OK);
+        const PfxRigidState& s = world.getRigidState(ball);
+        if (!bounced && s.getLinearVelocity().y() > 0) bounced = true;
+        if (bounced) {
+          peak = std::max(peak, s.getPosition().y() - radius);
+          if (s.getLinearVelocity().y() < 0) break;
+        }
       }
+      const PfxFloat launch = e * std::sqrt(2 * kGravity * h);
+      const PfxFloat expected =
+          timeStep > 1.0f / 100 ? e * e * h - launch * timeStep / 2 : e * e * h;
+      std::printf("dt 1/%.0f, restitution %.2f: rebound %.4f m, expected %.4f m (e^2 h = %.4f)\n",
+                  1 / timeStep, e, peak, expected, e * e * h);
+      ASSERT_TRUE(bounced);
+      EXPECT_NEAR(peak, expected, 0.03f * expected);
     }
-    std::printf("restitution %.2f: rebound %.4f m, expected %.4f m\n", e, peak, e * e * h);
-    ASSERT_TRUE(bounced);
-    EXPECT_NEAR(peak, e * e * h, 0.03f * e * e * h);
   }
 }
 
@@ -220,10 +229,13 @@ TEST(Dynamics, CollisionConservesMomentum) {
   PfxVector3 l0, h0, l1, h1;
   momentum(l0, h0);
   bool touched = false;
+  PfxFloat deepest = 0;
   for (int i = 0; i < 120; ++i) {
     ASSERT_EQ(world.step(), PFX_OK);
     touched = touched || world.getStats().numContactPoints > 0;
+    deepest = std::max(deepest, world.getStats().maxPenetration);
   }
+  std::printf("deepest overlap during the collision %.4f m\n", deepest);
   momentum(l1, h1);
   std::printf("momentum: linear drift %.2e, angular drift %.2e\n", (l1 - l0).norm() / l0.norm(),
               (h1 - h0).norm() / h0.norm());

@@ -79,7 +79,7 @@ bool oneWayScene() {
   std::printf("one-way: a 20 kg active box sent its 1 kg target off at %.3f m/s;\n"
               "         a 20 kg one-way box left its 1 kg target at %.3f m/s and now moves at %.3f m/s\n",
               targetSpeed[0], targetSpeed[1], heavySpeed);
-  return targetSpeed[0] > 2.0f && std::abs(targetSpeed[1]) < 1e-4f && heavySpeed < 0.1f;
+  return targetSpeed[0] > 1.5f && std::abs(targetSpeed[1]) < 1e-4f && heavySpeed < 0.1f;
 }
 
 bool triggerScene() {

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "base_level/collision/contact/pfx_convex_core.h"
+
 namespace pfx {
 
 void PfxShape::reset() {
@@ -95,6 +97,21 @@ void PfxShape::getAabb(PfxVector3& center, PfxVector3& half) const {
   const PfxMatrix3 rotation = m_offsetOrientation.toRotationMatrix();
   center = m_offsetPosition + rotation * localCenter;
   half = rotation.cwiseAbs() * localHalf;
+}
+
+PfxVector3 pfxGetSupportPoint(const PfxShape& shape, const PfxTransform3& transform,
+                              const PfxVector3& direction) {
+  if (shape.getType() == kPfxShapeLargeTriMesh) {
+    PfxVector3 center, half;
+    shape.getAabb(center, half);
+    const PfxVector3 local = transform.linear().transpose() * direction;
+    return transform * (center + half.cwiseProduct(local.cwiseSign()));
+  }
+  PfxConvexCore core;
+  core.set(shape, transform);
+  const PfxFloat length = direction.norm();
+  const PfxVector3 unit = length > 0 ? PfxVector3(direction / length) : PfxVector3::Zero();
+  return core.support(direction) + core.m_radius * unit;
 }
 
 }  // namespace pfx

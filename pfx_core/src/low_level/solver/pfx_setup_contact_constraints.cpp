@@ -16,12 +16,16 @@ PfxVector3 pointVelocity(const PfxRigidState& s, const PfxVector3& arm) {
 void setupPoint(PfxContactPoint& cp, const PfxRigidState& stateA, const PfxSolverBody& bodyA, PfxFloat receivesA,
                 const PfxRigidState& stateB, const PfxSolverBody& bodyB, PfxFloat receivesB,
                 const PfxSetupContactConstraintsParam& param) {
-  cp.m_armA = stateA.getOrientation() * cp.m_localPointA;
-  cp.m_armB = stateB.getOrientation() * cp.m_localPointB;
+  // Both bodies are pushed at one point, midway between their surfaces: impulses at two
+  // different points would form a couple and create angular momentum from nothing.
+  const PfxVector3 pointA = stateA.getPosition() + stateA.getOrientation() * cp.m_localPointA;
+  const PfxVector3 pointB = stateB.getPosition() + stateB.getOrientation() * cp.m_localPointB;
+  const PfxVector3 midpoint = PfxFloat(0.5) * (pointA + pointB);
+  cp.m_armA = midpoint - stateA.getPosition();
+  cp.m_armB = midpoint - stateB.getPosition();
   // The separation at the current poses, which may have moved since the points were found
   // (sub-steps share one collision detection).
-  cp.m_distance = cp.getNormal().dot(stateB.getPosition() + cp.m_armB - stateA.getPosition() -
-                                     cp.m_armA);
+  cp.m_distance = cp.getNormal().dot(pointB - pointA);
   const PfxVector3 relativeVelocity =
       pointVelocity(stateB, cp.m_armB) - pointVelocity(stateA, cp.m_armA);
 
@@ -53,7 +57,7 @@ void setupPoint(PfxContactPoint& cp, const PfxRigidState& stateA, const PfxSolve
     row.m_jacDiagInv =
         pfxCalcJacDiagInv(tangents[k], bodyA, cp.m_armA, receivesA, bodyB, cp.m_armB, receivesB);
     row.m_rhs = -tangents[k].dot(relativeVelocity) * row.m_jacDiagInv;
-    // The friction limits follow the normal impulse during the iterations.
+    // The solver clamps both friction rows together to the friction circle.
     row.m_lowerLimit = 0;
     row.m_upperLimit = 0;
     row.m_accumImpulse *= param.warmStartFactor;

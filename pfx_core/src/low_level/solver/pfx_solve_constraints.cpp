@@ -1,5 +1,7 @@
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
 
+#include <cmath>
+
 #include "low_level/solver/pfx_constraint_row_solver.h"
 
 namespace pfx {
@@ -121,37 +123,63 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
     for (PfxUInt32 i = 0; i < n; ++i) manifold.getContactPoint(i).m_pushImpulse = impulse[i];
   }
 
+  // Friction in both tangent directions at once, clamped to the friction circle: two rows
+  // clamped separately would allow sqrt(2) times the friction when sliding diagonally.
   const PfxFloat friction = manifold.getCompositeFriction();
   for (PfxUInt32 i = 0; i < n; ++i) {
     PfxContactPoint& cp = manifold.getContactPoint(i);
+    PfxConstraintRow& row1 = cp.m_constraintRow[1];
+    PfxConstraintRow& row2 = cp.m_constraintRow[2];
+    const PfxVector3 dv = pfxRelativeDeltaVelocity(p.a, cp.m_armA, p.b, cp.m_armB);
+    const PfxFloat old1 = row1.m_accumImpulse;
+    const PfxFloat old2 = row2.m_accumImpulse;
+    PfxFloat new1 = old1 + row1.m_rhs - row1.m_jacDiagInv * row1.m_normal.dot(dv);
+    PfxFloat new2 = old2 + row2.m_rhs - row2.m_jacDiagInv * row2.m_normal.dot(dv);
     const PfxFloat limit = friction * cp.m_constraintRow[0].m_accumImpulse;
-    for (int k = 1; k < 3; ++k) {
-      PfxConstraintRow& row = cp.m_constraintRow[k];
-      row.m_lowerLimit = -limit;
-      row.m_upperLimit = limit;
-      pfxSolveRow(row, p.a, cp.m_armA, p.receivesA, p.b, cp.m_armB, p.receivesB);
+    const PfxFloat magnitudeSq = new1 * new1 + new2 * new2;
+    if (magnitudeSq > limit * limit) {
+      const PfxFloat scale = limit / std::sqrt(magnitudeSq);
+      new1 *= scale;
+      new2 *= scale;
     }
+    row1.m_accumImpulse = new1;
+    row2.m_accumImpulse = new2;
+    pfxApplyRowImpulse(row1.m_normal * (new1 - old1) + row2.m_normal * (new2 - old2), 1, p.a,
+                       cp.m_armA, p.receivesA, p.b, cp.m_armB, p.receivesB);
   }
 }
 
 // After the iterations, points that were hit faster than the threshold and did push get
 // the restitution target: a normal velocity of -e times the approach velocity.
-void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloat threshold) {
+// A speculative point bounces from where it is, a gap d short of the surface; in truth
+// the bodies would have closed that gap first and left again, ending (1 + e) d nearer.
+// That displacement goes to the push velocities, so the bounce keeps its height.
+void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloat threshold,
+                      PfxFloat timeStep) {
   const PfxFloat restitution = manifold.getCompositeRestitution();
   if (restitution <= 0) return;
   for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
     PfxContactPoint& cp = manifold.getContactPoint(c);
     if (cp.m_approachVelocity > -threshold || cp.m_maxImpulse <= 0) continue;
     PfxConstraintRow& row = cp.m_constraintRow[0];
-    const PfxFloat normalVelocity =
+    const PfxFloat velocity =
         cp.m_approachVelocity +
         row.m_normal.dot(pfxRelativeDeltaVelocity(p.a, cp.m_armA, p.b, cp.m_armB));
     const PfxFloat target = -restitution * cp.m_approachVelocity;
     const PfxFloat previous = row.m_accumImpulse;
-    row.m_accumImpulse =
-        std::max(previous + (target - normalVelocity) * row.m_jacDiagInv, PfxFloat(0));
+    row.m_accumImpulse = std::max(previous + (target - velocity) * row.m_jacDiagInv, PfxFloat(0));
     pfxApplyRowImpulse(row.m_normal, row.m_accumImpulse - previous, p.a, cp.m_armA, p.receivesA,
                        p.b, cp.m_armB, p.receivesB);
+    if (cp.m_distance <= 0) continue;
+    const PfxFloat pushVelocity = normalVelocity(cp, p.a, p.b, &PfxSolverBody::m_pushLinearVelocity,
+                                                 &PfxSolverBody::m_pushAngularVelocity);
+    const PfxFloat closing = -(1 + restitution) * cp.m_distance / timeStep;
+    const PfxFloat impulse = std::min((closing - pushVelocity) * row.m_jacDiagInv, PfxFloat(0));
+    const PfxVector3 linear = row.m_normal * impulse;
+    p.a.m_pushLinearVelocity -= (p.receivesA * p.a.m_massInv) * linear;
+    p.a.m_pushAngularVelocity -= p.receivesA * (p.a.m_inertiaInv * cp.m_armA.cross(linear));
+    p.b.m_pushLinearVelocity += (p.receivesB * p.b.m_massInv) * linear;
+    p.b.m_pushAngularVelocity += p.receivesB * (p.b.m_inertiaInv * cp.m_armB.cross(linear));
   }
 }
 
@@ -192,7 +220,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
     forEachContact([](PfxContactManifold& m, const PairBodies& p) { solveContacts(m, p); });
   }
   forEachContact([&](PfxContactManifold& m, const PairBodies& p) {
-    applyRestitution(m, p, param.restitutionThreshold);
+    applyRestitution(m, p, param.restitutionThreshold, param.timeStep);
   });
 
   // Velocities take the solved changes; positions take the split impulses' push over the

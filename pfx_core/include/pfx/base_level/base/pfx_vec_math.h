@@ -13,7 +13,9 @@ namespace pfx {
 using PfxVector3 = Eigen::Matrix<PfxFloat, 3, 1>;
 using PfxPoint3 = PfxVector3;
 using PfxVector4 = Eigen::Matrix<PfxFloat, 4, 1>;
-using PfxQuat = Eigen::Quaternion<PfxFloat>;
+// Unaligned, so that the plain-data structs holding orientations have no hidden padding:
+// they copy, compare and serialize byte for byte.
+using PfxQuat = Eigen::Quaternion<PfxFloat, Eigen::DontAlign>;
 using PfxMatrix3 = Eigen::Matrix<PfxFloat, 3, 3>;
 using PfxMatrix4 = Eigen::Matrix<PfxFloat, 4, 4>;
 using PfxTransform3 = Eigen::Transform<PfxFloat, 3, Eigen::Isometry>;

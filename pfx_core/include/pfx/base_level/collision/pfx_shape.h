@@ -65,4 +65,10 @@ class PfxShape {
   PfxUInt8 m_type;
 };
 
+// The point of a convex shape placed at `transform` (its offset already applied) that lies
+// furthest along `direction`: the lowest point of a body for direction -up, for example.
+// Large meshes are not convex and give their bounding box's corner.
+PfxVector3 pfxGetSupportPoint(const PfxShape& shape, const PfxTransform3& transform,
+                              const PfxVector3& direction);
+
 }  // namespace pfx
