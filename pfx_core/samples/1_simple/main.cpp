@@ -56,7 +56,8 @@ int main() {
     const PfxTransform3 pose = s.getTransform() * shape.getOffsetTransform();
     lowest = std::min(lowest, pfxGetSupportPoint(shape, pose, -PfxVector3::UnitY()).y());
     highest = std::max(highest, pfxGetSupportPoint(shape, pose, PfxVector3::UnitY()).y());
-    for (const PfxVector3 out : {PfxVector3(PfxVector3::UnitX()), PfxVector3(PfxVector3::UnitZ())}) {
+    for (int axis : {0, 2}) {
+      const PfxVector3 out = PfxVector3::Unit(axis);
       outermost = std::max(outermost, pfxGetSupportPoint(shape, pose, out).dot(out));
       outermost = std::max(outermost, -pfxGetSupportPoint(shape, pose, -out).dot(out));
     }
