@@ -19,8 +19,9 @@
 //   overlap, erp2 0.2, 5 mm linear slop, full turn). ODE: no split impulse; ERP 0.2 as a
 //   velocity bias with a 5 mm contact surface layer, global CFM left at ODE's 1e-5 for
 //   conditioning. MuJoCo: governed by its soft-contact solref/solimp.
-// - Friction cone. pfx: two tangent rows clamped by the current normal impulse. Bullet:
-//   the same kind. ODE: dContactApprox1 (pyramid scaled by the normal force). MuJoCo:
+// - Friction cone. pfx: both tangent impulses together clamped to the friction circle of
+//   the current normal impulse. Bullet: two tangent rows clamped one by one (a square, up
+//   to sqrt(2) more friction diagonally). ODE: dContactApprox1, the same square. MuJoCo:
 //   its default pyramidal cone with condim 3 and the maximum of the two geoms' friction,
 //   which equals sqrt(a b) only because every scene gives all bodies the same friction.
 // - Restitution. MuJoCo has no coefficient of restitution (it is ignored there); the
