@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "base_level/collision/contact/pfx_convex_core.h"
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 
 namespace pfx {
 
@@ -92,6 +93,14 @@ void PfxShape::getAabb(PfxVector3& center, PfxVector3& half) const {
       localCenter = m_convexMesh->m_aabbCenter;
       localHalf = m_convexMesh->m_aabbHalf;
       break;
+    case kPfxShapeLargeTriMesh: {
+      // The prisms reach `thickness` below the faces, in whatever direction they face.
+      const PfxLargeTriMesh& mesh = *m_largeMesh;
+      localCenter = (mesh.m_aabbMin + mesh.m_aabbMax) * PfxFloat(0.5);
+      localHalf = (mesh.m_aabbMax - mesh.m_aabbMin) * PfxFloat(0.5) +
+                  PfxVector3::Constant(mesh.m_thickness);
+      break;
+    }
     default: localHalf.setZero(); break;
   }
   const PfxMatrix3 rotation = m_offsetOrientation.toRotationMatrix();

@@ -17,9 +17,11 @@
 // Storage. Vertices are kept in the caller's order (deformation passes them in that order
 // again); triangles are kept in island order, with maps both ways to the caller's triangle
 // list, whose indices are the ones that contacts and rays report. PFX_MESH_FLAG_USE_QUANTIZED stores
-// vertices and node bounds as 16-bit integers over the mesh's bounds and triangle corners as
-// 16-bit offsets from their island's lowest vertex: positions are then exact to half a step,
-// (bounds extent) / 65535 / 2 per axis, and the mesh takes a little over half the bytes.
+// vertices and node bounds as 16-bit integers over the mesh's bounds (grown by
+// m_deformationMargin) and triangle corners as 16-bit offsets from their island's lowest
+// vertex: positions are then exact to half a step, (box extent) / 65535 / 2 per axis, and
+// the mesh takes a little over half the bytes. Corners stay 32-bit indices when some island
+// uses vertices more than 65,535 apart in the caller's order (a scrambled vertex list).
 // Face normals are not stored: they follow from the vertices, which keeps them right after
 // a deformation.
 //
@@ -75,6 +77,9 @@ struct PfxCreateLargeTriMeshParam {
   // Two faces sharing an edge whose normals differ by less than this angle (radians) count
   // as flat: the edge is internal even when it folds slightly outward.
   PfxFloat m_flatEdgeAngle = PfxFloat(0.01);
+  // Quantized meshes only: how far beyond the creation bounds a deformation may move
+  // vertices (the quantization box is grown by this on every side).
+  PfxFloat m_deformationMargin = 0;
 };
 
 // Bounds of a BVH node. Leaves point at triangles of one island; see pfx_large_tri_mesh.cpp
@@ -114,7 +119,8 @@ struct PfxLargeTriMesh {
   PfxVector3 m_quantOrigin;
   PfxVector3 m_quantStep;
 
-  // Exactly one of each pair is set, by PFX_MESH_FLAG_USE_QUANTIZED.
+  // Exactly one of each pair is set: vertices and nodes by PFX_MESH_FLAG_USE_QUANTIZED,
+  // corners as described in the storage note above.
   PfxFloat* m_vertices;             // xyz, caller's order
   PfxUInt16* m_quantizedVertices;   // xyz, caller's order
   PfxUInt32* m_triangleVertices;    // three per triangle, island order
@@ -134,7 +140,8 @@ struct PfxLargeTriMesh {
 // Builds a mesh. Rejects: a null vertex or triangle array (PFX_ERR_NULL_POINTER); no
 // vertices or no triangles, a vertex index >= m_numVertices, an island size outside 1..64,
 // or more islands than PFX_LARGE_MESH_MAX_ISLANDS (PFX_ERR_OUT_OF_RANGE); a NaN or infinite
-// vertex, a negative or non-finite thickness or flat-edge angle (PFX_ERR_INVALID_VALUE); an
+// vertex, a negative or non-finite thickness, flat-edge angle or deformation margin
+// (PFX_ERR_INVALID_VALUE); an
 // unknown flag (PFX_ERR_INVALID_FLAG); a mesh whose triangles all have zero area
 // (PFX_ERR_DEGENERATE). Zero-area triangles among others are dropped and counted in
 // m_numDroppedTriangles. `mesh` is only written on success; it must not hold a live mesh

@@ -1,0 +1,137 @@
+// Reading a PfxLargeTriMesh: node links, triangle corners in either storage, and the
+// bounding-box search that the contact routines run. Shared by the mesh's own source and
+// the narrow phase; inline because they sit in the inner loops.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
+
+namespace pfx {
+
+// Node link: bit 31 marks a leaf. An inner node's left child follows it in the array and
+// the low 31 bits index its right child. A leaf packs (count - 1) in bits 0..5, the first
+// triangle's offset within its island in bits 6..11 and the island in bits 12..30.
+constexpr PfxUInt32 PFX_LARGE_MESH_LEAF_BIT = 1u << 31;
+constexpr PfxUInt32 PFX_LARGE_MESH_NO_TRIANGLE = 0xFFFFFFFFu;
+// Deepest possible descent: the builder falls back to median splits below depth 48, and
+// median splits of at most 2^25 triangles add at most 26 levels.
+constexpr PfxUInt32 PFX_LARGE_MESH_MAX_DEPTH = 80;
+
+inline bool pfxLargeMeshIsLeaf(PfxUInt32 link) { return (link & PFX_LARGE_MESH_LEAF_BIT) != 0; }
+inline PfxUInt32 pfxLargeMeshRightChild(PfxUInt32 link) { return link & ~PFX_LARGE_MESH_LEAF_BIT; }
+inline PfxUInt32 pfxLargeMeshLeafCount(PfxUInt32 link) { return (link & 63u) + 1; }
+inline PfxUInt32 pfxLargeMeshLeafOffset(PfxUInt32 link) { return (link >> 6) & 63u; }
+inline PfxUInt32 pfxLargeMeshLeafIsland(PfxUInt32 link) { return (link >> 12) & 0x7FFFFu; }
+inline PfxUInt32 pfxLargeMeshMakeLeaf(PfxUInt32 island, PfxUInt32 offset, PfxUInt32 count) {
+  return PFX_LARGE_MESH_LEAF_BIT | (island << 12) | (offset << 6) | (count - 1);
+}
+
+inline bool pfxLargeMeshIsQuantized(const PfxLargeTriMesh& mesh) {
+  return mesh.m_quantizedVertices != nullptr;
+}
+
+// Vertex indices of a triangle (island order) whose island is known.
+inline void pfxLargeMeshCorners(const PfxLargeTriMesh& mesh, const PfxLargeMeshIsland& island,
+                                PfxUInt32 triangle, PfxUInt32 corners[3]) {
+  if (mesh.m_triangleOffsets) {
+    const PfxUInt16* offsets = mesh.m_triangleOffsets + 3 * triangle;
+    for (int k = 0; k < 3; ++k) corners[k] = island.m_baseVertex + offsets[k];
+  } else {
+    const PfxUInt32* ids = mesh.m_triangleVertices + 3 * triangle;
+    for (int k = 0; k < 3; ++k) corners[k] = ids[k];
+  }
+}
+
+// A vertex in the mesh's frame.
+inline PfxVector3 pfxLargeMeshVertex(const PfxLargeTriMesh& mesh, PfxUInt32 v) {
+  if (mesh.m_quantizedVertices) {
+    const PfxUInt16* q = mesh.m_quantizedVertices + 3 * v;
+    return PfxVector3(mesh.m_quantOrigin[0] + PfxFloat(q[0]) * mesh.m_quantStep[0],
+                      mesh.m_quantOrigin[1] + PfxFloat(q[1]) * mesh.m_quantStep[1],
+                      mesh.m_quantOrigin[2] + PfxFloat(q[2]) * mesh.m_quantStep[2]);
+  }
+  const PfxFloat* p = mesh.m_vertices + 3 * v;
+  return PfxVector3(p[0], p[1], p[2]);
+}
+
+// The island holding triangle `triangle` (island order): islands are laid out in
+// increasing m_firstTriangle.
+inline PfxUInt32 pfxLargeMeshIslandOf(const PfxLargeTriMesh& mesh, PfxUInt32 triangle) {
+  PfxUInt32 lo = 0;
+  PfxUInt32 hi = mesh.m_numIslands;
+  while (hi - lo > 1) {
+    const PfxUInt32 mid = (lo + hi) / 2;
+    if (mesh.m_islands[mid].m_firstTriangle <= triangle) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+// Calls visit(island, triangle) for every triangle (island order) whose node bounds meet
+// the box [lo, hi] in the mesh's frame. Allocates nothing.
+template <class Visit>
+void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, const PfxVector3& hi,
+                          Visit&& visit) {
+  if (mesh.m_numNodes == 0) return;
+  PfxUInt32 stack[PFX_LARGE_MESH_MAX_DEPTH];
+  PfxUInt32 depth = 0;
+  PfxUInt32 node = 0;
+  const auto visitLeaf = [&](PfxUInt32 link) {
+    const PfxUInt32 islandId = pfxLargeMeshLeafIsland(link);
+    const PfxLargeMeshIsland& island = mesh.m_islands[islandId];
+    const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
+    const PfxUInt32 count = pfxLargeMeshLeafCount(link);
+    for (PfxUInt32 t = first; t < first + count; ++t) visit(island, t);
+  };
+  if (pfxLargeMeshIsQuantized(mesh)) {
+    // The box in quantization steps, rounded outward; a box that misses the quantization
+    // box misses every node.
+    PfxInt32 qlo[3], qhi[3];
+    for (int i = 0; i < 3; ++i) {
+      const PfxFloat a = std::floor((lo[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
+      const PfxFloat b = std::ceil((hi[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
+      if (!(b >= 0) || !(a <= PfxFloat(65535))) return;
+      qlo[i] = static_cast<PfxInt32>(std::max(a, PfxFloat(0)));
+      qhi[i] = static_cast<PfxInt32>(std::min(b, PfxFloat(65535)));
+    }
+    const PfxLargeMeshQuantizedNode* nodes = mesh.m_quantizedNodes;
+    for (;;) {
+      const PfxLargeMeshQuantizedNode& n = nodes[node];
+      const bool overlap = n.m_min[0] <= qhi[0] && n.m_max[0] >= qlo[0] && n.m_min[1] <= qhi[1] &&
+                           n.m_max[1] >= qlo[1] && n.m_min[2] <= qhi[2] && n.m_max[2] >= qlo[2];
+      if (overlap) {
+        if (!pfxLargeMeshIsLeaf(n.m_link)) {
+          stack[depth++] = pfxLargeMeshRightChild(n.m_link);
+          ++node;
+          continue;
+        }
+        visitLeaf(n.m_link);
+      }
+      if (depth == 0) return;
+      node = stack[--depth];
+    }
+  }
+  const PfxLargeMeshNode* nodes = mesh.m_nodes;
+  for (;;) {
+    const PfxLargeMeshNode& n = nodes[node];
+    const bool overlap = n.m_min[0] <= hi[0] && n.m_max[0] >= lo[0] && n.m_min[1] <= hi[1] &&
+                         n.m_max[1] >= lo[1] && n.m_min[2] <= hi[2] && n.m_max[2] >= lo[2];
+    if (overlap) {
+      if (!pfxLargeMeshIsLeaf(n.m_link)) {
+        stack[depth++] = pfxLargeMeshRightChild(n.m_link);
+        ++node;
+        continue;
+      }
+      visitLeaf(n.m_link);
+    }
+    if (depth == 0) return;
+    node = stack[--depth];
+  }
+}
+
+}  // namespace pfx
