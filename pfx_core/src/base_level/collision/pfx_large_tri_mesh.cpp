@@ -367,7 +367,6 @@ std::size_t layOut(PfxLargeTriMesh& mesh, bool quantized, bool offsets, char* bl
     take(mesh.m_triangleVertices, 3 * std::size_t(mesh.m_numTriangles));
   }
   take(mesh.m_triangleSourceIds, mesh.m_numTriangles);
-  take(mesh.m_sourceToTriangle, mesh.m_numSourceTriangles);
   take(mesh.m_edgeFlags, mesh.m_numTriangles);
   take(mesh.m_islands, mesh.m_numIslands);
   return bytes;
@@ -500,12 +499,8 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
   } else {
     std::copy(corners.begin(), corners.end(), built.m_triangleVertices);
   }
-  std::fill(built.m_sourceToTriangle, built.m_sourceToTriangle + built.m_numSourceTriangles,
-            PFX_LARGE_MESH_NO_TRIANGLE);
   for (PfxUInt32 t = 0; t < numTriangles; ++t) {
-    const PfxUInt32 source = kept[builder.m_order[t]];
-    built.m_triangleSourceIds[t] = source;
-    built.m_sourceToTriangle[source] = t;
+    built.m_triangleSourceIds[t] = kept[builder.m_order[t]];
   }
   computeEdgeFlags(corners, param.m_vertices, param.m_flatEdgeAngle, built.m_edgeFlags);
   refitNodes(built);
@@ -542,6 +537,13 @@ PfxInt32 pfxUpdateLargeTriMeshVertices(PfxLargeTriMesh& mesh, const PfxFloat* ve
   }
   refitNodes(mesh);
   return PFX_OK;
+}
+
+PfxUInt32 pfxFindLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 sourceIndex) {
+  for (PfxUInt32 t = 0; t < mesh.m_numTriangles; ++t) {
+    if (mesh.m_triangleSourceIds[t] == sourceIndex) return t;
+  }
+  return PFX_LARGE_MESH_NO_TRIANGLE;
 }
 
 void pfxGetLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleIndex,

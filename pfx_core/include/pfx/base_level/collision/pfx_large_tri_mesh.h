@@ -15,8 +15,9 @@
 // the surface area heuristic instead of at the median: slower to build, faster to search.
 //
 // Storage. Vertices are kept in the caller's order (deformation passes them in that order
-// again); triangles are kept in island order, with maps both ways to the caller's triangle
-// list, whose indices are the ones that contacts and rays report. PFX_MESH_FLAG_USE_QUANTIZED stores
+// again); triangles are kept in island order, each remembering its index in the caller's
+// list. Rays report the caller's index; contact points record the stored (island-order)
+// index, which m_triangleSourceIds turns into the caller's. PFX_MESH_FLAG_USE_QUANTIZED stores
 // vertices and node bounds as 16-bit integers over the mesh's bounds (grown by
 // m_deformationMargin) and triangle corners as 16-bit offsets from their island's lowest
 // vertex: positions are then exact to half a step, (box extent) / 65535 / 2 per axis, and
@@ -129,7 +130,6 @@ struct PfxLargeTriMesh {
   PfxLargeMeshQuantizedNode* m_quantizedNodes;
 
   PfxUInt32* m_triangleSourceIds;  // index in the caller's triangle list, island order
-  PfxUInt32* m_sourceToTriangle;   // island-order index per caller's triangle, or ~0u if dropped
   PfxUInt8* m_edgeFlags;           // PFX_LARGE_MESH_EDGE_*, island order
   PfxLargeMeshIsland* m_islands;
 
@@ -168,11 +168,9 @@ void pfxGetLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleI
                                 PfxVector3& v0, PfxVector3& v1, PfxVector3& v2);
 
 // The stored triangle (island order) that came from the caller's triangle `sourceIndex`, or
-// 0xFFFFFFFF when that triangle was dropped or is out of range.
-inline PfxUInt32 pfxFindLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 sourceIndex) {
-  return sourceIndex < mesh.m_numSourceTriangles ? mesh.m_sourceToTriangle[sourceIndex]
-                                                 : 0xFFFFFFFFu;
-}
+// 0xFFFFFFFF when that triangle was dropped or is out of range. A linear search (the mesh
+// keeps no map this way round, to stay small): for tools and tests, not per step.
+PfxUInt32 pfxFindLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 sourceIndex);
 
 // Closest hit of a ray against the mesh, in the mesh's local frame. start + fraction *
 // direction is the hit; returns false when the segment misses. The test must be
