@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
 #include "pfx/low_level/broadphase/pfx_find_pairs.h"
 #include "pfx/low_level/collision/pfx_detect_collision.h"
@@ -161,6 +162,68 @@ PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
   return PFX_OK;
 }
 
+PfxInt32 PfxWorld::updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh,
+                                      const PfxFloat* vertices, PfxUInt32 numVertices) {
+  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  const PfxCollidable& collidable = m_collidables[id];
+  bool holdsMesh = false;
+  for (PfxUInt32 i = 0; i < collidable.getNumShapes(); ++i) {
+    holdsMesh = holdsMesh || collidable.getShape(i).getLargeTriMesh() == &mesh;
+  }
+  if (!holdsMesh) return PFX_ERR_INVALID_VALUE;
+  if (const PfxInt32 err = pfxUpdateLargeTriMeshVertices(mesh, vertices, numVertices);
+      err != PFX_OK) {
+    return err;
+  }
+  m_collidables[id].finish();
+
+  for (PfxUInt32 p = 0; p < m_numPairs; ++p) {
+    PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[p])];
+    const PfxUInt32 idA = manifold.getRigidBodyIdA();
+    const PfxUInt32 idB = manifold.getRigidBodyIdB();
+    if (idA != id && idB != id) continue;
+    const PfxTransform3 transformA = m_states[idA].getTransform();
+    const PfxTransform3 transformB = m_states[idB].getTransform();
+    const auto separation = [&](const PfxContactPoint& point) {
+      return (transformB * point.m_localPointB - transformA * point.m_localPointA)
+          .dot(point.getNormal());
+    };
+    PfxFloat before[PFX_NUM_CONTACTS_PER_MANIFOLD];
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      before[i] = separation(manifold.getContactPoint(i));
+    }
+    manifold.carryMeshContacts(m_collidables[idA], m_collidables[idB]);
+    // The largest depth the move added, measured from where each point was (or from
+    // touching, for a point that was still apart).
+    PfxFloat push = 0;
+    PfxVector3 normal = PfxVector3::Zero();
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      PfxContactPoint& point = manifold.getContactPoint(i);
+      point.m_distance = separation(point);
+      const PfxFloat added = std::min(before[i], PfxFloat(0)) - point.m_distance;
+      if (point.m_triangleIndex != PFX_CONTACT_NO_TRIANGLE && added > push) {
+        push = added;
+        normal = point.getNormal();
+      }
+    }
+    const PfxUInt32 other = idA == id ? idB : idA;
+    if (push <= 0 || other == id || m_states[other].getMotionType() != kPfxMotionTypeActive) {
+      continue;
+    }
+    // The normal points from A to B: B moves along it, A against it.
+    const PfxVector3 move = normal * (other == idB ? push : -push);
+    m_states[other].setPosition(m_states[other].getPosition() + move);
+    const PfxTransform3 movedA = m_states[idA].getTransform();
+    const PfxTransform3 movedB = m_states[idB].getTransform();
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      PfxContactPoint& point = manifold.getContactPoint(i);
+      point.m_distance = (movedB * point.m_localPointB - movedA * point.m_localPointA)
+                             .dot(point.getNormal());
+    }
+  }
+  return PFX_OK;
+}
+
 PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
   if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = validateBody(m_states[id], body); err != PFX_OK) return err;
@@ -295,6 +358,7 @@ PfxInt32 PfxWorld::detectCollision() {
     param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
     param.offsetRigidStates = m_states.data();
     param.numRigidBodies = getNumRigidBodies();
+    param.offsetCollidables = m_collidables.data();
     if (const PfxInt32 err = pfxRefreshContacts(param); err != PFX_OK) return err;
   }
   StageTimer timer(m_stats, kPfxStageDetectCollision);

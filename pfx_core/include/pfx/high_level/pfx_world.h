@@ -108,6 +108,16 @@ class PfxWorld {
   PfxInt32 setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
                              const PfxQuat& orientation);
 
+  // Deforms a large mesh that body `id` holds, between steps (seed 8_deform_mesh): moves its
+  // vertices (pfxUpdateLargeTriMeshVertices), refreshes the body's bounds, carries the
+  // contact points on the mesh to the moved triangles by their corner weights, and puts a
+  // body that the move pushed deeper back onto the surface (moved along the contact normal
+  // by the added depth). Rejects an id out of range (PFX_ERR_OUT_OF_RANGE), a body without
+  // a shape naming `mesh` (PFX_ERR_INVALID_VALUE) and whatever the vertex update rejects;
+  // nothing changes then. Allocates nothing.
+  PfxInt32 updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh, const PfxFloat* vertices,
+                              PfxUInt32 numVertices);
+
   // One step of param.timeStep.
   PfxInt32 step();
   const PfxWorldStats& getStats() const { return m_stats; }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 
+#include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
+
 namespace pfx {
 
 namespace {
@@ -137,6 +140,8 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
     point.m_distance = candidate.m_distance;
     point.m_shapeIdA = candidate.m_shapeIdA;
     point.m_shapeIdB = candidate.m_shapeIdB;
+    point.m_triangleIndex = candidate.m_triangleIndex;
+    for (int k = 0; k < 3; ++k) point.m_barycentric[k] = candidate.m_barycentric[k];
     point.m_constraintRow[0].m_normal = candidate.m_normal;
     pfxGetPlaneSpace(candidate.m_normal, point.m_constraintRow[1].m_normal,
                      point.m_constraintRow[2].m_normal);
@@ -199,6 +204,40 @@ void PfxContactManifold::refresh(const PfxTransform3& transformA,
     const PfxVector3 slip = separation - normal * distance;
     if (distance > breakDistance || slip.squaredNorm() > breakDistance * breakDistance) continue;
     point.m_distance = distance;
+    if (numKept != i) m_contactPoints[numKept] = point;
+    ++numKept;
+  }
+  m_numContacts = numKept;
+}
+
+void PfxContactManifold::carryMeshContacts(const PfxCollidable& collidableA,
+                                           const PfxCollidable& collidableB) {
+  PfxUInt32 numKept = 0;
+  for (PfxUInt32 i = 0; i < m_numContacts; ++i) {
+    PfxContactPoint& point = m_contactPoints[i];
+    if (point.m_triangleIndex != PFX_CONTACT_NO_TRIANGLE) {
+      const PfxLargeTriMesh* mesh = nullptr;
+      PfxVector3* anchor = nullptr;
+      PfxTransform3 offset = PfxTransform3::Identity();
+      if (point.m_shapeIdA < collidableA.getNumShapes() &&
+          collidableA.getShape(point.m_shapeIdA).getType() == kPfxShapeLargeTriMesh) {
+        const PfxShape& shape = collidableA.getShape(point.m_shapeIdA);
+        mesh = shape.getLargeTriMesh();
+        anchor = &point.m_localPointA;
+        offset = shape.getOffsetTransform();
+      } else if (point.m_shapeIdB < collidableB.getNumShapes() &&
+                 collidableB.getShape(point.m_shapeIdB).getType() == kPfxShapeLargeTriMesh) {
+        const PfxShape& shape = collidableB.getShape(point.m_shapeIdB);
+        mesh = shape.getLargeTriMesh();
+        anchor = &point.m_localPointB;
+        offset = shape.getOffsetTransform();
+      }
+      if (!mesh || point.m_triangleIndex >= mesh->m_numTriangles) continue;
+      PfxVector3 v0, v1, v2;
+      pfxGetLargeTriMeshTriangle(*mesh, point.m_triangleIndex, v0, v1, v2);
+      *anchor = offset * (v0 * point.m_barycentric[0] + v1 * point.m_barycentric[1] +
+                          v2 * point.m_barycentric[2]);
+    }
     if (numKept != i) m_contactPoints[numKept] = point;
     ++numKept;
   }

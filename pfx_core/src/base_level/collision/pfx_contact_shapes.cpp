@@ -4,6 +4,7 @@
 
 #include "base_level/collision/contact/pfx_contact_pairs.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 
 namespace pfx {
 
@@ -49,6 +50,11 @@ bool isUsableMesh(const PfxConvexMesh* mesh) {
 bool isConvexShape(const PfxShape& shape) {
   if (shape.getType() == kPfxShapeLargeTriMesh || shape.validate() != PFX_OK) return false;
   return shape.getType() != kPfxShapeConvexMesh || isUsableMesh(shape.getConvexMesh());
+}
+
+bool isLargeMeshShape(const PfxShape& shape) {
+  return shape.getType() == kPfxShapeLargeTriMesh && shape.validate() == PFX_OK &&
+         shape.getLargeTriMesh()->m_numNodes > 0;
 }
 
 bool isRigidTransform(const PfxTransform3& t) {
@@ -133,16 +139,29 @@ PfxUInt32 pfxContactCollidables(const PfxCollidable& collidableA, const PfxTrans
   if (!isRigidTransform(transformA) || !isRigidTransform(transformB)) return 0;
   // One sink for all shape pairs: when more contacts come than fit, the deepest stay.
   PfxContactSink sink(out, maxOut, contactThreshold);
+  // A large mesh meets convex shapes only: two meshes have no inside to push apart.
   for (PfxUInt32 i = 0; i < collidableA.getNumShapes(); ++i) {
     const PfxShape& shapeA = collidableA.getShape(i);
-    if (!isConvexShape(shapeA)) continue;
+    const bool meshA = isLargeMeshShape(shapeA);
+    if (!meshA && !isConvexShape(shapeA)) continue;
     const PfxTransform3 poseA = transformA * shapeA.getOffsetTransform();
     for (PfxUInt32 j = 0; j < collidableB.getNumShapes(); ++j) {
       const PfxShape& shapeB = collidableB.getShape(j);
-      if (!isConvexShape(shapeB)) continue;
+      const bool meshB = isLargeMeshShape(shapeB);
+      if (meshA && meshB) continue;
+      if (!meshB && !isConvexShape(shapeB)) continue;
       if (!boundsOverlap(shapeA, transformA, shapeB, transformB, contactThreshold)) continue;
       sink.setShapeIds(static_cast<PfxUInt8>(i), static_cast<PfxUInt8>(j));
-      contactPair(shapeA, poseA, shapeB, transformB * shapeB.getOffsetTransform(), sink);
+      const PfxTransform3 poseB = transformB * shapeB.getOffsetTransform();
+      if (meshA) {
+        pfxContactLargeMesh(shapeA, poseA, shapeB, poseB, sink);
+      } else if (meshB) {
+        sink.setSwapped(true);
+        pfxContactLargeMesh(shapeB, poseB, shapeA, poseA, sink);
+        sink.setSwapped(false);
+      } else {
+        contactPair(shapeA, poseA, shapeB, poseB, sink);
+      }
     }
   }
   return sink.getCount();

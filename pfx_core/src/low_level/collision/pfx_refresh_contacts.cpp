@@ -17,6 +17,10 @@ PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param) {
   for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
     PfxConstraintPair& pair = param.contactPairs[i];
     PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+    if (param.offsetCollidables) {
+      manifold.carryMeshContacts(param.offsetCollidables[pfxGetObjectIdA(pair)],
+                                 param.offsetCollidables[pfxGetObjectIdB(pair)]);
+    }
     manifold.refresh(param.offsetRigidStates[pfxGetObjectIdA(pair)].getTransform(),
                      param.offsetRigidStates[pfxGetObjectIdB(pair)].getTransform(),
                      param.breakDistance);

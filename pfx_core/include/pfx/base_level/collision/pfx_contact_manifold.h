@@ -7,6 +7,9 @@
 
 namespace pfx {
 
+// m_triangleIndex of a contact point that does not lie on a large mesh.
+constexpr PfxUInt32 PFX_CONTACT_NO_TRIANGLE = 0xFFFFFFFFu;
+
 // One contact point. The normal points from body A to body B; m_distance is the
 // separation along it (negative when the shapes overlap, positive for a speculative
 // contact that only stops the bodies from closing the gap within the step).
@@ -25,6 +28,12 @@ struct PfxContactPoint {
   PfxUInt8 m_shapeIdA;          // which shape of a compound
   PfxUInt8 m_shapeIdB;
   PfxUInt16 m_padding;
+  // On a large mesh (the shape of A or B that is one): the triangle, as the mesh stores it
+  // (PfxLargeTriMesh::m_triangleSourceIds gives the caller's index), and the weights of its
+  // three corners at the point, so that the point follows the triangle when the mesh
+  // deforms. The solver does not read them.
+  PfxUInt32 m_triangleIndex;
+  PfxFloat m_barycentric[3];
 
   const PfxVector3& getNormal() const { return m_constraintRow[0].m_normal; }
 };
@@ -37,6 +46,8 @@ struct PfxContactCandidate {
   PfxFloat m_distance;
   PfxUInt8 m_shapeIdA;
   PfxUInt8 m_shapeIdB;
+  PfxUInt32 m_triangleIndex = PFX_CONTACT_NO_TRIANGLE;  // as in PfxContactPoint
+  PfxFloat m_barycentric[3] = {0, 0, 0};
 };
 
 class PfxContactManifold {
@@ -70,6 +81,13 @@ class PfxContactManifold {
   // sideways by more than `breakDistance` (seed chapter 4, pfxRefreshContacts).
   void refresh(const PfxTransform3& transformA, const PfxTransform3& transformB,
                PfxFloat breakDistance);
+
+  // Moves the anchor of every point that lies on a large-mesh triangle to where its
+  // barycentric weights put it on the triangle's current corners, in the frame of the body
+  // that holds the mesh. Run before refresh() after a mesh has deformed; a point whose
+  // triangle is gone is dropped. The collidables are those of bodies A and B.
+  void carryMeshContacts(const class PfxCollidable& collidableA,
+                         const class PfxCollidable& collidableB);
 
   void removeContactPoint(PfxUInt32 i);
   void clearContacts() { m_numContacts = 0; }

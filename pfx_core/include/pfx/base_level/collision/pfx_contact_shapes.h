@@ -22,7 +22,9 @@ PfxUInt32 pfxContactConvexShapes(const PfxShape& shapeA, const PfxTransform3& tr
                                  PfxUInt32 maxOut);
 
 // Candidates between two whole collidables (every pair of their shapes whose bounds come
-// within the threshold), with shape indices filled in.
+// within the threshold), with shape indices filled in. A large mesh meets every convex
+// shape, in either order (see pfx_large_tri_mesh.h); two large meshes do not collide.
+// Points on a mesh carry their triangle and corner weights.
 PfxUInt32 pfxContactCollidables(const class PfxCollidable& collidableA,
                                 const PfxTransform3& transformA,
                                 const class PfxCollidable& collidableB,

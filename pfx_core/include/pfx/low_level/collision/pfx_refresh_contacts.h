@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 
@@ -16,6 +17,9 @@ struct PfxRefreshContactsParam {
   const PfxRigidState* offsetRigidStates = nullptr;
   PfxUInt32 numRigidBodies = 0;
   PfxFloat breakDistance = 0.02f;  // how far apart or sideways a point may move and stay
+  // Optional: the bodies' collidables. With them, points on a large mesh are first carried
+  // to where their triangles are now (a deforming mesh); without, meshes count as rigid.
+  const PfxCollidable* offsetCollidables = nullptr;
 };
 
 PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param);

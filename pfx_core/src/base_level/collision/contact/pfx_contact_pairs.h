@@ -31,4 +31,11 @@ void pfxContactConvexGeneral(const PfxShape& shapeA, const PfxTransform3& transf
                              const PfxShape& shapeB, const PfxTransform3& transformB,
                              PfxContactSink& sink);
 
+// A convex shape against a large mesh: every triangle near the shape is a thin prism below
+// its face; contacts on internal edges take the face normal. Reported mesh first (normal
+// from the mesh to the convex shape), with the triangle and the point's corner weights.
+void pfxContactLargeMesh(const PfxShape& meshShape, const PfxTransform3& meshTransform,
+                         const PfxShape& convexShape, const PfxTransform3& convexTransform,
+                         PfxContactSink& sink);
+
 }  // namespace pfx

@@ -32,6 +32,8 @@ void PfxContactSink::add(const PfxVector3& normal, const PfxVector3& pointA,
   c.m_distance = distance;
   c.m_shapeIdA = m_shapeIdA;
   c.m_shapeIdB = m_shapeIdB;
+  c.m_triangleIndex = m_triangleIndex;
+  for (int k = 0; k < 3; ++k) c.m_barycentric[k] = m_barycentric[k];
 }
 
 }  // namespace pfx

@@ -21,6 +21,14 @@ class PfxContactSink {
     m_shapeIdB = shapeIdB;
   }
 
+  // Contacts added from now on lie on this large-mesh triangle at these corner weights
+  // (they belong to the mesh side whichever order the shapes are in).
+  void setTriangle(PfxUInt32 triangleIndex, const PfxFloat barycentric[3]) {
+    m_triangleIndex = triangleIndex;
+    for (int k = 0; k < 3; ++k) m_barycentric[k] = barycentric[k];
+  }
+  void clearTriangle() { m_triangleIndex = PFX_CONTACT_NO_TRIANGLE; }
+
   // Records a contact given in the routine's order (normal from its A to its B), if it
   // lies within the threshold. Once full, a new contact replaces the shallowest one when
   // it is deeper, so that the deepest contacts survive.
@@ -35,6 +43,8 @@ class PfxContactSink {
   bool m_swapped = false;
   PfxUInt8 m_shapeIdA = 0;
   PfxUInt8 m_shapeIdB = 0;
+  PfxUInt32 m_triangleIndex = PFX_CONTACT_NO_TRIANGLE;
+  PfxFloat m_barycentric[3] = {0, 0, 0};
 };
 
 }  // namespace pfx
