@@ -10,7 +10,10 @@
 #include "pfx/low_level/collision/pfx_refresh_contacts.h"
 #include "pfx/low_level/rigidbody/pfx_apply_external_force.h"
 #include "pfx/low_level/rigidbody/pfx_update_rigid_states.h"
+#include "pfx/base_level/joint/pfx_joint_init.h"
+#include "pfx/low_level/solver/pfx_correct_joint_positions.h"
 #include "pfx/low_level/solver/pfx_setup_contact_constraints.h"
+#include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
 
@@ -49,8 +52,8 @@ const char* pfxStageName(PfxStage stage) {
   static const char* const kNames[kPfxStageCount] = {
       "apply_external_force", "update_broadphase_proxies", "find_pairs",
       "decompose_pairs",      "refresh_contacts",          "detect_collision",
-      "setup_solver_bodies",  "setup_contact_constraints", "solve_constraints",
-      "update_rigid_states"};
+      "setup_solver_bodies",  "setup_contact_constraints", "setup_joint_constraints",
+      "solve_constraints",    "update_rigid_states",       "correct_joint_positions"};
   return stage < kPfxStageCount ? kNames[stage] : "unknown";
 }
 
@@ -86,6 +89,10 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numFoundPairs = 0;
   m_manifolds.clear();
   m_freeManifolds.clear();
+  m_joints.clear();
+  m_jointPairs.clear();
+  m_jointedPairKeys.clear();
+  m_solverWork.clear();
   return PFX_OK;
 }
 
@@ -150,6 +157,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_solverBodies.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
+  reserveSolverWork();
   if (outId) *outId = id;
   return PFX_OK;
 }
@@ -246,6 +254,58 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   return pfxSetKeyframeTarget(m_states[id], position, orientation, m_param.timeStep);
 }
 
+void PfxWorld::reserveSolverWork() {
+  const std::size_t workBytes =
+      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), 0, getNumJoints());
+  m_solverWork.resize((workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
+}
+
+PfxInt32 PfxWorld::validateJoint(const PfxJoint& joint) const {
+  if (joint.m_rigidBodyIdA >= getNumRigidBodies() || joint.m_rigidBodyIdB >= getNumRigidBodies()) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+  return pfxCheckJoint(joint);
+}
+
+PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
+  if (const PfxInt32 err = validateJoint(joint); err != PFX_OK) return err;
+  const PfxUInt32 id = getNumJoints();
+  m_joints.push_back(joint);
+  m_jointPairs.emplace_back();
+  const PfxUInt64 key = pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
+                                         std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
+  m_jointedPairKeys.insert(
+      std::lower_bound(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key), key);
+  reserveSolverWork();
+  if (outId) *outId = id;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setJoint(PfxUInt32 id, const PfxJoint& joint) {
+  if (id >= getNumJoints()) return PFX_ERR_OUT_OF_RANGE;
+  const PfxJoint& old = m_joints[id];
+  if (joint.m_rigidBodyIdA != old.m_rigidBodyIdA || joint.m_rigidBodyIdB != old.m_rigidBodyIdB) {
+    return PFX_ERR_INVALID_VALUE;  // a joint keeps its bodies; add another for others
+  }
+  if (const PfxInt32 err = validateJoint(joint); err != PFX_OK) return err;
+  m_joints[id] = joint;
+  return PFX_OK;
+}
+
+// Bodies held together by a joint would otherwise push each other apart where their shapes
+// meet at the joint.
+void PfxWorld::dropJointedPairs() {
+  if (m_jointedPairKeys.empty()) return;
+  PfxUInt32 kept = 0;
+  for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
+    if (!std::binary_search(m_jointedPairKeys.begin(), m_jointedPairKeys.end(),
+                            m_foundPairs[i].key)) {
+      m_foundPairs[kept++] = m_foundPairs[i];
+    }
+  }
+  m_numFoundPairs = kept;
+}
+
 PfxInt32 PfxWorld::updateBroadphase() {
   const PfxUInt32 numBodies = getNumRigidBodies();
   const int axis = pfxChooseSweepAxis(m_states.data(), numBodies);
@@ -291,6 +351,7 @@ PfxInt32 PfxWorld::findPairs() {
     }
     if (err != PFX_OK) return err;
     m_numFoundPairs = result.numPairs;
+    dropJointedPairs();
     return PFX_OK;
   }
 }
@@ -416,9 +477,34 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.warmStartFactor = m_param.pipeline == kPfxPipelineStable ? param.warmStartFactor : 0;
     if (const PfxInt32 err = pfxSetupContactConstraints(param); err != PFX_OK) return err;
   }
+  if (!m_joints.empty()) {
+    StageTimer timer(m_stats, kPfxStageSetupJointConstraints);
+    for (PfxUInt32 i = 0; i < getNumJoints(); ++i) {
+      const PfxJoint& joint = m_joints[i];
+      pfxUpdateJointPairs(m_jointPairs[i], i, joint, m_states[joint.m_rigidBodyIdA],
+                          m_states[joint.m_rigidBodyIdB]);
+    }
+    PfxSetupJointConstraintsParam param;
+    param.jointPairs = m_jointPairs.data();
+    param.numJointPairs = getNumJoints();
+    param.offsetJoints = m_joints.data();
+    param.numJoints = getNumJoints();
+    param.offsetRigidStates = m_states.data();
+    param.offsetRigidBodies = m_bodies.data();
+    param.offsetSolverBodies = m_solverBodies.data();
+    param.numRigidBodies = numBodies;
+    param.timeStep = timeStep;
+    if (const PfxInt32 err = pfxSetupJointConstraints(param); err != PFX_OK) return err;
+  }
   {
     StageTimer timer(m_stats, kPfxStageSolveConstraints);
     PfxSolveConstraintsParam param;
+    param.workBuff = m_solverWork.data();
+    param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
+    param.jointPairs = m_jointPairs.data();
+    param.numJointPairs = getNumJoints();
+    param.offsetJoints = m_joints.data();
+    param.numJoints = getNumJoints();
     param.contactPairs = m_pairs.data();
     param.numContactPairs = m_numPairs;
     param.offsetContactManifolds = m_manifolds.data();
@@ -431,13 +517,31 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.restitutionThreshold = m_param.restitutionThreshold;
     if (const PfxInt32 err = pfxSolveConstraints(param); err != PFX_OK) return err;
   }
-  StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
-  PfxUpdateRigidStatesParam param;
-  param.states = m_states.data();
-  param.bodies = m_bodies.data();
+  {
+    StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
+    PfxUpdateRigidStatesParam param;
+    param.states = m_states.data();
+    param.bodies = m_bodies.data();
+    param.numRigidBodies = numBodies;
+    param.timeStep = timeStep;
+    if (const PfxInt32 err = pfxUpdateRigidStates(param); err != PFX_OK) return err;
+  }
+  if (m_joints.empty()) return PFX_OK;
+  StageTimer timer(m_stats, kPfxStageCorrectJointPositions);
+  PfxCorrectJointPositionsParam param;
+  param.workBuff = m_solverWork.data();
+  param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
+  param.jointPairs = m_jointPairs.data();
+  param.numJointPairs = getNumJoints();
+  param.offsetJoints = m_joints.data();
+  param.numJoints = getNumJoints();
+  param.offsetRigidStates = m_states.data();
+  param.offsetRigidBodies = m_bodies.data();
+  param.offsetSolverBodies = m_solverBodies.data();
   param.numRigidBodies = numBodies;
   param.timeStep = timeStep;
-  return pfxUpdateRigidStates(param);
+  param.iteration = m_param.iteration;
+  return pfxCorrectJointPositions(param);
 }
 
 void PfxWorld::gatherStats() {

@@ -10,6 +10,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
@@ -54,8 +55,10 @@ enum PfxStage : PfxUInt8 {
   kPfxStageDetectCollision,
   kPfxStageSetupSolverBodies,
   kPfxStageSetupContactConstraints,
+  kPfxStageSetupJointConstraints,
   kPfxStageSolveConstraints,
   kPfxStageUpdateRigidStates,
+  kPfxStageCorrectJointPositions,
   kPfxStageCount
 };
 
@@ -118,6 +121,15 @@ class PfxWorld {
   PfxInt32 updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh, const PfxFloat* vertices,
                               PfxUInt32 numVertices);
 
+  // Adds a joint between two bodies of this world, made with pfxInitialize...Joint. Rejects
+  // unknown or equal body ids and anything pfxCheckJoint rejects; the world is unchanged
+  // then. Bodies held by a joint do not collide with each other.
+  PfxInt32 addJoint(const PfxJoint& joint, PfxUInt32* outId = nullptr);
+  PfxUInt32 getNumJoints() const { return static_cast<PfxUInt32>(m_joints.size()); }
+  const PfxJoint& getJoint(PfxUInt32 id) const { return m_joints[id]; }
+  // Replaces a joint (same checks as addJoint); use it to change limits or drives.
+  PfxInt32 setJoint(PfxUInt32 id, const PfxJoint& joint);
+
   // One step of param.timeStep.
   PfxInt32 step();
   const PfxWorldStats& getStats() const { return m_stats; }
@@ -138,6 +150,9 @@ class PfxWorld {
   void assignSimplePairs();
   PfxInt32 detectCollision();
   PfxInt32 subStep(PfxFloat timeStep);
+  PfxInt32 validateJoint(const PfxJoint& joint) const;
+  void reserveSolverWork();
+  void dropJointedPairs();
   void gatherStats();
 
   PfxWorldParam m_param;
@@ -169,6 +184,11 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
+
+  std::vector<PfxJoint> m_joints;
+  std::vector<PfxConstraintPair> m_jointPairs;
+  std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
+  std::vector<PfxSortData16> m_solverWork;   // the joints' direct solve
 };
 
 }  // namespace pfx

@@ -10,8 +10,13 @@ void pfxInitializePair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA, 
     std::swap(idA, idB);
     std::swap(typeA, typeB);
   }
+  pfxInitializeOrderedPair(pair, idA, typeA, idB, typeB, true);
+}
+
+void pfxInitializeOrderedPair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA,
+                              PfxUInt32 idB, PfxMotionType typeB, bool enabled) {
   pair.key = pfxCreatePairKey(idA, idB);
-  const bool active = pfxMotionTypesRespond(typeA, typeB);
+  const bool active = enabled && pfxMotionTypesRespond(typeA, typeB);
   const bool receivesA = active && pfxMotionTypeReceivesImpulse(typeA, typeB);
   const bool receivesB = active && pfxMotionTypeReceivesImpulse(typeB, typeA);
   pair.data[0] = 0;

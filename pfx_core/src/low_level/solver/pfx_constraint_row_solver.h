@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "pfx/base_level/solver/pfx_constraint_row.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
 namespace pfx {
@@ -51,6 +52,19 @@ inline void pfxSolveRow(PfxConstraintRow& row, PfxSolverBody& a, const PfxVector
                                   row.m_lowerLimit, row.m_upperLimit);
   pfxApplyRowImpulse(row.m_normal, row.m_accumImpulse - previous, a, rA, receivesA, b, rB,
                      receivesB);
+}
+
+// Moves a body by its push velocities over the step: the split impulses' position
+// correction, which leaves the body's velocity alone.
+inline void pfxApplyPush(PfxRigidState& state, const PfxSolverBody& body, PfxFloat timeStep) {
+  if (body.m_pushLinearVelocity.isZero(0) && body.m_pushAngularVelocity.isZero(0)) return;
+  state.setPosition(state.getPosition() + body.m_pushLinearVelocity * timeStep);
+  const PfxVector3 turn = body.m_pushAngularVelocity * timeStep;
+  const PfxFloat angle = turn.norm();
+  if (angle > 0) {
+    const PfxQuat spin(Eigen::AngleAxis<PfxFloat>(angle, turn / angle));
+    state.setOrientation((spin * state.getOrientation()).normalized());
+  }
 }
 
 }  // namespace pfx

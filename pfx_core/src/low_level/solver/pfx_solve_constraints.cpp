@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "low_level/solver/pfx_constraint_row_solver.h"
+#include "low_level/solver/pfx_joint_row.h"
+#include "low_level/solver/pfx_joint_tree_solver.h"
 
 namespace pfx {
 
@@ -83,9 +85,9 @@ PfxFloat normalVelocity(const PfxContactPoint& cp, const PfxSolverBody& a, const
 
 void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
   const PfxUInt32 n = manifold.getNumContacts();
-  PfxFloat residual[PFX_NUM_CONTACTS_PER_MANIFOLD];
-  PfxFloat impulse[PFX_NUM_CONTACTS_PER_MANIFOLD];
-  PfxFloat delta[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat residual[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
+  PfxFloat impulse[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
+  PfxFloat delta[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
 
   // Velocities: each row's rhs is (target - initial velocity) scaled by its effective mass.
   for (PfxUInt32 i = 0; i < n; ++i) {
@@ -183,10 +185,41 @@ void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloa
   }
 }
 
+void warmStartJoint(const PfxJoint& joint, const PairBodies& p) {
+  for (PfxUInt32 axis = 0; axis < 6; ++axis) {
+    const PfxJointConstraint& c = joint.m_constraints[axis];
+    for (const PfxConstraintRow* row : {&c.m_constraintRow, &c.m_driveRow}) {
+      if (row->m_accumImpulse == 0) continue;
+      pfxApplyJointRowImpulse(pfxJointRowJacobian(joint, axis, row->m_normal),
+                              row->m_accumImpulse, p.a, p.receivesA, p.b, p.receivesB,
+                              &PfxSolverBody::m_deltaLinearVelocity,
+                              &PfxSolverBody::m_deltaAngularVelocity);
+    }
+  }
+}
+
+// The rows of a joint that the direct solve leaves to iteration: limits, drives, friction,
+// and every row of a joint outside the forest. (Their position errors are corrected after
+// the bodies have moved, by pfxCorrectJointPositions.)
+void solveJoint(PfxJoint& joint, const PairBodies& p, bool lockedRowsSolvedDirectly) {
+  for (PfxUInt32 axis = 0; axis < 6; ++axis) {
+    PfxJointConstraint& c = joint.m_constraints[axis];
+    const bool direct = lockedRowsSolvedDirectly && c.m_rowType == kPfxJointRowEquality &&
+                        c.m_weight == 1;
+    if (c.m_rowType != kPfxJointRowNone && !direct) {
+      pfxSolveJointRow(c.m_constraintRow, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
+    }
+    if (c.m_driveRowUsed) {
+      pfxSolveJointRow(c.m_driveRow, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
+    }
+  }
+}
+
 }  // namespace
 
-PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32, PfxUInt32, PfxUInt32, PfxUInt32) {
-  return 0;
+PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32,
+                                            PfxUInt32 numJointPairs, PfxUInt32) {
+  return numJointPairs > 0 ? PfxJointTreeSolver::getWorkBytes(numRigidBodies, numJointPairs) : 0;
 }
 
 PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
@@ -201,9 +234,32 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
     return PFX_ERR_INVALID_VALUE;
   }
   if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
-                       param.numContactManifolds)) {
+                       param.numContactManifolds) ||
+      !pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
+                       param.numJoints)) {
     return PFX_ERR_OUT_OF_RANGE;
   }
+  if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  const PfxUInt32 workBytes = pfxGetWorkBytesOfSolveConstraints(
+      param.numRigidBodies, param.numContactPairs, param.numJointPairs);
+  if (workBytes > 0 && (!param.workBuff || param.workBytes < workBytes)) {
+    return PFX_ERR_OUT_OF_BUFFER;
+  }
+  PfxJointTreeSolver tree;
+  if (param.numJointPairs > 0) {
+    tree.build(param.workBuff, param.workBytes, param.jointPairs, param.numJointPairs,
+               param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies);
+  }
+  auto forEachJoint = [&](auto&& work) {
+    for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
+      const PfxConstraintPair& pair = param.jointPairs[i];
+      if (!pfxGetActive(pair)) continue;
+      work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
+           tree.contains(i));
+    }
+  };
 
   auto forEachContact = [&](auto&& work) {
     for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
@@ -216,8 +272,14 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   };
 
   forEachContact([](PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
+  forEachJoint([](PfxJoint& j, const PairBodies& p, bool) { warmStartJoint(j, p); });
+  // Joints last in each iteration, and their locked axes exactly: whatever the contacts
+  // did, every iteration ends with the joints' velocities consistent. Their positions are
+  // corrected after the bodies have moved, by pfxCorrectJointPositions.
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
     forEachContact([](PfxContactManifold& m, const PairBodies& p) { solveContacts(m, p); });
+    forEachJoint([](PfxJoint& j, const PairBodies& p, bool direct) { solveJoint(j, p, direct); });
+    tree.solveVelocities();
   }
   forEachContact([&](PfxContactManifold& m, const PairBodies& p) {
     applyRestitution(m, p, param.restitutionThreshold, param.timeStep);
@@ -231,15 +293,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
     if (solverBody.m_massInv == 0) continue;
     state.setLinearVelocity(state.getLinearVelocity() + solverBody.m_deltaLinearVelocity);
     state.setAngularVelocity(state.getAngularVelocity() + solverBody.m_deltaAngularVelocity);
-    if (solverBody.m_pushLinearVelocity.isZero(0) && solverBody.m_pushAngularVelocity.isZero(0)) {
-      continue;
-    }
-    state.setPosition(state.getPosition() + solverBody.m_pushLinearVelocity * param.timeStep);
-    const PfxVector3 turn = solverBody.m_pushAngularVelocity * param.timeStep;
-    const PfxQuat spin(0, turn.x(), turn.y(), turn.z());
-    PfxQuat q = state.getOrientation();
-    q.coeffs() += PfxFloat(0.5) * (spin * q).coeffs();
-    state.setOrientation(q.normalized());
+    pfxApplyPush(state, solverBody, param.timeStep);
   }
   return PFX_OK;
 }

@@ -49,6 +49,11 @@ inline void pfxSetNumConstraints(PfxSortData16& pair, PfxUInt32 n) {
 void pfxInitializePair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA, PfxUInt32 idB,
                        PfxMotionType typeB);
 
+// The same with A and B kept in the order given (joints name their bodies), and the solver
+// response switched off when `enabled` is false.
+void pfxInitializeOrderedPair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA,
+                              PfxUInt32 idB, PfxMotionType typeB, bool enabled);
+
 // Whether every pair names bodies below numRigidBodies and a contact (or joint) below
 // numConstraints: the check each stage makes before touching anything.
 bool pfxPairsInRange(const PfxSortData16* pairs, PfxUInt32 numPairs, PfxUInt32 numRigidBodies,

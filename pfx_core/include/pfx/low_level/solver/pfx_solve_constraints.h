@@ -1,10 +1,12 @@
-// Stage (4c): sequential impulses over contacts (and joints), warm started from the last
+// Stage (4c): sequential impulses over contacts and joints, warm started from the last
 // frame, then a restitution pass; the velocity changes are added to the states at the end
-// (seed chapter 4).
+// (seed chapter 4). The locked axes of joints that form trees are solved exactly, once per
+// iteration, by a direct linear-time factorization (see pfxGetWorkBytesOfSolveConstraints).
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
@@ -17,6 +19,10 @@ struct PfxSolveConstraintsParam {
   PfxUInt32 numContactPairs = 0;
   PfxContactManifold* offsetContactManifolds = nullptr;
   PfxUInt32 numContactManifolds = 0;
+  PfxConstraintPair* jointPairs = nullptr;
+  PfxUInt32 numJointPairs = 0;
+  PfxJoint* offsetJoints = nullptr;  // set up by pfxSetupJointConstraints
+  PfxUInt32 numJoints = 0;
   PfxRigidState* offsetRigidStates = nullptr;
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
@@ -26,6 +32,7 @@ struct PfxSolveConstraintsParam {
   PfxFloat restitutionThreshold = 0.2f;
 };
 
+// Work memory for the joints' direct solve: none without joints.
 PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
                                             PfxUInt32 numJointPairs = 0, PfxUInt32 maxTasks = 1);
 

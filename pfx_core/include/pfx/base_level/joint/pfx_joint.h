@@ -1,0 +1,73 @@
+// A joint between two rigid bodies: six axes, the first three translations and the last
+// three rotations of body B's joint frame relative to body A's (seed chapter 2). The
+// rotation is measured as a twist about the frame's X axis and a swing of that axis about
+// Y and Z, so a hinge turns about X, and a cone limit bounds the swing.
+#pragma once
+
+#include "pfx/base_level/joint/pfx_joint_constraint.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+enum PfxJointType : PfxUInt8 {
+  kPfxJointBall = 0,
+  kPfxJointSwingTwist,
+  kPfxJointHinge,
+  kPfxJointSlider,
+  kPfxJointFixed,
+  kPfxJointUniversal,
+  kPfxJointCustom,  // axes set by hand
+  kPfxJointTypeCount
+};
+
+// Indices of the six axes.
+enum : PfxUInt32 {
+  kPfxJointAxisX = 0,
+  kPfxJointAxisY,
+  kPfxJointAxisZ,
+  kPfxJointAxisTwist,   // rotation about X
+  kPfxJointAxisSwing1,  // rotation of X about Y (a swing-twist joint: the cone's half angle)
+  kPfxJointAxisSwing2,  // rotation of X about Z
+};
+
+struct PfxJoint {
+  PfxJointConstraint m_constraints[6];
+  PfxMatrix3 m_frameA;   // joint frame in body A (columns: X, Y, Z axes)
+  PfxMatrix3 m_frameB;   // joint frame in body B
+  PfxVector3 m_anchorA;  // joint origin in body A
+  PfxVector3 m_anchorB;  // joint origin in body B
+  PfxUInt32 m_rigidBodyIdA;
+  PfxUInt32 m_rigidBodyIdB;
+  PfxUInt8 m_active;
+  PfxUInt8 m_type;
+  PfxUInt8 m_padding[2];
+
+  // Set up each step: world offsets of the anchors from the bodies' centres, and the
+  // world directions of the six rows.
+  PfxVector3 m_armA;
+  PfxVector3 m_armB;
+  PfxVector3 m_axes[6];
+
+  void reset();
+
+  // Force (N) and torque (N m, about B's anchor) the joint applied to body B during the
+  // last step, in world coordinates; body A got the opposite.
+  PfxVector3 getAppliedForce(PfxFloat timeStep) const;
+  PfxVector3 getAppliedTorque(PfxFloat timeStep) const;
+};
+
+// Checks what pfxInitialize...Joint and the application set: ids, limits (lower <= upper),
+// bias, weight and damping in [0, 1], non-negative friction and drive force, finite values,
+// orthonormal frames. PFX_OK or the error code naming what is wrong.
+PfxInt32 pfxCheckJoint(const PfxJoint& joint);
+
+// The six coordinates of the joint for the given states of its bodies: B's anchor in A's
+// joint frame, then twist, swing1 and swing2 (radians).
+void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
+                             const PfxRigidState& stateB, PfxFloat coordinates[6]);
+
+// Recomputes the six coordinates (m_constraints[i].m_position) from the two bodies' states.
+void pfxCalcJointPositions(PfxJoint& joint, const PfxRigidState& stateA,
+                           const PfxRigidState& stateB);
+
+}  // namespace pfx

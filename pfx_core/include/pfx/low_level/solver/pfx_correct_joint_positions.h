@@ -1,0 +1,36 @@
+// Stage (5'): after the bodies have moved, the joints' position errors are removed by
+// moving the bodies, not by changing their velocities (post-stabilization). The velocity
+// solve leaves every locked axis moving consistently, but a step along those velocities
+// turns the bodies and opens each joint by about w^2 r dt^2 / 2; measuring the joints
+// again at the new poses and projecting that error away, exactly for the trees of locked
+// axes, keeps the gap of a swinging chain far below a millimetre.
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxCorrectJointPositionsParam {
+  void* workBuff = nullptr;
+  PfxUInt32 workBytes = 0;
+  PfxConstraintPair* jointPairs = nullptr;
+  PfxUInt32 numJointPairs = 0;
+  PfxJoint* offsetJoints = nullptr;
+  PfxUInt32 numJoints = 0;
+  PfxRigidState* offsetRigidStates = nullptr;
+  const PfxRigidBody* offsetRigidBodies = nullptr;
+  PfxSolverBody* offsetSolverBodies = nullptr;  // scratch, overwritten
+  PfxUInt32 numRigidBodies = 0;
+  PfxFloat timeStep = 0;
+  PfxUInt32 iteration = 10;  // for the rows solved iteratively (limits, loops)
+};
+
+PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
+                                                 PfxUInt32 numJointPairs);
+
+PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param);
+
+}  // namespace pfx

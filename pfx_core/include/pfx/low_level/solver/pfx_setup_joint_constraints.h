@@ -1,0 +1,31 @@
+// Stage (4b'): joints become solver rows (seed chapter 4, "Set up Constraints").
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_body.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxSetupJointConstraintsParam {
+  PfxConstraintPair* jointPairs = nullptr;  // from pfxUpdateJointPairs
+  PfxUInt32 numJointPairs = 0;
+  PfxJoint* offsetJoints = nullptr;  // indexed by pfxGetConstraintId(pair)
+  PfxUInt32 numJoints = 0;
+  const PfxRigidState* offsetRigidStates = nullptr;
+  const PfxRigidBody* offsetRigidBodies = nullptr;
+  PfxSolverBody* offsetSolverBodies = nullptr;
+  PfxUInt32 numRigidBodies = 0;
+  PfxFloat timeStep = 0;
+  // Fraction of last step's impulses applied before iterating (0 disables warm starting).
+  PfxFloat warmStartFactor = 1;
+};
+
+// Measures each joint's coordinates and sets up its rows: locked axes hold at zero (or at
+// the value of equal limits), limited axes keep within their limits and may close the gap
+// to a limit within the step but not pass it, drives and friction push within their force
+// limits, damping removes its fraction of the velocity.
+PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param);
+
+}  // namespace pfx

@@ -1,0 +1,102 @@
+#include "pfx/low_level/solver/pfx_correct_joint_positions.h"
+
+#include "low_level/solver/pfx_constraint_row_solver.h"
+#include "low_level/solver/pfx_joint_row.h"
+#include "low_level/solver/pfx_joint_tree_solver.h"
+#include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
+#include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
+
+namespace pfx {
+
+PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
+                                                 PfxUInt32 numJointPairs) {
+  return numJointPairs > 0 ? PfxJointTreeSolver::getWorkBytes(numRigidBodies, numJointPairs) : 0;
+}
+
+namespace {
+
+constexpr PfxUInt32 kNewtonPasses = 4;
+
+PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
+  // Masses at the current orientations, and the joints measured at the current poses.
+  // Last step's impulses stay as they are (warm start factor 1): they seed the next
+  // velocity solve.
+  PfxSetupSolverBodiesParam bodies;
+  bodies.states = param.offsetRigidStates;
+  bodies.bodies = param.offsetRigidBodies;
+  bodies.solverBodies = param.offsetSolverBodies;
+  bodies.numRigidBodies = param.numRigidBodies;
+  pfxSetupSolverBodies(bodies);
+  PfxSetupJointConstraintsParam setup;
+  setup.jointPairs = param.jointPairs;
+  setup.numJointPairs = param.numJointPairs;
+  setup.offsetJoints = param.offsetJoints;
+  setup.numJoints = param.numJoints;
+  setup.offsetRigidStates = param.offsetRigidStates;
+  setup.offsetRigidBodies = param.offsetRigidBodies;
+  setup.offsetSolverBodies = param.offsetSolverBodies;
+  setup.numRigidBodies = param.numRigidBodies;
+  setup.timeStep = param.timeStep;
+  setup.warmStartFactor = 1;
+  if (const PfxInt32 err = pfxSetupJointConstraints(setup); err != PFX_OK) return err;
+
+  PfxJointTreeSolver tree;
+  tree.build(param.workBuff, param.workBytes, param.jointPairs, param.numJointPairs,
+             param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies);
+  for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
+    for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
+      const PfxConstraintPair& pair = param.jointPairs[i];
+      if (!pfxGetActive(pair)) continue;
+      PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
+      PfxSolverBody& a = param.offsetSolverBodies[pfxGetObjectIdA(pair)];
+      PfxSolverBody& b = param.offsetSolverBodies[pfxGetObjectIdB(pair)];
+      const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
+      const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
+      const bool direct = tree.contains(i);
+      for (PfxUInt32 axis = 0; axis < 6; ++axis) {
+        PfxJointConstraint& c = joint.m_constraints[axis];
+        const bool lockedDirectly =
+            direct && c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
+        if (c.m_rowType == kPfxJointRowNone || lockedDirectly) continue;
+        if (c.m_pushRhs == 0 && c.m_pushImpulse == 0) continue;
+        pfxSolveJointPushRow(c, joint, axis, a, receivesA, b, receivesB);
+      }
+    }
+    tree.solvePush();
+  }
+  for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
+    if (param.offsetSolverBodies[i].m_massInv == 0) continue;
+    pfxApplyPush(param.offsetRigidStates[i], param.offsetSolverBodies[i], param.timeStep);
+  }
+  return PFX_OK;
+}
+
+}  // namespace
+
+PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param) {
+  if (param.numJointPairs == 0) return PFX_OK;
+  if (!param.jointPairs || !param.offsetJoints || !param.offsetRigidStates ||
+      !param.offsetRigidBodies || !param.offsetSolverBodies) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep)) return PFX_ERR_INVALID_VALUE;
+  if (!pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
+                       param.numJoints)) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+  if (!param.workBuff ||
+      param.workBytes < pfxGetWorkBytesOfCorrectJointPositions(param.numRigidBodies,
+                                                               param.numJointPairs)) {
+    return PFX_ERR_OUT_OF_BUFFER;
+  }
+
+  // Each pass measures the joints at the current poses and moves the bodies to cancel the
+  // errors, linearised there: a Newton step, so a few passes leave errors far below the
+  // step's drift even when a fast chain turns its links through large angles in a step.
+  for (PfxUInt32 pass = 0; pass < kNewtonPasses; ++pass) {
+    if (const PfxInt32 err = correctOnce(param); err != PFX_OK) return err;
+  }
+  return PFX_OK;
+}
+
+}  // namespace pfx

@@ -1,0 +1,90 @@
+// The Jacobian of one joint row and the arithmetic on it. A translation row pulls the two
+// anchors along its direction (the anchors' arms give it a turning part); a rotation row
+// turns the bodies about its direction.
+#pragma once
+
+#include <algorithm>
+
+#include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+struct PfxJointRowJacobian {
+  PfxVector3 linearA, angularA, linearB, angularB;
+};
+
+inline PfxJointRowJacobian pfxJointRowJacobian(const PfxJoint& joint, PfxUInt32 axis,
+                                               const PfxVector3& direction) {
+  if (axis < 3) {
+    return {-direction, -joint.m_armA.cross(direction), direction,
+            joint.m_armB.cross(direction)};
+  }
+  return {PfxVector3::Zero(), -direction, PfxVector3::Zero(), direction};
+}
+
+inline PfxFloat pfxJointRowVelocity(const PfxJointRowJacobian& j, const PfxVector3& linearA,
+                                    const PfxVector3& angularA, const PfxVector3& linearB,
+                                    const PfxVector3& angularB) {
+  return j.linearA.dot(linearA) + j.angularA.dot(angularA) + j.linearB.dot(linearB) +
+         j.angularB.dot(angularB);
+}
+
+// 1 / (J M^-1 J^T), or 0 when neither body can move along the row.
+inline PfxFloat pfxJointRowJacDiagInv(const PfxJointRowJacobian& j, const PfxSolverBody& a,
+                                      PfxFloat receivesA, const PfxSolverBody& b,
+                                      PfxFloat receivesB) {
+  const PfxFloat k = receivesA * (a.m_massInv * j.linearA.squaredNorm() +
+                                  j.angularA.dot(a.m_inertiaInv * j.angularA)) +
+                     receivesB * (b.m_massInv * j.linearB.squaredNorm() +
+                                  j.angularB.dot(b.m_inertiaInv * j.angularB));
+  return k > PfxFloat(0) ? PfxFloat(1) / k : PfxFloat(0);
+}
+
+// Adds M^-1 J^T impulse to the chosen velocities (the solved or the push velocities).
+inline void pfxApplyJointRowImpulse(const PfxJointRowJacobian& j, PfxFloat impulse,
+                                    PfxSolverBody& a, PfxFloat receivesA, PfxSolverBody& b,
+                                    PfxFloat receivesB, PfxVector3 PfxSolverBody::*linear,
+                                    PfxVector3 PfxSolverBody::*angular) {
+  a.*linear += (receivesA * a.m_massInv * impulse) * j.linearA;
+  a.*angular += receivesA * impulse * (a.m_inertiaInv * j.angularA);
+  b.*linear += (receivesB * b.m_massInv * impulse) * j.linearB;
+  b.*angular += receivesB * impulse * (b.m_inertiaInv * j.angularB);
+}
+
+// One Gauss-Seidel update of a joint row (velocities) with its impulse clamped to the
+// row's limits.
+inline void pfxSolveJointRow(PfxConstraintRow& row, const PfxJoint& joint, PfxUInt32 axis,
+                             PfxSolverBody& a, PfxFloat receivesA, PfxSolverBody& b,
+                             PfxFloat receivesB) {
+  const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
+  const PfxFloat velocity =
+      pfxJointRowVelocity(j, a.m_deltaLinearVelocity, a.m_deltaAngularVelocity,
+                          b.m_deltaLinearVelocity, b.m_deltaAngularVelocity);
+  const PfxFloat previous = row.m_accumImpulse;
+  row.m_accumImpulse = std::clamp(previous + row.m_rhs - row.m_jacDiagInv * velocity,
+                                  row.m_lowerLimit, row.m_upperLimit);
+  pfxApplyJointRowImpulse(j, row.m_accumImpulse - previous, a, receivesA, b, receivesB,
+                          &PfxSolverBody::m_deltaLinearVelocity,
+                          &PfxSolverBody::m_deltaAngularVelocity);
+}
+
+// The same for the split impulse of a lock row: unbounded for an equality, pushing only
+// away from a limit.
+inline void pfxSolveJointPushRow(PfxJointConstraint& c, const PfxJoint& joint, PfxUInt32 axis,
+                                 PfxSolverBody& a, PfxFloat receivesA, PfxSolverBody& b,
+                                 PfxFloat receivesB) {
+  const PfxConstraintRow& row = c.m_constraintRow;
+  const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
+  const PfxFloat velocity =
+      pfxJointRowVelocity(j, a.m_pushLinearVelocity, a.m_pushAngularVelocity,
+                          b.m_pushLinearVelocity, b.m_pushAngularVelocity);
+  const PfxFloat previous = c.m_pushImpulse;
+  c.m_pushImpulse = previous + c.m_pushRhs - row.m_jacDiagInv * velocity;
+  if (c.m_rowType == kPfxJointRowLimit) c.m_pushImpulse = std::max(c.m_pushImpulse, PfxFloat(0));
+  pfxApplyJointRowImpulse(j, c.m_pushImpulse - previous, a, receivesA, b, receivesB,
+                          &PfxSolverBody::m_pushLinearVelocity,
+                          &PfxSolverBody::m_pushAngularVelocity);
+}
+
+}  // namespace pfx

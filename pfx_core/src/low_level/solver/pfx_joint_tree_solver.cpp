@@ -1,0 +1,331 @@
+#include "low_level/solver/pfx_joint_tree_solver.h"
+
+#include <Eigen/LU>
+#include <cstdint>
+#include <new>
+
+#include "low_level/solver/pfx_joint_row.h"
+
+namespace pfx {
+
+namespace {
+
+// Factoring in double keeps mass ratios of 1:1000 and more well inside the precision.
+using Block = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// Compliance added to each locked row, relative to its effective mass: small enough to
+// leave the answer unchanged, large enough to keep redundant rows (two joints holding the
+// same axis) from making the system singular.
+constexpr double kRelativeCompliance = 1e-9;
+
+// A joint picked for the forest but not yet given a node.
+constexpr PfxInt32 kChosen = -2;
+
+bool isLockedRow(const PfxJointConstraint& c) {
+  return c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
+}
+
+PfxInt32 findRoot(PfxInt32* parent, PfxInt32 i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+// Carves aligned arrays out of the caller's work buffer.
+class Carver {
+ public:
+  Carver(void* buffer, std::size_t bytes)
+      : m_cursor(static_cast<unsigned char*>(buffer)), m_end(m_cursor + bytes) {}
+  template <typename T>
+  T* take(std::size_t count) {
+    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(m_cursor);
+    const std::uintptr_t aligned = (at + alignof(T) - 1) & ~(std::uintptr_t(alignof(T)) - 1);
+    unsigned char* begin = reinterpret_cast<unsigned char*>(aligned);
+    if (begin + count * sizeof(T) > m_end) return nullptr;
+    m_cursor = begin + count * sizeof(T);
+    return reinterpret_cast<T*>(begin);
+  }
+  static std::size_t bytesFor(std::size_t alignment, std::size_t bytes) {
+    return bytes + alignment;
+  }
+
+ private:
+  unsigned char* m_cursor;
+  unsigned char* m_end;
+};
+
+}  // namespace
+
+// One node of the forest: a body (6 velocity unknowns) or a joint (up to 6 locked rows,
+// padded to 6 with rows that couple to nothing).
+struct PfxJointTreeSolver::Node {
+  Block diagonalInverse;  // D^-1 after elimination
+  Block toParent;         // L = D^-1 H(node, parent)
+  Block coupling;         // H(node, parent)
+  Vector6 value;          // right-hand side, then solution
+  PfxInt32 parent;        // node index, -1 at a root
+  PfxInt32 body;          // rigid body id, or -1 for a joint node
+  PfxInt32 jointPair;     // joint pair index, or -1 for a body node
+  PfxUInt8 axes[6];       // joint node: the joint axis of each row
+  PfxUInt8 numRows;
+};
+
+PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
+  const std::size_t numNodes = std::size_t(numRigidBodies) + numJointPairs;
+  const std::size_t bytes =
+      Carver::bytesFor(alignof(Node), sizeof(Node) * numNodes) +
+      Carver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) *
+                                              (numJointPairs +         // joint nodes
+                                               2 * numRigidBodies + 1 +  // body nodes, sets
+                                               numRigidBodies + 1 +    // adjacency offsets
+                                               2 * numJointPairs));    // adjacency
+  return static_cast<PfxUInt32>(bytes);
+}
+
+bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
+                               const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
+                               PfxJoint* joints, PfxSolverBody* solverBodies,
+                               PfxUInt32 numRigidBodies) {
+  m_numNodes = 0;
+  m_joints = joints;
+  m_jointPairs = jointPairs;
+  m_solverBodies = solverBodies;
+  Carver carver(workBuff, workBytes);
+  const std::size_t maxNodes = std::size_t(numRigidBodies) + numJointPairs;
+  m_nodes = carver.take<Node>(maxNodes);
+  m_jointNode = carver.take<PfxInt32>(numJointPairs);
+  PfxInt32* bodyNode = carver.take<PfxInt32>(numRigidBodies);
+  PfxInt32* sets = carver.take<PfxInt32>(numRigidBodies + 1);
+  PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
+  PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
+  if (maxNodes > 0 && (!m_nodes || !bodyNode || !sets || !adjacencyStart ||
+                       (numJointPairs > 0 && (!m_jointNode || !adjacency)))) {
+    return false;
+  }
+
+  auto movable = [&](PfxUInt32 id, bool receives) {
+    return receives && solverBodies[id].m_massInv > 0;
+  };
+  // Everything that does not move is one "ground" in the search for loops: two joints that
+  // hold one chain to the ground close a loop through it.
+  const PfxInt32 ground = static_cast<PfxInt32>(numRigidBodies);
+  for (PfxUInt32 b = 0; b <= numRigidBodies; ++b) {
+    if (b < numRigidBodies) bodyNode[b] = -1;
+    sets[b] = static_cast<PfxInt32>(b);
+    adjacencyStart[b] = 0;
+  }
+
+  // Joints with locked rows, acting on a body that moves, and not closing a loop.
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    m_jointNode[i] = -1;
+    const PfxConstraintPair& pair = jointPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    const PfxJoint& joint = joints[pfxGetConstraintId(pair)];
+    bool hasRows = false;
+    for (const PfxJointConstraint& c : joint.m_constraints) hasRows = hasRows || isLockedRow(c);
+    const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+    const bool moveA = movable(a, pfxGetReceivesA(pair));
+    const bool moveB = movable(b, pfxGetReceivesB(pair));
+    // A body that moves but takes nothing from this joint (one-way) cannot be both inside
+    // and outside the system: such a joint stays iterative.
+    const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
+                        (!moveB && solverBodies[b].m_massInv > 0);
+    if (!hasRows || oneWay || (!moveA && !moveB)) continue;
+    const PfxInt32 ra = findRoot(sets, moveA ? static_cast<PfxInt32>(a) : ground);
+    const PfxInt32 rb = findRoot(sets, moveB ? static_cast<PfxInt32>(b) : ground);
+    if (ra == rb) continue;
+    sets[ra] = rb;
+    m_jointNode[i] = kChosen;
+    if (moveA) ++adjacencyStart[a];
+    if (moveB) ++adjacencyStart[b];
+  }
+  // Adjacency of each body: the chosen joints acting on it.
+  PfxInt32 running = 0;
+  for (PfxUInt32 b = 0; b <= numRigidBodies; ++b) {
+    const PfxInt32 count = b < numRigidBodies ? adjacencyStart[b] : 0;
+    adjacencyStart[b] = running;
+    running += count;
+  }
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) sets[b] = adjacencyStart[b];  // fill cursors
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    if (m_jointNode[i] != kChosen) continue;
+    const PfxConstraintPair& pair = jointPairs[i];
+    const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+    if (movable(a, pfxGetReceivesA(pair))) adjacency[sets[a]++] = static_cast<PfxInt32>(i);
+    if (movable(b, pfxGetReceivesB(pair))) adjacency[sets[b]++] = static_cast<PfxInt32>(i);
+  }
+
+  // Breadth first from the roots. A tree held to the ground is rooted at the joint that
+  // holds it, so that every leaf is a body: a joint eliminated as a leaf would have a
+  // pivot of nearly zero (its compliance), and the factorization would lose its precision.
+  auto addNode = [&](PfxInt32 parent, PfxInt32 body, PfxInt32 jointPair) {
+    Node& node = m_nodes[m_numNodes];
+    node.parent = parent;
+    node.body = body;
+    node.jointPair = jointPair;
+    node.numRows = 0;
+    return static_cast<PfxInt32>(m_numNodes++);
+  };
+  auto grow = [&](std::size_t head) {
+    while (head < m_numNodes) {
+      const Node& current = m_nodes[head];
+      const PfxInt32 self = static_cast<PfxInt32>(head++);
+      if (current.body >= 0) {
+        for (PfxInt32 k = adjacencyStart[current.body]; k < adjacencyStart[current.body + 1]; ++k) {
+          const PfxInt32 pairIndex = adjacency[k];
+          if (m_jointNode[pairIndex] != kChosen) continue;  // already in the forest
+          m_jointNode[pairIndex] = addNode(self, -1, pairIndex);
+        }
+      } else {
+        const PfxConstraintPair& pair = jointPairs[current.jointPair];
+        if (movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) &&
+            bodyNode[pfxGetObjectIdA(pair)] < 0) {
+          bodyNode[pfxGetObjectIdA(pair)] =
+              addNode(self, static_cast<PfxInt32>(pfxGetObjectIdA(pair)), -1);
+        }
+        if (movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair)) &&
+            bodyNode[pfxGetObjectIdB(pair)] < 0) {
+          bodyNode[pfxGetObjectIdB(pair)] =
+              addNode(self, static_cast<PfxInt32>(pfxGetObjectIdB(pair)), -1);
+        }
+      }
+    }
+  };
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    if (m_jointNode[i] != kChosen) continue;
+    const PfxConstraintPair& pair = jointPairs[i];
+    const bool moveA = movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair));
+    const bool moveB = movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair));
+    if (moveA == moveB) continue;
+    const std::size_t head = m_numNodes;
+    m_jointNode[i] = addNode(-1, -1, static_cast<PfxInt32>(i));
+    grow(head);
+  }
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    if (m_jointNode[i] != kChosen) continue;
+    const PfxUInt32 a = pfxGetObjectIdA(jointPairs[i]);
+    const std::size_t head = m_numNodes;
+    bodyNode[a] = addNode(-1, static_cast<PfxInt32>(a), -1);
+    grow(head);
+  }
+
+  // Diagonal blocks and couplings to the parent.
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    Node& node = m_nodes[n];
+    node.coupling.setZero();
+    if (node.body >= 0) {
+      const PfxSolverBody& sb = solverBodies[node.body];
+      Block mass = Block::Zero();
+      mass.topLeftCorner<3, 3>().diagonal().setConstant(1.0 / double(sb.m_massInv));
+      mass.bottomRightCorner<3, 3>() = sb.m_inertiaInv.cast<double>().inverse();
+      node.diagonalInverse = mass;  // holds D until it is inverted
+    } else {
+      PfxJoint& joint = joints[pfxGetConstraintId(jointPairs[node.jointPair])];
+      node.diagonalInverse = -Block::Identity();
+      for (PfxUInt8 axis = 0; axis < 6; ++axis) {
+        const PfxJointConstraint& c = joint.m_constraints[axis];
+        if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
+        const PfxUInt8 row = node.numRows++;
+        node.axes[row] = axis;
+        node.diagonalInverse(row, row) =
+            -kRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
+      }
+    }
+    if (node.parent < 0) continue;
+    // H(node, parent) couples a joint's rows with one of its bodies' velocities. Nodes
+    // come parents first, so a joint parent already has its rows.
+    const Node& parent = m_nodes[node.parent];
+    const Node& jointNode = node.body >= 0 ? parent : node;
+    const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
+    const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
+    const PfxJoint& joint = joints[pfxGetConstraintId(pair)];
+    const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
+    Block rows = Block::Zero();  // joint rows x body velocities
+    for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
+      const PfxUInt8 axis = jointNode.axes[row];
+      const PfxJointRowJacobian j =
+          pfxJointRowJacobian(joint, axis, joint.m_constraints[axis].m_constraintRow.m_normal);
+      rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
+      rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
+    }
+    node.coupling = node.body >= 0 ? Block(rows.transpose()) : rows;
+  }
+  // Nodes were numbered breadth first, parents before children: eliminating in reverse
+  // order takes children first, D_parent -= H(p, n) D_n^-1 H(n, p).
+  for (std::size_t k = m_numNodes; k-- > 0;) {
+    Node& node = m_nodes[k];
+    node.diagonalInverse = node.diagonalInverse.inverse().eval();
+    if (node.parent < 0) continue;
+    node.toParent = node.diagonalInverse * node.coupling;
+    m_nodes[node.parent].diagonalInverse -= node.coupling.transpose() * node.toParent;
+  }
+  return true;
+}
+
+void PfxJointTreeSolver::solveVelocities() { solve(false); }
+void PfxJointTreeSolver::solvePush() { solve(true); }
+
+void PfxJointTreeSolver::solve(bool push) {
+  if (m_numNodes == 0) return;
+  PfxVector3 PfxSolverBody::*linear =
+      push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
+  PfxVector3 PfxSolverBody::*angular =
+      push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
+
+  // Right-hand side: zero for bodies; for each row, its target velocity minus its velocity.
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    Node& node = m_nodes[n];
+    node.value.setZero();
+    if (node.body >= 0) continue;
+    const PfxConstraintPair& pair = m_jointPairs[node.jointPair];
+    const PfxJoint& joint = m_joints[pfxGetConstraintId(pair)];
+    const PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
+    const PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
+    for (PfxUInt8 row = 0; row < node.numRows; ++row) {
+      const PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
+      const PfxConstraintRow& r = c.m_constraintRow;
+      const PfxJointRowJacobian j = pfxJointRowJacobian(joint, node.axes[row], r.m_normal);
+      const PfxFloat target = (push ? c.m_pushRhs : r.m_rhs) / r.m_jacDiagInv;
+      node.value[row] = double(target) - double(pfxJointRowVelocity(j, a.*linear, a.*angular,
+                                                                    b.*linear, b.*angular));
+    }
+  }
+  // Forward (children first), diagonal, then backward (parents first).
+  for (std::size_t k = m_numNodes; k-- > 0;) {
+    const Node& node = m_nodes[k];
+    if (node.parent >= 0) m_nodes[node.parent].value -= node.toParent.transpose() * node.value;
+  }
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    m_nodes[n].value = (m_nodes[n].diagonalInverse * m_nodes[n].value).eval();
+  }
+  for (std::size_t k = 0; k < m_numNodes; ++k) {
+    Node& node = m_nodes[k];
+    if (node.parent >= 0) node.value -= node.toParent * m_nodes[node.parent].value;
+  }
+
+  // Bodies take their velocity change; rows take the impulse (the negated multiplier).
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    const Node& node = m_nodes[n];
+    if (node.body >= 0) {
+      PfxSolverBody& sb = m_solverBodies[node.body];
+      sb.*linear += node.value.head<3>().cast<PfxFloat>();
+      sb.*angular += node.value.tail<3>().cast<PfxFloat>();
+      continue;
+    }
+    PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
+    for (PfxUInt8 row = 0; row < node.numRows; ++row) {
+      PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
+      const PfxFloat impulse = static_cast<PfxFloat>(-node.value[row]);
+      if (push) {
+        c.m_pushImpulse += impulse;
+      } else {
+        c.m_constraintRow.m_accumImpulse += impulse;
+      }
+    }
+  }
+}
+
+}  // namespace pfx

@@ -1,0 +1,198 @@
+#include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
+
+#include <cmath>
+#include <limits>
+
+#include "low_level/solver/pfx_joint_row.h"
+
+namespace pfx {
+
+namespace {
+
+constexpr PfxFloat kInfinity = std::numeric_limits<PfxFloat>::max();
+
+struct JointBodies {
+  const PfxRigidState& stateA;
+  const PfxRigidState& stateB;
+  const PfxSolverBody& a;
+  const PfxSolverBody& b;
+  PfxFloat receivesA;
+  PfxFloat receivesB;
+};
+
+// Velocity of the row from the bodies' current velocities.
+PfxFloat rowVelocity(const PfxJointRowJacobian& j, const JointBodies& bodies) {
+  return pfxJointRowVelocity(j, bodies.stateA.getLinearVelocity(),
+                             bodies.stateA.getAngularVelocity(), bodies.stateB.getLinearVelocity(),
+                             bodies.stateB.getAngularVelocity());
+}
+
+// Sets `row` to move the coordinate at `targetVelocity` along `direction`, its impulse
+// clamped to [lower, upper] and scaled by the axis weight.
+void setRow(PfxConstraintRow& row, const PfxJoint& joint, PfxUInt32 axis,
+            const PfxVector3& direction, PfxFloat targetVelocity, PfxFloat lower, PfxFloat upper,
+            PfxFloat weight, PfxFloat warmStartFactor, const JointBodies& bodies) {
+  const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, direction);
+  const PfxFloat jacDiagInv =
+      pfxJointRowJacDiagInv(j, bodies.a, bodies.receivesA, bodies.b, bodies.receivesB);
+  // A row that turned round (the other limit) starts afresh.
+  if (row.m_normal.dot(direction) <= 0) row.m_accumImpulse = 0;
+  row.m_normal = direction;
+  row.m_jacDiagInv = weight * jacDiagInv;
+  row.m_rhs = weight * (targetVelocity - rowVelocity(j, bodies)) * jacDiagInv;
+  row.m_lowerLimit = lower;
+  row.m_upperLimit = upper;
+  row.m_accumImpulse = std::clamp(row.m_accumImpulse * warmStartFactor, lower, upper);
+}
+
+void unsetRow(PfxConstraintRow& row) {
+  row.m_jacDiagInv = 0;
+  row.m_rhs = 0;
+  row.m_lowerLimit = row.m_upperLimit = 0;
+  row.m_accumImpulse = 0;
+}
+
+// The lock row of one axis: equality, the nearer limit, or nothing.
+void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
+                  PfxFloat position, PfxFloat lower, PfxFloat upper,
+                  PfxFloat timeStep, PfxFloat warmStartFactor, const JointBodies& bodies) {
+  PfxJointConstraint& c = joint.m_constraints[axis];
+  c.m_pushRhs = 0;
+  c.m_pushImpulse = 0;
+  const bool rotation = axis >= 3;
+  const bool unbounded =
+      c.m_lock == kPfxJointLockFree ||
+      (c.m_lock == kPfxJointLockLimit && rotation && lower <= -PFX_PI && upper >= PFX_PI);
+  if (unbounded) {
+    c.m_rowType = kPfxJointRowNone;
+    unsetRow(c.m_constraintRow);
+    return;
+  }
+  if (c.m_lock == kPfxJointLockLocked || lower == upper) {
+    const PfxFloat error = position - c.getLockedValue();
+    c.m_rowType = kPfxJointRowEquality;
+    setRow(c.m_constraintRow, joint, axis, direction, 0, -kInfinity, kInfinity, c.m_weight,
+           warmStartFactor, bodies);
+    c.m_pushRhs = -c.m_bias * error / timeStep * c.m_constraintRow.m_jacDiagInv;
+    return;
+  }
+  // The nearer limit, as a one-sided row along +direction (lower) or -direction (upper).
+  // Away from it, the gap may close within the step but no further, as for contacts.
+  const bool atLower = position - lower < upper - position;
+  const PfxFloat gap = atLower ? position - lower : upper - position;
+  const PfxVector3 signedDirection = atLower ? direction : PfxVector3(-direction);
+  c.m_rowType = kPfxJointRowLimit;
+  setRow(c.m_constraintRow, joint, axis, signedDirection, gap > 0 ? -gap / timeStep : 0, 0,
+         kInfinity, c.m_weight, warmStartFactor, bodies);
+  if (gap < 0) c.m_pushRhs = -c.m_bias * gap / timeStep * c.m_constraintRow.m_jacDiagInv;
+}
+
+// The drive row: a drive toward its target, or friction and damping against the motion.
+void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
+                   PfxFloat timeStep, PfxFloat warmStartFactor, const JointBodies& bodies) {
+  PfxJointConstraint& c = joint.m_constraints[axis];
+  const bool movable = c.m_lock != kPfxJointLockLocked;
+  PfxFloat target = 0;
+  PfxFloat bound = kInfinity;
+  if (movable && c.m_drive == kPfxJointDriveVelocity) {
+    target = c.m_driveTarget;
+    bound = c.m_driveMaxForce * timeStep;
+  } else if (movable && c.m_drive == kPfxJointDrivePosition) {
+    target = (c.m_driveTarget - c.m_position) / timeStep;
+    bound = c.m_driveMaxForce * timeStep;
+  } else if (movable && (c.m_damping > 0 || c.m_friction > 0)) {
+    const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, direction);
+    target = (1 - c.m_damping) * rowVelocity(j, bodies);
+    if (c.m_friction > 0) bound = c.m_friction * timeStep;
+  } else {
+    c.m_driveRowUsed = 0;
+    unsetRow(c.m_driveRow);
+    return;
+  }
+  c.m_driveRowUsed = 1;
+  setRow(c.m_driveRow, joint, axis, direction, target, -bound, bound, c.m_weight,
+         warmStartFactor, bodies);
+}
+
+void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
+                PfxFloat warmStartFactor) {
+  const PfxMatrix3 frameA = bodies.stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
+  const PfxMatrix3 frameB = bodies.stateB.getOrientation().toRotationMatrix() * joint.m_frameB;
+  joint.m_armA = bodies.stateA.getOrientation() * joint.m_anchorA;
+  joint.m_armB = bodies.stateB.getOrientation() * joint.m_anchorB;
+
+  // With all three translations locked at zero the anchors simply coincide, and world axes
+  // make the rows exact: rows along A's axes would turn with A, which the Jacobian leaves
+  // out, and the position correction would need more passes to converge.
+  bool anchorsCoincide = true;
+  for (int i = 0; i < 3; ++i) {
+    const PfxJointConstraint& c = joint.m_constraints[i];
+    anchorsCoincide = anchorsCoincide && c.m_lock == kPfxJointLockLocked && c.m_drive == kPfxJointDriveNone;
+  }
+  const PfxMatrix3 linearAxes = anchorsCoincide ? PfxMatrix3::Identity() : frameA;
+  for (int i = 0; i < 3; ++i) joint.m_axes[i] = linearAxes.col(i);
+  const PfxVector3 twist = frameA.col(0) + frameB.col(0);
+  joint.m_axes[kPfxJointAxisTwist] =
+      twist.norm() > PFX_EPSILON ? PfxVector3(twist.normalized()) : PfxVector3(frameA.col(0));
+  joint.m_axes[kPfxJointAxisSwing1] = frameA.col(1);
+  joint.m_axes[kPfxJointAxisSwing2] = frameA.col(2);
+
+  pfxCalcJointPositions(joint, bodies.stateA, bodies.stateB);
+  if (anchorsCoincide) {
+    const PfxVector3 gap = bodies.stateB.getPosition() + joint.m_armB -
+                           bodies.stateA.getPosition() - joint.m_armA;
+    for (int i = 0; i < 3; ++i) joint.m_constraints[i].m_position = gap[i];
+  }
+  for (PfxUInt32 axis = 0; axis < 6; ++axis) {
+    PfxJointConstraint& c = joint.m_constraints[axis];
+    PfxFloat position = c.m_position;
+    PfxFloat lower = c.m_movableLowerLimit;
+    PfxFloat upper = c.m_movableUpperLimit;
+    PfxVector3 direction = joint.m_axes[axis];
+    if (joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1) {
+      // The cone: the swing angle, about the axis the swing turns about, below the limit.
+      const PfxFloat s1 = c.m_position;
+      const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
+      position = std::sqrt(s1 * s1 + s2 * s2);
+      if (position > PFX_EPSILON) direction = frameA * PfxVector3(0, s1, s2) / position;
+      lower = -kInfinity;
+      joint.m_axes[axis] = direction;
+    }
+    setupLockRow(joint, axis, direction, position, lower, upper, timeStep, warmStartFactor,
+                 bodies);
+    setupDriveRow(joint, axis, direction, timeStep, warmStartFactor, bodies);
+  }
+}
+
+}  // namespace
+
+PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
+  if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints ||
+                                  !param.offsetRigidStates || !param.offsetRigidBodies ||
+                                  !param.offsetSolverBodies)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep) ||
+      !(param.warmStartFactor >= 0 && param.warmStartFactor <= 1)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  if (!pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
+                       param.numJoints)) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+  for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
+    const PfxConstraintPair& pair = param.jointPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    const PfxUInt32 idA = pfxGetObjectIdA(pair);
+    const PfxUInt32 idB = pfxGetObjectIdB(pair);
+    const JointBodies bodies{param.offsetRigidStates[idA], param.offsetRigidStates[idB],
+                             param.offsetSolverBodies[idA], param.offsetSolverBodies[idB],
+                             pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
+                             pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
+    setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, param.timeStep,
+               param.warmStartFactor);
+  }
+  return PFX_OK;
+}
+
+}  // namespace pfx

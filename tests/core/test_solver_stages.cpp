@@ -1,0 +1,218 @@
+// The solver and collision stages called directly: they reject bad parameters with an
+// error code and leave every buffer as it was.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "pfx/high_level/pfx_body_init.h"
+#include "pfx/low_level/collision/pfx_detect_collision.h"
+#include "pfx/low_level/collision/pfx_refresh_contacts.h"
+#include "pfx/low_level/solver/pfx_setup_contact_constraints.h"
+#include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
+#include "pfx/low_level/solver/pfx_solve_constraints.h"
+
+using namespace pfx;
+
+namespace {
+
+const PfxFloat kNaN = std::numeric_limits<PfxFloat>::quiet_NaN();
+
+// Two boxes resting on each other, with one pair and one manifold set up by hand.
+struct Scene {
+  PfxRigidState states[2];
+  PfxRigidBody bodies[2];
+  PfxCollidable collidables[2];
+  PfxSolverBody solverBodies[2];
+  PfxConstraintPair pair;
+  PfxContactManifold manifold;
+
+  Scene() {
+    for (int i = 0; i < 2; ++i) {
+      states[i].reset();
+      states[i].setPosition(PfxVector3(0, i * 0.99f, 0));
+      states[i].setRigidBodyId(i);
+      bodies[i].reset();
+      collidables[i].reset();
+      collidables[i].addShape(pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)));
+      collidables[i].finish();
+    }
+    states[0].setMotionType(kPfxMotionTypeFixed);
+    pfxInitializePair(pair, 0, kPfxMotionTypeFixed, 1, kPfxMotionTypeActive);
+    manifold.reset(0, 1);
+  }
+};
+
+template <typename T>
+std::vector<unsigned char> bytes(const T& value) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&value);
+  return std::vector<unsigned char>(p, p + sizeof(T));
+}
+
+}  // namespace
+
+TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
+  Scene s;
+  PfxDetectCollisionParam detect;
+  detect.contactPairs = &s.pair;
+  detect.numContactPairs = 1;
+  detect.offsetContactManifolds = &s.manifold;
+  detect.numContactManifolds = 1;
+  detect.offsetRigidStates = s.states;
+  detect.offsetCollidables = s.collidables;
+  detect.numRigidBodies = 2;
+  detect.timeStep = 1.0f / 60;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  // Face on face, 1 cm deep: four points.
+  ASSERT_EQ(s.manifold.getNumContacts(), 4u);
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 4u);
+  EXPECT_NEAR(s.manifold.getPenetrationDepth(), 0.01f, 1e-5f);
+
+  PfxSetupSolverBodiesParam bodies;
+  bodies.states = s.states;
+  bodies.bodies = s.bodies;
+  bodies.solverBodies = s.solverBodies;
+  bodies.numRigidBodies = 2;
+  ASSERT_EQ(pfxSetupSolverBodies(bodies), PFX_OK);
+  EXPECT_EQ(s.solverBodies[0].m_massInv, 0);  // fixed
+  EXPECT_EQ(s.solverBodies[1].m_massInv, 1);
+
+  s.states[1].setLinearVelocity(PfxVector3(0, -1, 0));
+  PfxSetupContactConstraintsParam setup;
+  setup.contactPairs = &s.pair;
+  setup.numContactPairs = 1;
+  setup.offsetContactManifolds = &s.manifold;
+  setup.numContactManifolds = 1;
+  setup.offsetRigidStates = s.states;
+  setup.offsetRigidBodies = s.bodies;
+  setup.offsetSolverBodies = s.solverBodies;
+  setup.numRigidBodies = 2;
+  setup.timeStep = 1.0f / 60;
+  ASSERT_EQ(pfxSetupContactConstraints(setup), PFX_OK);
+
+  PfxSolveConstraintsParam solve;
+  solve.contactPairs = &s.pair;
+  solve.numContactPairs = 1;
+  solve.offsetContactManifolds = &s.manifold;
+  solve.numContactManifolds = 1;
+  solve.offsetRigidStates = s.states;
+  solve.offsetSolverBodies = s.solverBodies;
+  solve.numRigidBodies = 2;
+  solve.timeStep = 1.0f / 60;
+  ASSERT_EQ(pfxSolveConstraints(solve), PFX_OK);
+  // The downward velocity is stopped (the overlap is pushed out by position, not velocity).
+  EXPECT_NEAR(s.states[1].getLinearVelocity().y(), 0, 1e-4f);
+  EXPECT_GT(s.states[1].getPosition().y(), 0.99f);
+
+  // Pull the box away: refreshing drops every point.
+  s.states[1].setPosition(PfxVector3(0, 1.5f, 0));
+  PfxRefreshContactsParam refresh;
+  refresh.contactPairs = &s.pair;
+  refresh.numContactPairs = 1;
+  refresh.offsetContactManifolds = &s.manifold;
+  refresh.numContactManifolds = 1;
+  refresh.offsetRigidStates = s.states;
+  refresh.numRigidBodies = 2;
+  ASSERT_EQ(pfxRefreshContacts(refresh), PFX_OK);
+  EXPECT_EQ(s.manifold.getNumContacts(), 0u);
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 0u);
+}
+
+TEST(SolverStages, RejectBadInputAndChangeNothing) {
+  Scene s;
+  const auto statesBefore = bytes(s.states);
+  const auto manifoldBefore = bytes(s.manifold);
+  const auto pairBefore = bytes(s.pair);
+  auto unchanged = [&](const char* what) {
+    EXPECT_EQ(bytes(s.states), statesBefore) << what;
+    EXPECT_EQ(bytes(s.manifold), manifoldBefore) << what;
+    EXPECT_EQ(bytes(s.pair), pairBefore) << what;
+  };
+
+  PfxDetectCollisionParam detect;
+  detect.contactPairs = &s.pair;
+  detect.numContactPairs = 1;
+  detect.offsetContactManifolds = &s.manifold;
+  detect.numContactManifolds = 1;
+  detect.offsetRigidStates = s.states;
+  detect.offsetCollidables = s.collidables;
+  detect.numRigidBodies = 2;
+  detect.timeStep = 1.0f / 60;
+  PfxDetectCollisionParam bad = detect;
+  bad.offsetCollidables = nullptr;
+  EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_NULL_POINTER);
+  bad = detect;
+  bad.contactMargin = kNaN;
+  EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_INVALID_VALUE);
+  bad = detect;
+  bad.numRigidBodies = 1;  // the pair names body 1
+  EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_OUT_OF_RANGE);
+  bad = detect;
+  bad.numContactManifolds = 0;
+  EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_OUT_OF_RANGE);
+  unchanged("detect");
+
+  PfxRefreshContactsParam refresh;
+  refresh.contactPairs = &s.pair;
+  refresh.numContactPairs = 1;
+  refresh.offsetContactManifolds = &s.manifold;
+  refresh.numContactManifolds = 1;
+  refresh.offsetRigidStates = s.states;
+  refresh.numRigidBodies = 2;
+  refresh.breakDistance = -1;
+  EXPECT_EQ(pfxRefreshContacts(refresh), PFX_ERR_INVALID_VALUE);
+  refresh.breakDistance = 0.02f;
+  refresh.offsetRigidStates = nullptr;
+  EXPECT_EQ(pfxRefreshContacts(refresh), PFX_ERR_NULL_POINTER);
+  unchanged("refresh");
+
+  PfxSetupSolverBodiesParam bodies;
+  bodies.states = s.states;
+  bodies.bodies = s.bodies;
+  bodies.numRigidBodies = 2;
+  EXPECT_EQ(pfxSetupSolverBodies(bodies), PFX_ERR_NULL_POINTER);
+
+  PfxSetupContactConstraintsParam setup;
+  setup.contactPairs = &s.pair;
+  setup.numContactPairs = 1;
+  setup.offsetContactManifolds = &s.manifold;
+  setup.numContactManifolds = 1;
+  setup.offsetRigidStates = s.states;
+  setup.offsetRigidBodies = s.bodies;
+  setup.offsetSolverBodies = s.solverBodies;
+  setup.numRigidBodies = 2;
+  setup.timeStep = 0;
+  EXPECT_EQ(pfxSetupContactConstraints(setup), PFX_ERR_INVALID_VALUE);
+  setup.timeStep = 1.0f / 60;
+  setup.separateBias = kNaN;
+  EXPECT_EQ(pfxSetupContactConstraints(setup), PFX_ERR_INVALID_VALUE);
+  setup.separateBias = 0.2f;
+  setup.numRigidBodies = 1;
+  EXPECT_EQ(pfxSetupContactConstraints(setup), PFX_ERR_OUT_OF_RANGE);
+  setup.numRigidBodies = 2;
+  setup.offsetRigidBodies = nullptr;
+  EXPECT_EQ(pfxSetupContactConstraints(setup), PFX_ERR_NULL_POINTER);
+  unchanged("setup");
+
+  PfxSolveConstraintsParam solve;
+  solve.contactPairs = &s.pair;
+  solve.numContactPairs = 1;
+  solve.offsetContactManifolds = &s.manifold;
+  solve.numContactManifolds = 1;
+  solve.offsetRigidStates = s.states;
+  solve.offsetSolverBodies = s.solverBodies;
+  solve.numRigidBodies = 2;
+  solve.timeStep = kNaN;
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_INVALID_VALUE);
+  solve.timeStep = 1.0f / 60;
+  solve.restitutionThreshold = -1;
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_INVALID_VALUE);
+  solve.restitutionThreshold = 0.2f;
+  solve.numContactManifolds = 0;
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_RANGE);
+  solve.numContactManifolds = 1;
+  solve.offsetSolverBodies = nullptr;
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_NULL_POINTER);
+  unchanged("solve");
+}
