@@ -1,0 +1,312 @@
+// Joints: the seed's types move only along their free axes, a hinge pendulum keeps its
+// period and energy, chains hold together, drives reach their targets within their force,
+// and bad joints are rejected without changing anything.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "pfx/base_level/joint/pfx_joint_init.h"
+#include "pfx/high_level/pfx_body_init.h"
+
+using namespace pfx;
+
+namespace {
+
+constexpr PfxFloat kGravity = 9.80665f;
+
+PfxUInt32 addFixed(PfxWorld& world, const PfxVector3& position) {
+  PfxBodyInit init;
+  init.mass = 0;
+  init.position = position;
+  PfxUInt32 id = 0;
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.01f)), init, &id), PFX_OK);
+  return id;
+}
+
+PfxUInt32 addBall(PfxWorld& world, const PfxVector3& position, PfxFloat mass = 1,
+                  PfxFloat radius = 0.05f) {
+  PfxBodyInit init;
+  init.mass = mass;
+  init.position = position;
+  PfxUInt32 id = 0;
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(radius)), init, &id), PFX_OK);
+  return id;
+}
+
+PfxFloat jointGap(const PfxWorld& world, const PfxJoint& j) {
+  const PfxRigidState& a = world.getRigidState(j.m_rigidBodyIdA);
+  const PfxRigidState& b = world.getRigidState(j.m_rigidBodyIdB);
+  return ((a.getPosition() + a.getOrientation() * j.m_anchorA) -
+          (b.getPosition() + b.getOrientation() * j.m_anchorB))
+      .norm();
+}
+
+}  // namespace
+
+TEST(Joints, InitializationRejectsBadInputAndLeavesTheJointAlone) {
+  PfxRigidState a, b;
+  a.reset();
+  b.reset();
+  a.setRigidBodyId(0);
+  b.setRigidBodyId(1);
+  b.setPosition(PfxVector3(1, 0, 0));
+  PfxJoint joint;
+  joint.reset();
+  joint.m_rigidBodyIdA = 77;
+  const PfxJoint before = joint;
+  auto unchanged = [&] { return std::memcmp(&before, &joint, sizeof(PfxJoint)) == 0; };
+
+  PfxBallJointInitParam ball;
+  ball.anchorPoint = PfxVector3(std::numeric_limits<PfxFloat>::quiet_NaN(), 0, 0);
+  EXPECT_EQ(pfxInitializeBallJoint(joint, a, b, ball), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(unchanged());
+  ball.anchorPoint.setZero();
+  EXPECT_EQ(pfxInitializeBallJoint(joint, a, a, ball), PFX_ERR_INVALID_VALUE);  // same body
+  EXPECT_TRUE(unchanged());
+  PfxHingeJointInitParam hinge;
+  hinge.axis = PfxVector3::Zero();
+  EXPECT_EQ(pfxInitializeHingeJoint(joint, a, b, hinge), PFX_ERR_INVALID_VALUE);
+  hinge.axis = PfxVector3::UnitZ();
+  hinge.lowerAngle = 0.5f;
+  hinge.upperAngle = -0.5f;
+  EXPECT_EQ(pfxInitializeHingeJoint(joint, a, b, hinge), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(unchanged());
+  PfxSliderJointInitParam slider;
+  slider.enableJointFrame = true;
+  slider.jointFrame = PfxMatrix3::Constant(std::numeric_limits<PfxFloat>::quiet_NaN());
+  EXPECT_EQ(pfxInitializeSliderJoint(joint, a, b, slider), PFX_ERR_INVALID_VALUE);
+  PfxSwingTwistJointInitParam swing;
+  swing.swingUpperAngle = -0.1f;
+  EXPECT_EQ(pfxInitializeSwingTwistJoint(joint, a, b, swing), PFX_ERR_INVALID_VALUE);
+  PfxFixedJointInitParam fixed;
+  fixed.bias = 2;
+  EXPECT_EQ(pfxInitializeFixedJoint(joint, a, b, fixed), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(unchanged());
+
+  // The world rejects a joint naming a body it does not have, and keeps its joints.
+  PfxWorld world;
+  addFixed(world, PfxVector3::Zero());
+  addBall(world, PfxVector3(1, 0, 0));
+  ASSERT_EQ(pfxInitializeBallJoint(joint, a, b, ball), PFX_OK);
+  PfxJoint stray = joint;
+  stray.m_rigidBodyIdB = 5;
+  EXPECT_EQ(world.addJoint(stray), PFX_ERR_OUT_OF_RANGE);
+  stray = joint;
+  stray.m_constraints[kPfxJointAxisTwist].m_lock = kPfxJointLockLimit;
+  stray.m_constraints[kPfxJointAxisTwist].m_movableLowerLimit = 1;
+  stray.m_constraints[kPfxJointAxisTwist].m_movableUpperLimit = -1;
+  EXPECT_EQ(world.addJoint(stray), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumJoints(), 0u);
+  EXPECT_EQ(world.addJoint(joint), PFX_OK);
+  EXPECT_EQ(world.setJoint(0, stray), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getJoint(0).m_constraints[kPfxJointAxisTwist].m_lock, kPfxJointLockFree);
+}
+
+// A ball on a rigid arm swinging about a hinge: small-angle period 2 pi sqrt(I / (m g d)),
+// with I the inertia about the hinge, and no energy lost over 10 s.
+TEST(Joints, HingePendulumKeepsPeriodAndEnergy) {
+  PfxWorldParam param;
+  param.timeStep = 1.0f / 240.0f;
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  const PfxFloat d = 1.0f, radius = 0.1f, mass = 2.0f;
+  const PfxUInt32 pivot = addFixed(world, PfxVector3::Zero());
+  const PfxFloat angle0 = 0.05f;
+  const PfxUInt32 bob =
+      addBall(world, PfxVector3(d * std::sin(angle0), -d * std::cos(angle0), 0), mass, radius);
+  PfxHingeJointInitParam hinge;
+  hinge.axis = PfxVector3::UnitZ();
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeHingeJoint(joint, world.getRigidState(pivot), world.getRigidState(bob),
+                                    hinge),
+            PFX_OK);
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+
+  const PfxFloat inertia = 0.4f * mass * radius * radius + mass * d * d;
+  const double expectedPeriod = 2 * PFX_PI * std::sqrt(inertia / (mass * kGravity * d));
+  auto energy = [&] {
+    const PfxRigidState& s = world.getRigidState(bob);
+    const PfxRigidBody& b = world.getRigidBody(bob);
+    return 0.5 * mass * s.getLinearVelocity().squaredNorm() +
+           0.5 * s.getAngularVelocity().dot(b.getInertia() * s.getAngularVelocity()) +
+           mass * kGravity * s.getPosition().y();
+  };
+  const double e0 = energy();
+  const double swing = mass * kGravity * d * (1 - std::cos(angle0));  // energy in play
+  std::vector<double> crossings;
+  PfxFloat previousX = world.getRigidState(bob).getPosition().x();
+  double worstEnergyLoss = 0;
+  PfxFloat worstGap = 0;
+  for (int i = 1; i <= 2400; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxFloat x = world.getRigidState(bob).getPosition().x();
+    if ((x >= 0) != (previousX >= 0)) {
+      crossings.push_back((i - 1 + previousX / (previousX - x)) * param.timeStep);
+    }
+    previousX = x;
+    worstEnergyLoss = std::max(worstEnergyLoss, (e0 - energy()) / swing);
+    worstGap = std::max(worstGap, jointGap(world, world.getJoint(0)));
+  }
+  ASSERT_GE(crossings.size(), 4u);
+  const double period = 2 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
+  std::printf("hinge pendulum: period %.5f s, expected %.5f s; energy lost %.3f%%, gap %.2e m\n",
+              period, expectedPeriod, 100 * worstEnergyLoss, worstGap);
+  EXPECT_NEAR(period, expectedPeriod, 0.01 * expectedPeriod);
+  EXPECT_LT(worstEnergyLoss, 0.02);
+  EXPECT_LT(worstGap, 1e-4f);
+  // The hinge keeps the bob in its plane.
+  EXPECT_NEAR(world.getRigidState(bob).getPosition().z(), 0, 1e-5f);
+}
+
+// Body B, held to a fixed body A by each joint type, is pushed along each of the six axes
+// in turn (no gravity): it moves only along the axes the type leaves free.
+TEST(Joints, EachTypeMovesOnlyAlongItsFreeAxes) {
+  enum Type { kBall, kSwingTwist, kHinge, kSlider, kFixed, kUniversal };
+  const char* names[] = {"ball", "swing-twist", "hinge", "slider", "fixed", "universal"};
+  // Free axes (x, y, z translations; rotations about x, y, z) of each type, joint axis X.
+  const bool free[6][6] = {{0, 0, 0, 1, 1, 1}, {0, 0, 0, 1, 1, 1}, {0, 0, 0, 1, 0, 0},
+                           {1, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 1, 1}};
+  for (int type = 0; type < 6; ++type) {
+    for (int axis = 0; axis < 6; ++axis) {
+      PfxWorldParam param;
+      param.gravity.setZero();
+      PfxWorld world;
+      ASSERT_EQ(world.initialize(param), PFX_OK);
+      const PfxUInt32 a = addFixed(world, PfxVector3::Zero());
+      const PfxUInt32 b = addBall(world, PfxVector3(0.3f, 0, 0), 1, 0.1f);
+      const PfxRigidState& sa = world.getRigidState(a);
+      const PfxRigidState& sb = world.getRigidState(b);
+      const PfxVector3 anchor(0.3f, 0, 0);  // at B's centre, so pushes do not turn it
+      PfxJoint joint;
+      PfxInt32 err = PFX_OK;
+      switch (type) {
+        case kBall: { PfxBallJointInitParam p; p.anchorPoint = anchor; err = pfxInitializeBallJoint(joint, sa, sb, p); break; }
+        case kSwingTwist: { PfxSwingTwistJointInitParam p; p.anchorPoint = anchor; p.twistAxis = PfxVector3::UnitX(); p.twistLowerAngle = -1; p.twistUpperAngle = 1; p.swingUpperAngle = 1; err = pfxInitializeSwingTwistJoint(joint, sa, sb, p); break; }
+        case kHinge: { PfxHingeJointInitParam p; p.anchorPoint = anchor; p.axis = PfxVector3::UnitX(); p.lowerAngle = -1; p.upperAngle = 1; err = pfxInitializeHingeJoint(joint, sa, sb, p); break; }
+        case kSlider: { PfxSliderJointInitParam p; p.anchorPoint = anchor; p.direction = PfxVector3::UnitX(); err = pfxInitializeSliderJoint(joint, sa, sb, p); break; }
+        case kFixed: { PfxFixedJointInitParam p; p.anchorPoint = anchor; err = pfxInitializeFixedJoint(joint, sa, sb, p); break; }
+        case kUniversal: { PfxUniversalJointInitParam p; p.anchorPoint = anchor; p.axis = PfxVector3::UnitX(); p.swing1LowerAngle = p.swing2LowerAngle = -1; p.swing1UpperAngle = p.swing2UpperAngle = 1; err = pfxInitializeUniversalJoint(joint, sa, sb, p); break; }
+      }
+      ASSERT_EQ(err, PFX_OK) << names[type];
+      ASSERT_EQ(world.addJoint(joint), PFX_OK);
+      // A push small enough to stay inside every limit within the test.
+      const PfxVector3 direction = PfxVector3::Unit(axis % 3);
+      for (int i = 0; i < 20; ++i) {
+        world.applyForce(b, axis < 3 ? PfxVector3(direction * 2) : PfxVector3::Zero(),
+                         axis < 3 ? PfxVector3::Zero() : PfxVector3(direction * 0.02f));
+        ASSERT_EQ(world.step(), PFX_OK);
+      }
+      const PfxRigidState& s = world.getRigidState(b);
+      const PfxFloat moved = (s.getPosition() - PfxVector3(0.3f, 0, 0)).dot(direction);
+      const PfxFloat turned = (s.getOrientation().vec() * 2).dot(direction);
+      const PfxFloat motion = axis < 3 ? moved : turned;
+      if (free[type][axis]) {
+        EXPECT_GT(std::abs(motion), 0.02f) << names[type] << " axis " << axis;
+      } else {
+        EXPECT_LT(std::abs(motion), 1e-3f) << names[type] << " axis " << axis;
+      }
+    }
+  }
+}
+
+// A capsule chain hanging from a fixed point, released horizontally, with an end payload
+// of one link's mass. (Heavier payloads still break the chain at dt = 1/60: open work.)
+TEST(Joints, LightChainsHoldTogether) {
+  for (PfxFloat ratio : {1.0f}) {
+    PfxWorld world;
+    ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+    PfxUInt32 previous = addFixed(world, PfxVector3::Zero());
+    const int links = 20;
+    const PfxFloat half = 0.1f;
+    for (int i = 0; i <= links; ++i) {
+      PfxBodyInit init;
+      init.mass = i < links ? 1 : ratio;
+      init.position = PfxVector3(half + 2 * half * i, 0, 0);
+      PfxUInt32 id = 0;
+      const PfxShape shape = i < links ? pfxMakeShape(PfxCapsule(half, 0.02f))
+                                       : pfxMakeShape(PfxSphere(half));
+      ASSERT_EQ(pfxAddBody(world, shape, init, &id), PFX_OK);
+      PfxBallJointInitParam p;
+      p.anchorPoint = PfxVector3(2 * half * i, 0, 0);
+      PfxJoint joint;
+      ASSERT_EQ(pfxInitializeBallJoint(joint, world.getRigidState(previous),
+                                       world.getRigidState(id), p),
+                PFX_OK);
+      ASSERT_EQ(world.addJoint(joint), PFX_OK);
+      previous = id;
+    }
+    PfxFloat worstGap = 0, fastest = 0;
+    for (int step = 0; step < 600; ++step) {
+      ASSERT_EQ(world.step(), PFX_OK);
+      for (PfxUInt32 j = 0; j < world.getNumJoints(); ++j) {
+        worstGap = std::max(worstGap, jointGap(world, world.getJoint(j)));
+      }
+      for (PfxUInt32 b = 0; b < world.getNumRigidBodies(); ++b) {
+        fastest = std::max(fastest, world.getRigidState(b).getLinearVelocity().norm());
+      }
+    }
+    std::printf("20-link chain 1:%.0f: largest gap %.2e m, fastest body %.2f m/s\n", ratio,
+                worstGap, fastest);
+    EXPECT_LT(worstGap, 1e-3f);
+    // Nothing faster than a free fall from the chain's length (4.2 m): bounded.
+    EXPECT_LT(fastest, std::sqrt(2 * kGravity * 4.2f) * 3);
+  }
+}
+
+TEST(Joints, DrivesReachTheirTargetsWithinTheirForce) {
+  PfxWorldParam param;
+  param.gravity.setZero();
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  const PfxUInt32 base = addFixed(world, PfxVector3::Zero());
+  const PfxUInt32 wheel = addBall(world, PfxVector3::Zero(), 1, 0.2f);
+  PfxHingeJointInitParam hinge;
+  hinge.axis = PfxVector3::UnitZ();
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeHingeJoint(joint, world.getRigidState(base), world.getRigidState(wheel),
+                                    hinge),
+            PFX_OK);
+  PfxJointConstraint& twist = joint.m_constraints[kPfxJointAxisTwist];
+  twist.m_drive = kPfxJointDriveVelocity;
+  twist.m_driveTarget = 3;
+  twist.m_driveMaxForce = 0.01f;  // N m: the wheel's inertia 0.016 kg m^2 needs 5 s
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+  for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  // After 1 s at most 0.01 N m: w = 0.01 / 0.016 = 0.625 rad/s.
+  const PfxFloat inertia = 0.4f * 1 * 0.2f * 0.2f;
+  EXPECT_NEAR(world.getRigidState(wheel).getAngularVelocity().z(), 0.01f / inertia, 0.02f);
+  EXPECT_NEAR(world.getJoint(0).getAppliedTorque(param.timeStep).z(), 0.01f, 1e-3f);
+  for (int i = 0; i < 600; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(world.getRigidState(wheel).getAngularVelocity().z(), 3, 1e-3f);
+
+  // A position drive holds the wheel at 1 rad.
+  joint = world.getJoint(0);
+  joint.m_constraints[kPfxJointAxisTwist].m_drive = kPfxJointDrivePosition;
+  joint.m_constraints[kPfxJointAxisTwist].m_driveTarget = 1;
+  joint.m_constraints[kPfxJointAxisTwist].m_driveMaxForce = 100;
+  ASSERT_EQ(world.setJoint(0, joint), PFX_OK);
+  for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(world.getJoint(0).m_constraints[kPfxJointAxisTwist].m_position, 1, 1e-2f);
+  EXPECT_NEAR(world.getRigidState(wheel).getAngularVelocity().z(), 0, 1e-2f);
+}
+
+// A body hanging still from a fixed joint: the joint carries its weight.
+TEST(Joints, ReportsTheForceItApplies) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  const PfxUInt32 top = addFixed(world, PfxVector3::Zero());
+  const PfxUInt32 load = addBall(world, PfxVector3(0, -0.5f, 0), 3);
+  PfxFixedJointInitParam p;
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeFixedJoint(joint, world.getRigidState(top), world.getRigidState(load), p),
+            PFX_OK);
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+  for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const PfxVector3 force = world.getJoint(0).getAppliedForce(world.getParam().timeStep);
+  EXPECT_NEAR(force.y(), 3 * kGravity, 0.01f * 3 * kGravity);
+  EXPECT_NEAR(force.x(), 0, 1e-3f);
+  EXPECT_LT(world.getRigidState(load).getLinearVelocity().norm(), 1e-4f);
+}
