@@ -62,7 +62,8 @@ class Builder {
 
   // False when there would be more islands than the node encoding holds.
   bool build() {
-    buildNode(0, static_cast<PfxUInt32>(m_order.size()), 0, kNoIsland);
+    m_nodes.push_back(BuildNode());
+    buildNode(0, static_cast<PfxUInt32>(m_order.size()), 0, kNoIsland, 0);
     return m_islands.size() <= PFX_LARGE_MESH_MAX_ISLANDS;
   }
 
@@ -73,9 +74,9 @@ class Builder {
  private:
   static constexpr PfxUInt32 kNoIsland = 0xFFFFFFFFu;
 
-  PfxUInt32 buildNode(PfxUInt32 begin, PfxUInt32 end, PfxUInt32 depth, PfxUInt32 island) {
-    const PfxUInt32 index = static_cast<PfxUInt32>(m_nodes.size());
-    m_nodes.push_back(BuildNode());
+  // Fills node `index` (already allocated) and allocates its children as a pair.
+  void buildNode(PfxUInt32 begin, PfxUInt32 end, PfxUInt32 depth, PfxUInt32 island,
+                 PfxUInt32 index) {
     Box box;
     for (PfxUInt32 i = begin; i < end; ++i) box.grow(m_boxes[m_order[i]]);
     m_nodes[index].box = box;
@@ -87,13 +88,14 @@ class Builder {
     if (island != kNoIsland && count <= m_leafSize) {
       m_nodes[index].link =
           pfxLargeMeshMakeLeaf(island, begin - m_islands[island].m_firstTriangle, count);
-      return index;
+      return;
     }
     const PfxUInt32 mid = split(begin, end, depth);
-    buildNode(begin, mid, depth + 1, island);
-    const PfxUInt32 right = buildNode(mid, end, depth + 1, island);
-    m_nodes[index].link = right;
-    return index;
+    const PfxUInt32 children = static_cast<PfxUInt32>(m_nodes.size());
+    m_nodes.resize(children + 2);
+    m_nodes[index].link = children;
+    buildNode(begin, mid, depth + 1, island, children);
+    buildNode(mid, end, depth + 1, island, children + 1);
   }
 
   PfxUInt32 split(PfxUInt32 begin, PfxUInt32 end, PfxUInt32 depth) {
@@ -266,8 +268,8 @@ PfxUInt16 quantize(PfxFloat x, PfxFloat origin, PfxFloat step) {
   return static_cast<PfxUInt16>(std::min(std::max(q, PfxFloat(0)), PfxFloat(65535)));
 }
 
-// Node bounds from the current vertices, children before parents (reverse depth-first
-// order), and the mesh bounds from the root.
+// Node bounds from the current vertices, children before parents (children are always
+// allocated after their parent, so reverse order will do), and the mesh bounds from the root.
 void refitNodes(PfxLargeTriMesh& mesh) {
   const bool quantized = pfxLargeMeshIsQuantized(mesh);
   for (PfxUInt32 i = mesh.m_numNodes; i-- > 0;) {
@@ -294,9 +296,8 @@ void refitNodes(PfxLargeTriMesh& mesh) {
           }
         }
       } else {
-        const PfxLargeMeshQuantizedNode& left = mesh.m_quantizedNodes[i + 1];
-        const PfxLargeMeshQuantizedNode& right =
-            mesh.m_quantizedNodes[pfxLargeMeshRightChild(link)];
+        const PfxLargeMeshQuantizedNode& left = mesh.m_quantizedNodes[pfxLargeMeshFirstChild(link)];
+        const PfxLargeMeshQuantizedNode& right = (&left)[1];
         growBy(left.m_min, left.m_max);
         growBy(right.m_min, right.m_max);
       }
@@ -314,8 +315,8 @@ void refitNodes(PfxLargeTriMesh& mesh) {
           for (PfxUInt32 c : corners) box.grow(readVertex(mesh.m_vertices, c));
         }
       } else {
-        const PfxLargeMeshNode& left = mesh.m_nodes[i + 1];
-        const PfxLargeMeshNode& right = mesh.m_nodes[pfxLargeMeshRightChild(link)];
+        const PfxLargeMeshNode& left = mesh.m_nodes[pfxLargeMeshFirstChild(link)];
+        const PfxLargeMeshNode& right = (&left)[1];
         box.grow(PfxVector3(left.m_min[0], left.m_min[1], left.m_min[2]));
         box.grow(PfxVector3(left.m_max[0], left.m_max[1], left.m_max[2]));
         box.grow(PfxVector3(right.m_min[0], right.m_min[1], right.m_min[2]));

@@ -10,8 +10,8 @@
 
 namespace pfx {
 
-// Node link: bit 31 marks a leaf. An inner node's left child follows it in the array and
-// the low 31 bits index its right child. A leaf packs (count - 1) in bits 0..5, the first
+// Node link: bit 31 marks a leaf. An inner node's two children sit side by side (one cache
+// line, as the ray tests both) at the index in the low 31 bits. A leaf packs (count - 1) in bits 0..5, the first
 // triangle's offset within its island in bits 6..11 and the island in bits 12..30.
 constexpr PfxUInt32 PFX_LARGE_MESH_LEAF_BIT = 1u << 31;
 constexpr PfxUInt32 PFX_LARGE_MESH_NO_TRIANGLE = 0xFFFFFFFFu;
@@ -20,7 +20,7 @@ constexpr PfxUInt32 PFX_LARGE_MESH_NO_TRIANGLE = 0xFFFFFFFFu;
 constexpr PfxUInt32 PFX_LARGE_MESH_MAX_DEPTH = 80;
 
 inline bool pfxLargeMeshIsLeaf(PfxUInt32 link) { return (link & PFX_LARGE_MESH_LEAF_BIT) != 0; }
-inline PfxUInt32 pfxLargeMeshRightChild(PfxUInt32 link) { return link & ~PFX_LARGE_MESH_LEAF_BIT; }
+inline PfxUInt32 pfxLargeMeshFirstChild(PfxUInt32 link) { return link & ~PFX_LARGE_MESH_LEAF_BIT; }
 inline PfxUInt32 pfxLargeMeshLeafCount(PfxUInt32 link) { return (link & 63u) + 1; }
 inline PfxUInt32 pfxLargeMeshLeafOffset(PfxUInt32 link) { return (link >> 6) & 63u; }
 inline PfxUInt32 pfxLargeMeshLeafIsland(PfxUInt32 link) { return (link >> 12) & 0x7FFFFu; }
@@ -106,8 +106,8 @@ void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, con
                            n.m_max[1] >= qlo[1] && n.m_min[2] <= qhi[2] && n.m_max[2] >= qlo[2];
       if (overlap) {
         if (!pfxLargeMeshIsLeaf(n.m_link)) {
-          stack[depth++] = pfxLargeMeshRightChild(n.m_link);
-          ++node;
+          node = pfxLargeMeshFirstChild(n.m_link);
+          stack[depth++] = node + 1;
           continue;
         }
         visitLeaf(n.m_link);
@@ -123,8 +123,8 @@ void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, con
                          n.m_max[1] >= lo[1] && n.m_min[2] <= hi[2] && n.m_max[2] >= lo[2];
     if (overlap) {
       if (!pfxLargeMeshIsLeaf(n.m_link)) {
-        stack[depth++] = pfxLargeMeshRightChild(n.m_link);
-        ++node;
+        node = pfxLargeMeshFirstChild(n.m_link);
+        stack[depth++] = node + 1;
         continue;
       }
       visitLeaf(n.m_link);

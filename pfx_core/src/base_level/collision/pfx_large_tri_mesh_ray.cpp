@@ -131,8 +131,8 @@ bool castRay(const PfxLargeTriMesh& mesh, const Ray& ray, const Nodes& nodes,
         if (intersectTriangle(ray, a, b, c, best)) hit = t;
       }
     } else {
-      const PfxUInt32 left = node + 1;
-      const PfxUInt32 right = pfxLargeMeshRightChild(link);
+      const PfxUInt32 left = pfxLargeMeshFirstChild(link);
+      const PfxUInt32 right = left + 1;
       nodes.bounds(left, lo, hi);
       const PfxFloat tLeft = boxEntry(ray, lo, hi, best);
       nodes.bounds(right, lo, hi);

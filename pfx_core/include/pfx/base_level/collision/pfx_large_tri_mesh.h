@@ -10,8 +10,8 @@
 //   - array (default): a query that reaches an island tests all its triangles in turn;
 //   - PFX_MESH_FLAG_USE_BVH: the island continues the hierarchy down to leaves of at most
 //     four triangles, which costs about one node per two triangles and searches faster.
-// All nodes live in one depth-first array (left child next, right child indexed), so a query
-// walks mesh, island and triangle levels in one loop. PFX_MESH_FLAG_HIGH_QUALITY splits by
+// All nodes live in one array (the two children of a node side by side), so a query walks
+// mesh, island and triangle levels in one loop. PFX_MESH_FLAG_HIGH_QUALITY splits by
 // the surface area heuristic instead of at the median: slower to build, faster to search.
 //
 // Storage. Vertices are kept in the caller's order (deformation passes them in that order
