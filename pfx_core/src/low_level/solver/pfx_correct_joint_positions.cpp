@@ -15,7 +15,7 @@ PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
 
 namespace {
 
-constexpr PfxUInt32 kNewtonPasses = 4;
+constexpr PfxUInt32 kNewtonPasses = 2;
 
 PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
   // Masses at the current orientations, and the joints measured at the current poses.
@@ -91,8 +91,8 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param) {
   }
 
   // Each pass measures the joints at the current poses and moves the bodies to cancel the
-  // errors, linearised there: a Newton step, so a few passes leave errors far below the
-  // step's drift even when a fast chain turns its links through large angles in a step.
+  // errors, linearised there: a Newton step. One pass leaves tens of micrometres on a fast
+  // 100-link chain at 1/60 s, two leave a few.
   for (PfxUInt32 pass = 0; pass < kNewtonPasses; ++pass) {
     if (const PfxInt32 err = correctOnce(param); err != PFX_OK) return err;
   }

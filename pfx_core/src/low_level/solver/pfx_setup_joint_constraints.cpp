@@ -164,6 +164,21 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
   }
 }
 
+// Geometric stiffness, in the diagonal approximation of Andrews, Teichmann and Kry,
+// "Geometric Stiffness for Real-time Constrained Multibody Dynamics" (2017). A joint that
+// pulls with force F at an arm r resists turning its body with a stiffness of about F r
+// (N m per radian). Light links under a heavy load make that stiffness so high that a step
+// overshoots it, and the chain shakes itself apart; adding h^2 F r = h |impulse| r to the
+// body's inertia in the solve, as an implicit step would, keeps it stable. The impulse is
+// last step's, so a joint that starts to pull gets the extra inertia one step later.
+void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& arm,
+                           PfxFloat timeStep) {
+  const PfxFloat boost = timeStep * impulse * arm.norm();
+  if (!(boost > 0) || body.m_massInv == 0) return;
+  const PfxMatrix3 inertia = body.m_inertiaInv.inverse();
+  body.m_inertiaInv = (inertia + boost * PfxMatrix3::Identity()).inverse();
+}
+
 }  // namespace
 
 PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
@@ -179,6 +194,25 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
   if (!pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
                        param.numJoints)) {
     return PFX_ERR_OUT_OF_RANGE;
+  }
+  for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
+    const PfxConstraintPair& pair = param.jointPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    const PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
+    PfxVector3 linearImpulse;
+    for (int k = 0; k < 3; ++k) linearImpulse[k] = joint.m_constraints[k].m_constraintRow.m_accumImpulse;
+    const PfxFloat impulse = linearImpulse.norm();
+    const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+    if (pfxGetReceivesA(pair)) {
+      addGeometricStiffness(param.offsetSolverBodies[idA], impulse,
+                            param.offsetRigidStates[idA].getOrientation() * joint.m_anchorA,
+                            param.timeStep);
+    }
+    if (pfxGetReceivesB(pair)) {
+      addGeometricStiffness(param.offsetSolverBodies[idB], impulse,
+                            param.offsetRigidStates[idB].getOrientation() * joint.m_anchorB,
+                            param.timeStep);
+    }
   }
   for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
     const PfxConstraintPair& pair = param.jointPairs[i];
