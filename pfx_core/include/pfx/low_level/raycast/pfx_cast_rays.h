@@ -1,0 +1,66 @@
+// Stage: rays cast into a scene through the six sorted proxy arrays that
+// pfxUpdateBroadphaseProxies writes (seed chapter 5, "Raycast").
+//
+// How a ray finds its body. The ray walks the array sorted along its dominant axis, in its
+// own direction: the array by minimum ascending for a ray going +X, by maximum descending
+// for -X, and likewise for Y and Z. A proxy whose quantized box the ray misses is skipped
+// without touching the body; the walk stops at the first proxy whose box begins, along that
+// axis, beyond the closest hit so far (or beyond the ray's end), since every later proxy
+// begins further still. Quantized boxes are widened by one cell, and a box clamped to the
+// edge of the range reaches on to infinity there, so that neither rounding nor a body
+// poking out of the range hides a hit.
+//
+// Contact filters: a body is tested only when
+//   (ray.m_contactFilterTarget & body's self) != 0 && (ray.m_contactFilterSelf & body's target) != 0,
+// the rule bodies follow among themselves (pfxContactFiltersMatch), with the ray as one side.
+// The filters are read from the proxies, as pfxUpdateBroadphaseProxies copied them. Every
+// motion type is hit, triggers included; give bodies that rays should not see a filter that
+// the rays' filters exclude.
+//
+// Of bodies hit at the same fraction the lowest id wins, so the answer does not depend on
+// the order of the walk: it equals testing every body in turn.
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
+#include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/raycast/pfx_ray.h"
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+struct PfxRayCastParam {
+  // Indexed by the rigid body ids stored in the proxies.
+  const PfxRigidState* offsetRigidStates = nullptr;
+  const PfxCollidable* offsetCollidables = nullptr;
+  // The six arrays of pfxUpdateBroadphaseProxies, built with static bounds (timeStep 0) and
+  // the world bounds given below. Only the arrays that the rays' directions need are read:
+  // a scene cast only downward may pass proxiesYb alone.
+  const PfxBroadphaseProxy* proxiesX = nullptr;
+  const PfxBroadphaseProxy* proxiesY = nullptr;
+  const PfxBroadphaseProxy* proxiesZ = nullptr;
+  const PfxBroadphaseProxy* proxiesXb = nullptr;
+  const PfxBroadphaseProxy* proxiesYb = nullptr;
+  const PfxBroadphaseProxy* proxiesZb = nullptr;
+  PfxUInt32 numProxies = 0;  // in each array
+  // The worldCenter and worldExtent the proxies were quantized in.
+  PfxVector3 rangeCenter = PfxVector3::Zero();
+  PfxVector3 rangeExtent = PfxVector3::Constant(1000);
+};
+
+// Casts one ray and writes the closest hit, or a miss (PfxRayOutput::setMiss), to `out`.
+// Rejects a ray that cannot be cast (pfxCheckRayInput: PFX_ERR_INVALID_VALUE,
+// PFX_ERR_DEGENERATE), a non-finite range or one not larger than zero on every axis
+// (PFX_ERR_INVALID_VALUE), and, when there are proxies, null states or collidables or a
+// null array that the ray's direction needs (PFX_ERR_NULL_POINTER); `out` is then left as
+// it was. `in` and `out` may be the same memory. Safe to call from several threads at once
+// on the same parameters, which it does not change.
+PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRayCastParam& param);
+
+// Casts `numRays` rays, each as pfxCastSingleRay would. Every ray and the parameters are
+// checked before any output is written, so a rejected batch writes nothing; null arrays
+// with rays to cast (PFX_ERR_NULL_POINTER) and output that shares bytes with the input
+// (PFX_ERR_INVALID_VALUE) are rejected as well.
+PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays,
+                     const PfxRayCastParam& param);
+
+}  // namespace pfx
