@@ -1,18 +1,41 @@
 // Raycasts: known hit points and normals on every shape type at random poses, the
 // documented answers for rays that start inside, graze, run along edges or cannot be cast,
 // contact filters, compounds, the proxy walk against testing every body, watertightness,
-// and bad input.
+// bad input, and the world's casts.
 #include <algorithm>
+#include <atomic>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <random>
 #include <vector>
 
 #include "pfx/base_level/raycast/pfx_ray_shapes.h"
+#include "pfx/high_level/pfx_body_init.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx_contact_test_util.h"
 #include "pfx_large_mesh_test_util.h"
+
+// Every heap allocation of this test program passes here, so a test can count them.
+static std::atomic<long> g_allocations{0};
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, std::align_val_t align) {
+  ++g_allocations;
+  const std::size_t a = static_cast<std::size_t>(align);
+  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace pfx_test {
 namespace {
@@ -1005,6 +1028,136 @@ TEST(RayCastStageRejects, BatchArraysMissingOrSharingBytes) {
   // The single cast may write its answer over its own ray.
   PfxRayInput& in = rays[0];
   ASSERT_EQ(pfxCastSingleRay(in, reinterpret_cast<PfxRayOutput&>(shared), param), PFX_OK);
+}
+
+// ------------------------------------------------ the world
+
+TEST(WorldRaycast, RaysSeeBodiesAsTheyAreAfterStepsAndChanges) {
+  PfxWorldParam param;
+  param.worldExtent = PfxVector3::Constant(50);
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxRayOutput out;
+  const PfxRayInput down = makeRay(PfxVector3(0, 20, 0), PfxVector3(0, -40, 0));
+  // An empty world: a miss over the whole ray.
+  ASSERT_EQ(world.castRay(down, out), PFX_OK);
+  EXPECT_FALSE(out.m_contactFlag);
+
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 1, 20)), ground), PFX_OK);
+  // The ground's top at y = 0 is 20 m down the 40 m ray.
+  ASSERT_EQ(world.castRay(down, out), PFX_OK);
+  ASSERT_TRUE(out.m_contactFlag);
+  EXPECT_EQ(out.m_objectId, 0u);
+  EXPECT_EQ(out.m_variable, 0.5f);
+
+  // A sphere added after that cast is seen by the next: top at 10 + 1 = 11, 9 m down.
+  PfxBodyInit ball;
+  ball.position = PfxVector3(0, 10, 0);
+  PfxUInt32 ballId;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(1)), ball, &ballId), PFX_OK);
+  ASSERT_EQ(world.castRay(down, out), PFX_OK);
+  EXPECT_EQ(out.m_objectId, ballId);
+  EXPECT_NEAR(out.m_variable, 9.0f / 40, 1e-6f);
+
+  // After half a second of free fall the ball's top is where the world says it is.
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const PfxFloat top = world.getRigidState(ballId).getPosition().y() + 1;
+  ASSERT_LT(top, 11 - 1);
+  ASSERT_EQ(world.castRay(down, out), PFX_OK);
+  EXPECT_EQ(out.m_objectId, ballId);
+  EXPECT_NEAR(out.m_contactPoint.y(), top, 1e-5f);
+
+  // Moved aside by setRigidState: the ray reaches the ground again.
+  PfxRigidState moved = world.getRigidState(ballId);
+  moved.setPosition(PfxVector3(5, 10, 0));
+  ASSERT_EQ(world.setRigidState(ballId, moved), PFX_OK);
+  ASSERT_EQ(world.castRay(down, out), PFX_OK);
+  EXPECT_EQ(out.m_objectId, 0u);
+
+  // A body beyond the world's bounds is still seen; filters apply as in the stage.
+  PfxBodyInit far;
+  far.mass = 0;
+  far.position = PfxVector3(80, 0, 0);
+  PfxUInt32 farId;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(1, 1, 1)), far, &farId), PFX_OK);
+  PfxRayInput sideways = makeRay(PfxVector3(60, 0, 0), PfxVector3(40, 0, 0));
+  ASSERT_EQ(world.castRay(sideways, out), PFX_OK);
+  EXPECT_EQ(out.m_objectId, farId);
+  EXPECT_NEAR(out.m_variable, 19.0f / 40, 1e-6f);
+  sideways.m_contactFilterTarget = 0;
+  ASSERT_EQ(world.castRay(sideways, out), PFX_OK);
+  EXPECT_FALSE(out.m_contactFlag);
+}
+
+TEST(WorldRaycast, BatchEqualsSingleAndBadInputChangesNothing) {
+  PfxWorld world;
+  RandomSource rng(4);
+  for (int i = 0; i < 100; ++i) {
+    PfxBodyInit init;
+    init.mass = 0;
+    init.position = rng.position(20);
+    init.orientation = rng.rotation();
+    const PfxShape shape = i % 2 ? pfxMakeShape(PfxBox(0.5f, 1, 1.5f)) : pfxMakeShape(PfxCapsule(1, 0.5f));
+    ASSERT_EQ(pfxAddBody(world, shape, init), PFX_OK);
+  }
+  std::vector<PfxRayInput> rays;
+  for (int i = 0; i < 500; ++i) {
+    rays.push_back(makeRay(rng.position(25), (rng.unit() * 40).cast<PfxFloat>()));
+  }
+  std::vector<PfxRayOutput> batch(rays.size());
+  ASSERT_EQ(world.castRays(rays.data(), batch.data(), PfxUInt32(rays.size())), PFX_OK);
+  PfxUInt32 hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    PfxRayOutput single;
+    ASSERT_EQ(world.castRay(rays[i], single), PFX_OK);
+    expectSameOutput(batch[i], single, "world batch against single");
+    hits += single.m_contactFlag;
+  }
+  EXPECT_GT(hits, 25u);
+
+  PfxRayOutput out = poisonedOutput();
+  EXPECT_EQ(world.castRay(makeRay(PfxVector3(0, kNaN, 0), PfxVector3(1, 0, 0)), out),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.castRay(makeRay(PfxVector3::Zero(), PfxVector3::Zero()), out),
+            PFX_ERR_DEGENERATE);
+  EXPECT_TRUE(isPoisoned(out));
+  rays[250].m_direction[2] = kInf;
+  std::vector<PfxRayOutput> untouched(rays.size());
+  std::memset(static_cast<void*>(untouched.data()), 0xab, sizeof(PfxRayOutput) * untouched.size());
+  EXPECT_EQ(world.castRays(rays.data(), untouched.data(), PfxUInt32(rays.size())),
+            PFX_ERR_INVALID_VALUE);
+  for (const PfxRayOutput& o : untouched) ASSERT_TRUE(isPoisoned(o));
+  EXPECT_EQ(world.castRays(nullptr, untouched.data(), 3), PFX_ERR_NULL_POINTER);
+}
+
+TEST(WorldRaycast, CastsAndStepsAllocateNothingOnceWarm) {
+  PfxWorld world;
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 1, 20)), ground), PFX_OK);
+  for (int i = 0; i < 20; ++i) {
+    PfxBodyInit box;
+    box.position = PfxVector3(PfxFloat(i % 5) * 2 - 4, 2 + PfxFloat(i / 5) * 2, 0);
+    ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.4f, 0.4f, 0.4f)), box), PFX_OK);
+  }
+  const PfxRayInput ray = makeRay(PfxVector3(0, 20, 0.1f), PfxVector3(0, -30, 0));
+  PfxRayOutput out;
+  // Warm: the boxes have landed and the pair buffers hold every contact they will.
+  for (int i = 0; i < 120; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    ASSERT_EQ(world.castRay(ray, out), PFX_OK);
+  }
+  const long before = g_allocations.load();
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    ASSERT_EQ(world.castRay(ray, out), PFX_OK);
+    ASSERT_EQ(world.castRays(&ray, &out, 1), PFX_OK);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(out.m_contactFlag);
 }
 
 }  // namespace

@@ -85,6 +85,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_compoundShapes.clear();
   m_compoundShapeIds.clear();
   m_numProxies = 0;
+  m_rayProxiesStale = true;
   m_numPairs = 0;
   m_numFoundPairs = 0;
   m_manifolds.clear();
@@ -158,6 +159,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
   reserveSolverWork();
+  m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
 }
@@ -167,6 +169,7 @@ PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
   if (const PfxInt32 err = validateBody(state, m_bodies[id]); err != PFX_OK) return err;
   m_states[id] = state;
   m_states[id].setRigidBodyId(id);
+  m_rayProxiesStale = true;
   return PFX_OK;
 }
 
@@ -184,6 +187,7 @@ PfxInt32 PfxWorld::updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh,
     return err;
   }
   m_collidables[id].finish();
+  m_rayProxiesStale = true;
 
   for (PfxUInt32 p = 0; p < m_numPairs; ++p) {
     PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[p])];
@@ -560,6 +564,7 @@ void PfxWorld::gatherStats() {
 
 PfxInt32 PfxWorld::step() {
   const Clock::time_point start = Clock::now();
+  m_rayProxiesStale = true;
   for (double& seconds : m_stats.stageSeconds) seconds = 0;
   {
     StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies);

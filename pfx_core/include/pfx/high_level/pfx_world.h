@@ -15,6 +15,7 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/raycast/pfx_cast_rays.h"
 
 namespace pfx {
 
@@ -134,6 +135,16 @@ class PfxWorld {
   PfxInt32 step();
   const PfxWorldStats& getStats() const { return m_stats; }
 
+  // The closest hit of a ray, or of each of `numRays` rays, on the bodies as they are now
+  // (seed chapter 5; rules in pfx_ray.h and pfx_cast_rays.h). The first cast after a step
+  // or a change to the bodies sorts the six proxy arrays that rays walk, so a world that
+  // casts no rays never pays for them, and many casts between steps pay once. Rays see
+  // every body, also those outside the world's bounds. Rejects what pfxCastSingleRay and
+  // pfxCastRays reject, and a body whose state is no longer valid (PFX_ERR_INVALID_VALUE),
+  // with the output untouched. Allocates only after bodies were added.
+  PfxInt32 castRay(const PfxRayInput& in, PfxRayOutput& out);
+  PfxInt32 castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays);
+
   // The pairs of the last step, sorted by key, and their contact manifolds.
   PfxUInt32 getNumContactPairs() const { return m_numPairs; }
   const PfxConstraintPair& getContactPair(PfxUInt32 i) const { return m_pairs[i]; }
@@ -154,6 +165,8 @@ class PfxWorld {
   void reserveSolverWork();
   void dropJointedPairs();
   void gatherStats();
+  PfxInt32 updateRayProxies();
+  PfxRayCastParam rayCastParam() const;
 
   PfxWorldParam m_param;
   PfxWorldStats m_stats;
@@ -189,6 +202,13 @@ class PfxWorld {
   std::vector<PfxConstraintPair> m_jointPairs;
   std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
   std::vector<PfxSortData16> m_solverWork;   // the joints' direct solve
+
+  // The six arrays that rays walk, then their sort scratch: seven blocks of
+  // m_rayProxyStride proxies. Stale after anything that moves or changes a body.
+  std::vector<PfxBroadphaseProxy> m_rayProxies;
+  std::size_t m_rayProxyStride = 0;
+  PfxUInt32 m_numRayProxies = 0;
+  bool m_rayProxiesStale = true;
 };
 
 }  // namespace pfx
