@@ -10,6 +10,7 @@
 
 #include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_ragdoll.h"
 
 using namespace pfx;
 
@@ -315,4 +316,78 @@ TEST(Joints, ReportsTheForceItApplies) {
   EXPECT_NEAR(force.y(), 3 * kGravity, 0.01f * 3 * kGravity);
   EXPECT_NEAR(force.x(), 0, 1e-3f);
   EXPECT_LT(world.getRigidState(load).getLinearVelocity().norm(), 1e-4f);
+}
+
+// Seed 6_joint's ragdoll dropped from 2 m onto a box: no joint strays more than 2 degrees
+// past its limits, the anchors stay together, and it comes to rest.
+TEST(Joints, RagdollKeepsItsLimitsAndComesToRest) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -0.5f, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 0.5f, 20)), ground), PFX_OK);
+  PfxBodyInit box;
+  box.mass = 0;
+  box.position = PfxVector3(0, 0.5f, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(1.5f, 0.5f, 1.0f)), box), PFX_OK);
+  PfxRagdoll doll;
+  const PfxQuat tumble(Eigen::AngleAxis<PfxFloat>(0.5f, PfxVector3(1, 0, 0.4f).normalized()));
+  ASSERT_EQ(pfxAddRagdoll(world, PfxVector3(0.2f, 1 + 2 + 1, 0), tumble, &doll), PFX_OK);
+  PfxFloat violation = 0, gap = 0, lastSecond = 0;
+  for (int i = 0; i < 600; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    for (PfxUInt32 j = 0; j < world.getNumJoints(); ++j) {
+      const PfxJoint& joint = world.getJoint(j);
+      violation = std::max(violation,
+                           pfxGetJointLimitViolation(joint, world.getRigidState(joint.m_rigidBodyIdA),
+                                                     world.getRigidState(joint.m_rigidBodyIdB)));
+      gap = std::max(gap, jointGap(world, joint));
+    }
+    if (i >= 540) {
+      for (PfxUInt32 b : doll.bodies) {
+        lastSecond = std::max(lastSecond, world.getRigidState(b).getLinearVelocity().norm());
+      }
+    }
+  }
+  std::printf("ragdoll: largest limit excursion %.3f deg, gap %.2e m, last-second speed %.4f m/s\n",
+              violation * 180 / PFX_PI, gap, lastSecond);
+  EXPECT_LT(violation, 2 * PFX_PI / 180);
+  EXPECT_LT(gap, 1e-3f);
+  EXPECT_LT(lastSecond, 0.05f);
+}
+
+// The seed's contradicting constraints: a box held by a fixed joint where a wall overlaps
+// it, and pushed into the wall. The two cannot both hold; what matters is that nothing
+// explodes or turns NaN.
+TEST(Joints, ContradictingJointAndContactStayBounded) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit wall;
+  wall.mass = 0;
+  wall.position = PfxVector3(0.5f, 1, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.25f, 1, 1)), wall), PFX_OK);
+  const PfxUInt32 post = addFixed(world, PfxVector3(-1, 1, 0));
+  PfxBodyInit init;
+  init.position = PfxVector3(0.1f, 1, 0);  // 15 cm into the wall
+  PfxUInt32 box = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.3f, 0.3f, 0.3f)), init, &box), PFX_OK);
+  PfxFixedJointInitParam p;
+  p.anchorPoint = PfxVector3(-1, 1, 0);
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeFixedJoint(joint, world.getRigidState(post), world.getRigidState(box), p),
+            PFX_OK);
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+  PfxFloat fastest = 0;
+  for (int i = 0; i < 600; ++i) {
+    ASSERT_EQ(world.applyForce(box, PfxVector3(500, 0, 0), PfxVector3::Zero()), PFX_OK);
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxRigidState& s = world.getRigidState(box);
+    ASSERT_TRUE(s.isValid()) << "step " << i;
+    fastest = std::max(fastest, s.getLinearVelocity().norm());
+  }
+  std::printf("contradicting constraints: fastest %.3f m/s, box at x = %.3f\n", fastest,
+              world.getRigidState(box).getPosition().x());
+  EXPECT_LT(fastest, 1.0f);
+  EXPECT_LT((world.getRigidState(box).getPosition() - init.position).norm(), 0.5f);
 }
