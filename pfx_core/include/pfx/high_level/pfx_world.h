@@ -46,7 +46,8 @@ struct PfxWorldParam {
   PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
 };
 
-// The stages of a step, in the order they run; index of PfxWorldStats::stageSeconds.
+// The stages of a step, named as in the seed; index of PfxWorldStats::stageSeconds. The
+// broad phase and collision detection run once per step, the rest once per sub-step.
 enum PfxStage : PfxUInt8 {
   kPfxStageApplyExternalForce = 0,
   kPfxStageUpdateBroadphaseProxies,
