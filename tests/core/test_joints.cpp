@@ -391,3 +391,41 @@ TEST(Joints, ContradictingJointAndContactStayBounded) {
   EXPECT_LT(fastest, 1.0f);
   EXPECT_LT((world.getRigidState(box).getPosition() - init.position).norm(), 0.5f);
 }
+
+// The seed's damping removes its fraction of the relative velocity on a free axis each
+// step; friction holds against a torque below it and gives way above it.
+TEST(Joints, DampingAndFrictionResistMotion) {
+  auto spinWheel = [](PfxFloat damping, PfxFloat friction, PfxFloat torque, PfxFloat spin) {
+    PfxWorldParam param;
+    param.gravity.setZero();
+    PfxWorld world;
+    EXPECT_EQ(world.initialize(param), PFX_OK);
+    const PfxUInt32 base = addFixed(world, PfxVector3::Zero());
+    const PfxUInt32 wheel = addBall(world, PfxVector3::Zero(), 1, 0.2f);
+    PfxRigidState s = world.getRigidState(wheel);
+    s.setAngularVelocity(PfxVector3(0, 0, spin));
+    EXPECT_EQ(world.setRigidState(wheel, s), PFX_OK);
+    PfxHingeJointInitParam hinge;
+    hinge.axis = PfxVector3::UnitZ();
+    hinge.damping = damping;
+    PfxJoint joint;
+    EXPECT_EQ(pfxInitializeHingeJoint(joint, world.getRigidState(base), world.getRigidState(wheel),
+                                      hinge),
+              PFX_OK);
+    joint.m_constraints[kPfxJointAxisTwist].m_friction = friction;
+    EXPECT_EQ(world.addJoint(joint), PFX_OK);
+    for (int i = 0; i < 60; ++i) {
+      world.applyForce(wheel, PfxVector3::Zero(), PfxVector3(0, 0, torque));
+      EXPECT_EQ(world.step(), PFX_OK);
+    }
+    return world.getRigidState(wheel).getAngularVelocity().z();
+  };
+  // Undamped and frictionless: the spin stays.
+  EXPECT_NEAR(spinWheel(0, 0, 0, 2), 2, 1e-3f);
+  // Damping 0.1 per step: 2 * 0.9^60.
+  EXPECT_NEAR(spinWheel(0.1f, 0, 0, 2), 2 * std::pow(0.9f, 60.0f), 1e-3f);
+  // Friction 0.05 N m holds against 0.04 N m and gives way to 0.1 N m: the wheel (inertia
+  // 0.016 kg m^2) then gains (0.1 - 0.05) / 0.016 rad/s^2 for 1 s.
+  EXPECT_NEAR(spinWheel(0, 0.05f, 0.04f, 0), 0, 1e-4f);
+  EXPECT_NEAR(spinWheel(0, 0.05f, 0.1f, 0), 0.05f / 0.016f, 0.02f);
+}

@@ -101,9 +101,18 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     target = (c.m_driveTarget - c.m_position) / timeStep;
     bound = c.m_driveMaxForce * timeStep;
   } else if (movable && (c.m_damping > 0 || c.m_friction > 0)) {
+    // Damping alone takes its fraction of the velocity away. Friction tries to stop the
+    // axis outright, within its force, and damping then adds its share to that force.
     const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, direction);
-    target = (1 - c.m_damping) * rowVelocity(j, bodies);
-    if (c.m_friction > 0) bound = c.m_friction * timeStep;
+    const PfxFloat velocity = rowVelocity(j, bodies);
+    if (c.m_friction > 0) {
+      const PfxFloat jacDiagInv =
+          pfxJointRowJacDiagInv(j, bodies.a, bodies.receivesA, bodies.b, bodies.receivesB);
+      target = 0;
+      bound = c.m_friction * timeStep + c.m_damping * std::abs(velocity) * jacDiagInv;
+    } else {
+      target = (1 - c.m_damping) * velocity;
+    }
   } else {
     c.m_driveRowUsed = 0;
     unsetRow(c.m_driveRow);
