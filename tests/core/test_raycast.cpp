@@ -14,6 +14,7 @@
 #include "pfx/base_level/raycast/pfx_ray_shapes.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/raycast/pfx_build_ray_bvh.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx_contact_test_util.h"
 #include "pfx_large_mesh_test_util.h"
@@ -531,6 +532,30 @@ class Scene {
     ASSERT_EQ(result.numProxies, n);
   }
 
+  // The hierarchy over proxiesX, for rays that descend it instead of walking the arrays.
+  void buildBvh() {
+    const PfxUInt32 n = numBodies();
+    m_bvh.assign(pfxGetNumRayBvhNodes(n), PfxRayBvhNode());
+    m_bvhWork.assign(n / 4 + 1, PfxSortData16());
+    PfxBuildRayBvhParam param;
+    param.workBuff = m_bvhWork.data();
+    param.workBytes = pfxGetWorkBytesOfBuildRayBvh(n);
+    param.proxies = m_proxies[0].data();
+    param.numProxies = n;
+    param.nodes = m_bvh.data();
+    param.maxNodes = PfxUInt32(m_bvh.size());
+    ASSERT_EQ(pfxBuildRayBvh(param), PFX_OK);
+  }
+  PfxRayCastParam bvhParam() const {
+    PfxRayCastParam p = param();
+    p.proxiesX = p.proxiesY = p.proxiesZ = p.proxiesXb = p.proxiesYb = p.proxiesZb = nullptr;
+    p.bvhNodes = m_bvh.data();
+    p.bvhProxies = m_proxies[0].data();
+    return p;
+  }
+  const std::vector<PfxRayBvhNode>& bvh() const { return m_bvh; }
+  const std::vector<PfxBroadphaseProxy>& proxiesX() const { return m_proxies[0]; }
+
   PfxRayCastParam param() const {
     PfxRayCastParam p;
     p.offsetRigidStates = m_states.data();
@@ -579,6 +604,9 @@ class Scene {
   std::vector<std::unique_ptr<PfxUInt16[]>> m_compoundIds;
   std::vector<PfxBroadphaseProxy> m_proxies[6];
   std::vector<PfxBroadphaseProxy> m_work;
+  std::vector<PfxRayBvhNode> m_bvh;
+  // 16-byte aligned scratch for the hierarchy's build (PfxUInt32 per proxy).
+  std::vector<PfxSortData16> m_bvhWork;
 };
 
 void expectSameOutput(const PfxRayOutput& a, const PfxRayOutput& b, const char* what) {
@@ -734,6 +762,7 @@ void fillRandomScene(RandomScene& r, PfxUInt32 count, unsigned seed) {
     scene.add(shapes, numShapes, position, rng.rotation(), self, target);
   }
   scene.buildProxies();
+  scene.buildBvh();
 }
 
 std::vector<PfxRayInput> randomRays(PfxUInt32 count, unsigned seed) {
@@ -753,16 +782,20 @@ std::vector<PfxRayInput> randomRays(PfxUInt32 count, unsigned seed) {
   return rays;
 }
 
-TEST(RayCastStage, WalkEqualsTestingEveryBodyInRandomScenes) {
+TEST(RayCastStage, WalkAndHierarchyEqualTestingEveryBodyInRandomScenes) {
   PfxUInt32 hits = 0, total = 0;
   for (unsigned seed = 1; seed <= 4; ++seed) {
     RandomScene r;
     fillRandomScene(r, 300, seed);
-    const PfxRayCastParam param = r.scene->param();
+    const PfxRayCastParam walk = r.scene->param();
+    const PfxRayCastParam hierarchy = r.scene->bvhParam();
     for (const PfxRayInput& ray : randomRays(3000, 100 + seed)) {
-      PfxRayOutput walked;
-      ASSERT_EQ(pfxCastSingleRay(ray, walked, param), PFX_OK);
-      expectSameOutput(walked, r.scene->castEveryBody(ray), "walk against every body");
+      const PfxRayOutput reference = r.scene->castEveryBody(ray);
+      PfxRayOutput walked, descended;
+      ASSERT_EQ(pfxCastSingleRay(ray, walked, walk), PFX_OK);
+      ASSERT_EQ(pfxCastSingleRay(ray, descended, hierarchy), PFX_OK);
+      expectSameOutput(walked, reference, "walk against every body");
+      expectSameOutput(descended, reference, "hierarchy against every body");
       hits += walked.m_contactFlag;
       ++total;
     }
@@ -777,13 +810,109 @@ TEST(RayCastStage, BatchEqualsSingleRays) {
   fillRandomScene(r, 200, 9);
   const PfxRayCastParam param = r.scene->param();
   const std::vector<PfxRayInput> rays = randomRays(2000, 77);
-  std::vector<PfxRayOutput> batch(rays.size());
-  ASSERT_EQ(pfxCastRays(rays.data(), batch.data(), PfxUInt32(rays.size()), param), PFX_OK);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    PfxRayOutput single;
-    ASSERT_EQ(pfxCastSingleRay(rays[i], single, param), PFX_OK);
-    expectSameOutput(batch[i], single, "batch against single");
+  for (const PfxRayCastParam& p : {param, r.scene->bvhParam()}) {
+    std::vector<PfxRayOutput> batch(rays.size());
+    ASSERT_EQ(pfxCastRays(rays.data(), batch.data(), PfxUInt32(rays.size()), p), PFX_OK);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      PfxRayOutput single;
+      ASSERT_EQ(pfxCastSingleRay(rays[i], single, p), PFX_OK);
+      expectSameOutput(batch[i], single, "batch against single");
+    }
   }
+}
+
+// Every node's box holds its children's, every proxy is in exactly one leaf with its own
+// box, and no path is longer than the median splits allow: ceil(log2 n) + 1 nodes.
+TEST(RayBvh, NodesBoundTheirChildrenAndLeavesCoverEveryProxyOnce) {
+  RandomScene r;
+  fillRandomScene(r, 777, 5);
+  const std::vector<PfxRayBvhNode>& nodes = r.scene->bvh();
+  const std::vector<PfxBroadphaseProxy>& proxies = r.scene->proxiesX();
+  ASSERT_EQ(nodes.size(), 2 * proxies.size() - 1);
+  std::vector<int> seen(proxies.size(), 0);
+  auto contains = [](const PfxRayBvhNode& outer, const PfxRayBvhNode& inner) {
+    for (int a = 0; a < 3; ++a) {
+      if (inner.m_min[a] < outer.m_min[a] || inner.m_max[a] > outer.m_max[a]) return false;
+    }
+    return true;
+  };
+  int deepest = 0;
+  std::vector<std::pair<PfxUInt32, int>> pending = {{0, 1}};
+  while (!pending.empty()) {
+    const auto [index, depth] = pending.back();
+    pending.pop_back();
+    ASSERT_LT(index, nodes.size());
+    deepest = std::max(deepest, depth);
+    const PfxRayBvhNode& node = nodes[index];
+    if (node.m_link & PFX_RAY_BVH_LEAF) {
+      const PfxUInt32 p = node.m_link & ~PFX_RAY_BVH_LEAF;
+      ASSERT_LT(p, proxies.size());
+      ++seen[p];
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(node.m_min[a], pfxGetXMin(proxies[p], a));
+        EXPECT_EQ(node.m_max[a], pfxGetXMax(proxies[p], a));
+      }
+      continue;
+    }
+    EXPECT_TRUE(contains(node, nodes[index + 1]));
+    EXPECT_TRUE(contains(node, nodes[node.m_link]));
+    pending.push_back({index + 1, depth + 1});
+    pending.push_back({node.m_link, depth + 1});
+  }
+  for (int count : seen) EXPECT_EQ(count, 1);
+  EXPECT_LE(deepest, 11);  // 777 proxies: ceil(log2 777) + 1 = 11
+}
+
+TEST(RayBvh, RejectsBadBuffersAndWritesNothing) {
+  Scene scene(100);
+  for (int i = 0; i < 8; ++i) scene.add(makeSphere(1), PfxVector3(3.0f * i, 0, 0));
+  scene.buildProxies();
+  std::vector<PfxRayBvhNode> nodes(pfxGetNumRayBvhNodes(8));
+  std::memset(static_cast<void*>(nodes.data()), 0xab, nodes.size() * sizeof(PfxRayBvhNode));
+  const std::vector<PfxRayBvhNode> untouched = nodes;
+  alignas(16) PfxUInt32 work[12];
+  PfxBuildRayBvhParam good;
+  good.workBuff = work;
+  good.workBytes = pfxGetWorkBytesOfBuildRayBvh(8);
+  good.proxies = scene.proxiesX().data();
+  good.numProxies = 8;
+  good.nodes = nodes.data();
+  good.maxNodes = PfxUInt32(nodes.size());
+  auto rejects = [&](PfxBuildRayBvhParam p, PfxInt32 expected, const char* what) {
+    EXPECT_EQ(pfxBuildRayBvh(p), expected) << what;
+    EXPECT_EQ(std::memcmp(nodes.data(), untouched.data(), nodes.size() * sizeof(PfxRayBvhNode)), 0)
+        << what;
+  };
+  PfxBuildRayBvhParam p = good;
+  p.proxies = nullptr;
+  rejects(p, PFX_ERR_NULL_POINTER, "no proxies");
+  p = good;
+  p.maxNodes = 14;
+  rejects(p, PFX_ERR_OUT_OF_BUFFER, "14 nodes for 8 proxies");
+  p = good;
+  p.workBytes = 28;
+  rejects(p, PFX_ERR_OUT_OF_BUFFER, "short work buffer");
+  p = good;
+  p.workBuff = reinterpret_cast<unsigned char*>(work) + 4;
+  rejects(p, PFX_ERR_INVALID_ALIGNMENT, "misaligned work buffer");
+  p = good;
+  p.workBuff = nodes.data();
+  rejects(p, PFX_ERR_INVALID_VALUE, "work buffer inside the nodes");
+  p = good;
+  p.numProxies = 0;
+  EXPECT_EQ(pfxBuildRayBvh(p), PFX_OK);
+  EXPECT_EQ(pfxBuildRayBvh(good), PFX_OK);
+  // A hierarchy named without its proxies cannot be descended.
+  PfxRayCastParam cast = scene.param();
+  cast.bvhNodes = nodes.data();
+  PfxRayOutput out = poisonedOutput();
+  EXPECT_EQ(pfxCastSingleRay(makeRay(PfxVector3(-5, 0, 0), PfxVector3(10, 0, 0)), out, cast),
+            PFX_ERR_NULL_POINTER);
+  EXPECT_TRUE(isPoisoned(out));
+  cast.bvhProxies = scene.proxiesX().data();
+  ASSERT_EQ(pfxCastSingleRay(makeRay(PfxVector3(-5, 0, 0), PfxVector3(10, 0, 0)), out, cast),
+            PFX_OK);
+  EXPECT_EQ(out.m_variable, 0.4f);
 }
 
 TEST(RayCastStage, EmptySceneMissesEverything) {

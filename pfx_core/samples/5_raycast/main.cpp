@@ -5,7 +5,8 @@
 //     and normal worked out by hand. (3) Contact filters: a ray that looks for one group
 //     finds that group's body, and a ray that drops each group it has seen lists every
 //     body along its path, nearest first. (4) Rays per second, one at a time and in a
-//     batch, among 1,000 mixed bodies.
+//     batch, among 1,000 mixed bodies, through the world's hierarchy and through the seed's
+//     six sorted proxy arrays.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,8 @@
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx/base_level/raycast/pfx_ray_shapes.h"
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/raycast/pfx_cast_rays.h"
 
 using namespace pfx;
 
@@ -330,7 +333,8 @@ bool filterScene() {
   return ok && found == 5;
 }
 
-// (4) Rays per second among 1,000 mixed bodies spread through a 100 m cube.
+// (4) Rays per second among 1,000 mixed bodies spread through a 100 m cube: the world's
+// hierarchy, the seed's sorted arrays on the same bodies, and testing every body.
 bool speedScene(const PfxConvexMesh& icosahedron) {
   PfxWorldParam param;
   param.worldExtent = PfxVector3::Constant(60);
@@ -370,10 +374,10 @@ bool speedScene(const PfxConvexMesh& icosahedron) {
     while (d.norm() < 0.1f) d = PfxVector3(unit(rng), unit(rng), unit(rng));
     rays.push_back(makeRay(PfxVector3(unit(rng), unit(rng), unit(rng)) * 50, d.normalized() * 30));
   }
-  std::vector<PfxRayOutput> single(numRays), batch(numRays);
+  std::vector<PfxRayOutput> single(numRays), batch(numRays), walked(numRays), walkedBatch(numRays);
   Clock::time_point t0 = Clock::now();
   PfxRayOutput first;
-  world.castRay(rays[0], first);  // sorts the proxy arrays
+  world.castRay(rays[0], first);  // updates the proxies and the hierarchy
   const double buildSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
   t0 = Clock::now();
   for (int i = 0; i < numRays; ++i) world.castRay(rays[i], single[i]);
@@ -381,6 +385,45 @@ bool speedScene(const PfxConvexMesh& icosahedron) {
   t0 = Clock::now();
   world.castRays(rays.data(), batch.data(), numRays);
   const double batchSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
+  // The seed's way on the same bodies: six sorted proxy arrays, walked.
+  const PfxUInt32 n = world.getNumRigidBodies();
+  std::vector<PfxRigidState> states(world.getRigidStates(), world.getRigidStates() + n);
+  std::vector<PfxBroadphaseProxy> arrays(7 * std::size_t(n));
+  PfxUpdateBroadphaseProxiesParam update;
+  update.workBuff = &arrays[6 * std::size_t(n)];
+  update.workBytes = pfxGetWorkBytesOfUpdateBroadphaseProxies(n);
+  update.offsetRigidStates = states.data();
+  update.offsetCollidables = &world.getCollidable(0);
+  update.numRigidBodies = n;
+  PfxBroadphaseProxy** targets[6] = {&update.proxiesX,  &update.proxiesY,  &update.proxiesZ,
+                                     &update.proxiesXb, &update.proxiesYb, &update.proxiesZb};
+  for (int k = 0; k < 6; ++k) *targets[k] = &arrays[k * std::size_t(n)];
+  update.worldCenter = param.worldCenter;
+  update.worldExtent = param.worldExtent;
+  PfxUpdateBroadphaseProxiesResult updated;
+  t0 = Clock::now();
+  pfxUpdateBroadphaseProxies(update, updated);
+  const double sortSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  PfxRayCastParam walk;
+  walk.offsetRigidStates = states.data();
+  walk.offsetCollidables = update.offsetCollidables;
+  walk.proxiesX = update.proxiesX;
+  walk.proxiesY = update.proxiesY;
+  walk.proxiesZ = update.proxiesZ;
+  walk.proxiesXb = update.proxiesXb;
+  walk.proxiesYb = update.proxiesYb;
+  walk.proxiesZb = update.proxiesZb;
+  walk.numProxies = updated.numProxies;
+  walk.rangeCenter = param.worldCenter;
+  walk.rangeExtent = param.worldExtent;
+  t0 = Clock::now();
+  for (int i = 0; i < numRays; ++i) pfxCastSingleRay(rays[i], walked[i], walk);
+  const double walkSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  t0 = Clock::now();
+  pfxCastRays(rays.data(), walkedBatch.data(), numRays, walk);
+  const double walkBatchSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
   const int numBrute = 5000;
   t0 = Clock::now();
   int agree = 0, hits = 0;
@@ -388,14 +431,20 @@ bool speedScene(const PfxConvexMesh& icosahedron) {
   const double bruteSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
   bool same = true;
   for (int i = 0; i < numRays; ++i) {
-    same = same && sameAnswer(single[i], batch[i]);
+    same = same && sameAnswer(single[i], batch[i]) && sameAnswer(single[i], walked[i]) &&
+           sameAnswer(single[i], walkedBatch[i]);
     hits += single[i].m_contactFlag ? 1 : 0;
   }
-  std::printf("speed: 1,000 mixed bodies, %d rays of 30 m, %d hit; arrays sorted in %.3f ms\n"
-              "       single rays %.0f rays/s, batch %.0f rays/s (one thread); testing every body "
-              "%.0f rays/s\n"
-              "       batch equals single: %s; %d of %d equal testing every body\n",
-              numRays, hits, buildSeconds * 1e3, numRays / singleSeconds, numRays / batchSeconds,
+  std::printf("speed: 1,000 mixed bodies in a 100 m cube, %d rays of 30 m from random points, "
+              "%d hit; one thread:\n"
+              "       hierarchy (PfxWorld)   single %8.0f rays/s, batch %8.0f rays/s; proxies and "
+              "hierarchy updated in %.3f ms\n"
+              "       six sorted arrays      single %8.0f rays/s, batch %8.0f rays/s; arrays sorted "
+              "in %.3f ms\n"
+              "       testing every body     single %8.0f rays/s\n"
+              "       all answers equal: %s; %d of %d equal testing every body\n",
+              numRays, hits, numRays / singleSeconds, numRays / batchSeconds, buildSeconds * 1e3,
+              numRays / walkSeconds, numRays / walkBatchSeconds, sortSeconds * 1e3,
               numBrute / bruteSeconds, same ? "yes" : "NO", agree, numBrute);
   return same && agree == numBrute;
 }

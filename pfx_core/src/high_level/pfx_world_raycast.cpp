@@ -1,13 +1,7 @@
-// PfxWorld's raycasts: the six proxy arrays of seed chapter 5, built on demand.
+// PfxWorld's raycasts (seed chapter 5): proxies and the hierarchy over them, built on demand.
 #include "pfx/high_level/pfx_world.h"
 
 namespace pfx {
-
-namespace {
-
-constexpr std::size_t kNumRayProxyArrays = 6;
-
-}  // namespace
 
 PfxInt32 PfxWorld::updateRayProxies() {
   if (!m_rayProxiesStale) return PFX_OK;
@@ -16,23 +10,20 @@ PfxInt32 PfxWorld::updateRayProxies() {
   // additions do not allocate.
   if (m_rayProxyStride < m_states.capacity()) {
     m_rayProxyStride = m_states.capacity();
-    m_rayProxies.resize((kNumRayProxyArrays + 1) * m_rayProxyStride);
+    m_rayProxies.resize(2 * m_rayProxyStride);
+    m_rayBvh.resize(pfxGetNumRayBvhNodes(static_cast<PfxUInt32>(m_rayProxyStride)));
   }
   m_numRayProxies = 0;
   if (numBodies > 0) {
-    PfxBroadphaseProxy* arrays = m_rayProxies.data();
+    PfxBroadphaseProxy* proxies = m_rayProxies.data();
+    PfxBroadphaseProxy* work = proxies + m_rayProxyStride;
     PfxUpdateBroadphaseProxiesParam param;
-    param.workBuff = arrays + kNumRayProxyArrays * m_rayProxyStride;
+    param.workBuff = work;
     param.workBytes = pfxGetWorkBytesOfUpdateBroadphaseProxies(numBodies);
     param.offsetRigidStates = m_states.data();
     param.offsetCollidables = m_collidables.data();
     param.numRigidBodies = numBodies;
-    param.proxiesX = arrays;
-    param.proxiesY = arrays + m_rayProxyStride;
-    param.proxiesZ = arrays + 2 * m_rayProxyStride;
-    param.proxiesXb = arrays + 3 * m_rayProxyStride;
-    param.proxiesYb = arrays + 4 * m_rayProxyStride;
-    param.proxiesZb = arrays + 5 * m_rayProxyStride;
+    param.proxiesX = proxies;
     param.worldCenter = m_param.worldCenter;
     param.worldExtent = m_param.worldExtent;
     // Rays see every body as it is: none is dropped or fixed for lying outside the world,
@@ -41,10 +32,19 @@ PfxInt32 PfxWorld::updateRayProxies() {
     param.timeStep = 0;
     PfxUpdateBroadphaseProxiesResult result;
     // Fails only on a body whose state went bad (a simulation that blew up to NaN); the
-    // arrays then stay stale and the cast reports it.
+    // proxies then stay stale and the cast reports it.
     if (const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result); err != PFX_OK) {
       return err;
     }
+    // The sort's scratch is free again and four times larger than the build needs.
+    PfxBuildRayBvhParam bvhParam;
+    bvhParam.workBuff = work;
+    bvhParam.workBytes = pfxGetWorkBytesOfBuildRayBvh(result.numProxies);
+    bvhParam.proxies = proxies;
+    bvhParam.numProxies = result.numProxies;
+    bvhParam.nodes = m_rayBvh.data();
+    bvhParam.maxNodes = static_cast<PfxUInt32>(m_rayBvh.size());
+    if (const PfxInt32 err = pfxBuildRayBvh(bvhParam); err != PFX_OK) return err;
     m_numRayProxies = result.numProxies;
   }
   m_rayProxiesStale = false;
@@ -52,21 +52,16 @@ PfxInt32 PfxWorld::updateRayProxies() {
 }
 
 PfxRayCastParam PfxWorld::rayCastParam() const {
-  const PfxBroadphaseProxy* arrays = m_rayProxies.data();
   PfxRayCastParam param;
   param.offsetRigidStates = m_states.data();
   param.offsetCollidables = m_collidables.data();
-  if (m_numRayProxies > 0) {
-    param.proxiesX = arrays;
-    param.proxiesY = arrays + m_rayProxyStride;
-    param.proxiesZ = arrays + 2 * m_rayProxyStride;
-    param.proxiesXb = arrays + 3 * m_rayProxyStride;
-    param.proxiesYb = arrays + 4 * m_rayProxyStride;
-    param.proxiesZb = arrays + 5 * m_rayProxyStride;
-  }
   param.numProxies = m_numRayProxies;
   param.rangeCenter = m_param.worldCenter;
   param.rangeExtent = m_param.worldExtent;
+  if (m_numRayProxies > 0) {
+    param.bvhNodes = m_rayBvh.data();
+    param.bvhProxies = m_rayProxies.data();
+  }
   return param;
 }
 

@@ -40,7 +40,8 @@ PfxInt32 checkParam(const PfxRayCastParam& param) {
       !(param.rangeExtent.minCoeff() > 0)) {
     return PFX_ERR_INVALID_VALUE;
   }
-  if (param.numProxies > 0 && (!param.offsetRigidStates || !param.offsetCollidables)) {
+  if (param.numProxies > 0 && (!param.offsetRigidStates || !param.offsetCollidables ||
+                               (param.bvhNodes && !param.bvhProxies))) {
     return PFX_ERR_NULL_POINTER;
   }
   return PFX_OK;
@@ -48,7 +49,8 @@ PfxInt32 checkParam(const PfxRayCastParam& param) {
 
 PfxInt32 checkRay(const PfxRayInput& ray, const PfxRayCastParam& param) {
   if (const PfxInt32 err = pfxCheckRayInput(ray); err != PFX_OK) return err;
-  if (param.numProxies > 0 && !proxiesFor(param, chooseWalk(ray.m_direction))) {
+  if (param.numProxies > 0 && !param.bvhNodes &&
+      !proxiesFor(param, chooseWalk(ray.m_direction))) {
     return PFX_ERR_NULL_POINTER;
   }
   return PFX_OK;
@@ -75,25 +77,20 @@ RayInCells toCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
   return cells;
 }
 
-// A proxy's box in cells, one cell wider on each side against rounding; a side clamped to
+// A 16-bit box in cells, one cell wider on each side against rounding; a side clamped to
 // the edge of the range stands for everything beyond it.
-double lowerCell(const PfxBroadphaseProxy& proxy, int axis) {
-  const PfxUInt16 v = pfxGetXMin(proxy, axis);
-  return v == 0 ? -kInfinity : double(v) - 1.0;
-}
+double lowerCell(PfxUInt16 v) { return v == 0 ? -kInfinity : double(v) - 1.0; }
+double upperCell(PfxUInt16 v) { return v == 0xffff ? kInfinity : double(v) + 1.0; }
 
-double upperCell(const PfxBroadphaseProxy& proxy, int axis) {
-  const PfxUInt16 v = pfxGetXMax(proxy, axis);
-  return v == 0xffff ? kInfinity : double(v) + 1.0;
-}
-
-// Whether the ray passes through the proxy's box at a fraction in [0, maxFraction].
-bool rayMeetsProxy(const RayInCells& ray, const PfxBroadphaseProxy& proxy, double maxFraction) {
+// Whether the ray passes through the box at a fraction in [0, maxFraction], and where it
+// enters it.
+bool rayMeetsBox(const RayInCells& ray, const PfxUInt16 min[3], const PfxUInt16 max[3],
+                 double maxFraction, double& entry) {
   double tEnter = 0;
   double tExit = maxFraction;
   for (int a = 0; a < 3; ++a) {
-    const double lo = lowerCell(proxy, a);
-    const double hi = upperCell(proxy, a);
+    const double lo = lowerCell(min[a]);
+    const double hi = upperCell(max[a]);
     if (ray.direction[a] == 0) {
       if (ray.start[a] < lo || ray.start[a] > hi) return false;
       continue;
@@ -105,42 +102,110 @@ bool rayMeetsProxy(const RayInCells& ray, const PfxBroadphaseProxy& proxy, doubl
     tExit = std::min(tExit, t1);
     if (tEnter > tExit) return false;
   }
+  entry = tEnter;
   return true;
 }
 
-// The walk itself, for a ray and parameters already checked.
+bool rayMeetsProxy(const RayInCells& ray, const PfxBroadphaseProxy& proxy, double maxFraction) {
+  const PfxUInt16 min[3] = {pfxGetXMin(proxy, 0), pfxGetXMin(proxy, 1), pfxGetXMin(proxy, 2)};
+  const PfxUInt16 max[3] = {pfxGetXMax(proxy, 0), pfxGetXMax(proxy, 1), pfxGetXMax(proxy, 2)};
+  double entry;
+  return rayMeetsBox(ray, min, max, maxFraction, entry);
+}
+
+// Tests the body of a proxy whose box the ray meets, and keeps its hit if it is the
+// closest so far (the lowest id among equals).
+void testBody(const PfxRayInput& ray, const PfxBroadphaseProxy& proxy,
+              const PfxRayCastParam& param, PfxRayOutput& closest) {
+  if (!pfxContactFiltersMatch(ray.m_contactFilterSelf, ray.m_contactFilterTarget,
+                              pfxGetSelf(proxy), pfxGetTarget(proxy))) {
+    return;
+  }
+  const PfxUInt32 id = pfxGetObjectId(proxy);
+  PfxRayOutput hit;
+  if (!pfxRayCastCollidable(ray, param.offsetCollidables[id],
+                            param.offsetRigidStates[id].getTransform(), closest.m_variable, hit)) {
+    return;
+  }
+  const bool closer = !closest.m_contactFlag || hit.m_variable < closest.m_variable ||
+                      (hit.m_variable == closest.m_variable && id < closest.m_objectId);
+  if (!closer) return;
+  closest = hit;
+  closest.m_objectId = id;
+}
+
+// The seed's walk over the array sorted along the ray's dominant axis.
+void walkSortedProxies(const PfxRayInput& ray, const RayInCells& cells,
+                       const PfxRayCastParam& param, PfxRayOutput& closest) {
+  const WalkDirection walk = chooseWalk(ray.m_direction);
+  const PfxBroadphaseProxy* proxies = proxiesFor(param, walk);
+  const int axis = walk.axis;
+  for (PfxUInt32 i = 0; i < param.numProxies; ++i) {
+    const PfxBroadphaseProxy& proxy = proxies[i];
+    // Where the ray reaches the proxy's near side along the walk axis; the arrays are
+    // sorted by that side, so every later proxy starts at least as far along.
+    const double nearSide = walk.forward ? lowerCell(pfxGetXMin(proxy, axis))
+                                         : upperCell(pfxGetXMax(proxy, axis));
+    const double reach = (nearSide - cells.start[axis]) * cells.inverse[axis];
+    if (reach > double(closest.m_variable)) break;
+    if (rayMeetsProxy(cells, proxy, closest.m_variable)) testBody(ray, proxy, param, closest);
+  }
+}
+
+// Front to back through the hierarchy: of two children the nearer is entered first, and a
+// node left for later is dropped when the closest hit has come before its entry.
+void descendBvh(const PfxRayInput& ray, const RayInCells& cells, const PfxRayCastParam& param,
+                PfxRayOutput& closest) {
+  const PfxRayBvhNode* nodes = param.bvhNodes;
+  // Median splits keep the depth within log2(2^31) + 1 = 32 levels, one waiting node each.
+  PfxUInt32 stackNode[64];
+  double stackEntry[64];
+  int top = 0;
+  double entry;
+  if (!rayMeetsBox(cells, nodes[0].m_min, nodes[0].m_max, closest.m_variable, entry)) return;
+  PfxUInt32 index = 0;
+  for (;;) {
+    const PfxRayBvhNode& node = nodes[index];
+    if (node.m_link & PFX_RAY_BVH_LEAF) {
+      testBody(ray, param.bvhProxies[node.m_link & ~PFX_RAY_BVH_LEAF], param, closest);
+    } else {
+      const PfxUInt32 first = index + 1;
+      const PfxUInt32 second = node.m_link;
+      double entryFirst, entrySecond;
+      const bool meetsFirst = rayMeetsBox(cells, nodes[first].m_min, nodes[first].m_max,
+                                          closest.m_variable, entryFirst);
+      const bool meetsSecond = rayMeetsBox(cells, nodes[second].m_min, nodes[second].m_max,
+                                           closest.m_variable, entrySecond);
+      if (meetsFirst && meetsSecond) {
+        const bool firstNearer = entryFirst <= entrySecond;
+        stackNode[top] = firstNearer ? second : first;
+        stackEntry[top] = firstNearer ? entrySecond : entryFirst;
+        ++top;
+        index = firstNearer ? first : second;
+        continue;
+      }
+      if (meetsFirst || meetsSecond) {
+        index = meetsFirst ? first : second;
+        continue;
+      }
+    }
+    // Inclusive: a body entered exactly at the closest fraction may still win on its id.
+    while (top > 0 && stackEntry[top - 1] > double(closest.m_variable)) --top;
+    if (top == 0) return;
+    index = stackNode[--top];
+  }
+}
+
+// The search itself, for a ray and parameters already checked.
 void castCheckedRay(const PfxRayInput& ray, PfxRayOutput& out, const PfxRayCastParam& param) {
   PfxRayOutput closest;
   closest.setMiss(ray);
   if (param.numProxies > 0) {
-    const WalkDirection walk = chooseWalk(ray.m_direction);
-    const PfxBroadphaseProxy* proxies = proxiesFor(param, walk);
     const RayInCells cells = toCells(ray, param);
-    const int axis = walk.axis;
-    for (PfxUInt32 i = 0; i < param.numProxies; ++i) {
-      const PfxBroadphaseProxy& proxy = proxies[i];
-      // Where the ray reaches the proxy's near side along the walk axis; the arrays are
-      // sorted by that side, so every later proxy starts at least as far along.
-      const double nearSide = walk.forward ? lowerCell(proxy, axis) : upperCell(proxy, axis);
-      const double reach = (nearSide - cells.start[axis]) * cells.inverse[axis];
-      if (reach > double(closest.m_variable)) break;
-      if (!rayMeetsProxy(cells, proxy, closest.m_variable)) continue;
-      if (!pfxContactFiltersMatch(ray.m_contactFilterSelf, ray.m_contactFilterTarget,
-                                  pfxGetSelf(proxy), pfxGetTarget(proxy))) {
-        continue;
-      }
-      const PfxUInt32 id = pfxGetObjectId(proxy);
-      PfxRayOutput hit;
-      if (!pfxRayCastCollidable(ray, param.offsetCollidables[id],
-                                param.offsetRigidStates[id].getTransform(), closest.m_variable,
-                                hit)) {
-        continue;
-      }
-      const bool closer = !closest.m_contactFlag || hit.m_variable < closest.m_variable ||
-                          (hit.m_variable == closest.m_variable && id < closest.m_objectId);
-      if (!closer) continue;
-      closest = hit;
-      closest.m_objectId = id;
+    if (param.bvhNodes) {
+      descendBvh(ray, cells, param, closest);
+    } else {
+      walkSortedProxies(ray, cells, param, closest);
     }
   }
   out = closest;
