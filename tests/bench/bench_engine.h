@@ -1,5 +1,5 @@
 // The one interface every engine of the benchmark sits behind: build a scene with the
-// step settings, step it, read the bodies back. Adapters live one per file
+// step settings, step it, read the bodies and the joints' anchor points back. Adapters live one per file
 // (bench_engine_<name>.cpp); a peer's adapter is compiled only when CMake finds its library.
 //
 // Settings matched in every engine: time step (dt / substeps per solver step), solver
@@ -44,6 +44,28 @@
 // - Sub-steps. Every engine runs its collision detection again in each sub-step: pfx is
 //   stepped N times at dt / N. PfxWorldParam::subStep, which shares one collision
 //   detection among the sub-steps, is not what `substeps` measures.
+// - Joints. pfx, Bullet (engine `bullet`) and ODE hold bodies together in maximal
+//   coordinates, so a joint can open: pfx solves the locked axes of a joint tree directly
+//   and corrects positions after integrating; Bullet's btPoint2PointConstraint and
+//   btHingeConstraint are rows of its sequential impulse solver with its default joint ERP
+//   of 0.2 (split impulses act on contacts only); ODE's ball and hinge joints take the
+//   world's ERP 0.2 and CFM 1e-5. MuJoCo and Bullet's Featherstone btMultiBody (engine
+//   `bullet_multibody`) move in generalised coordinates: their bodies are nested in a tree
+//   and a joint cannot open, so their joint_gap_max is zero by construction (what is
+//   reported is rounding). Both integrate the velocity-dependent (Coriolis and centripetal)
+//   terms explicitly with their default semi-implicit Euler step; MuJoCo's joints have no
+//   damping or armature. bullet_multibody runs only scenes whose joints form trees hanging
+//   from the world and starting at rest (the chains); its links have no damping and no cap
+//   on joint speed (Bullet's defaults are 0.04 and 100 rad/s, which would mask a blow-up
+//   as a clamped speed), and its contact impulses are not capped either. MuJoCo runs
+//   every joint tree, but no closed loops and no jointed bodies that start moving. Bodies
+//   held by a joint never collide with each other in any engine; other bodies of the same
+//   chain do.
+// - Blow-ups. MuJoCo resets its state to the start when it meets a bad number; the
+//   benchmark stops such a run there instead of letting it carry on from the reset. A
+//   scene may set a speed limit (the chains: ten times the speed of a free fall from the
+//   chain's length); a body beyond it stops the run as blown up. Stopped runs report NaN
+//   figures and say on stderr when and why they stopped.
 // - Threads. No engine is run on more than one thread yet (pfx's world has no task
 //   manager, the Bullet adapter uses the single-threaded btDiscreteDynamicsWorld, MuJoCo
 //   steps one model on one thread); runs asking for more threads are skipped, not faked.
@@ -71,6 +93,14 @@ struct BodyState {
   Vec3 angularVelocity = Vec3::Zero();  // world frame
 };
 
+// Where the two bodies of a joint carry its anchor point, in world coordinates: on body A
+// (or the world point, for a joint to the world) and on body B. They coincide while the
+// joint holds; joint_gap_max is the largest distance between them.
+struct JointAnchors {
+  Vec3 onA = Vec3::Zero();
+  Vec3 onB = Vec3::Zero();
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;
@@ -79,12 +109,14 @@ class Engine {
   virtual bool supports(const Scene&, const EngineSettings&, std::string& /*reason*/) const {
     return true;
   }
-  // Creates every body of the scene; on failure says why in `error`.
+  // Creates every body and joint of the scene; on failure says why in `error`.
   virtual bool build(const Scene& scene, const EngineSettings& settings, std::string& error) = 0;
   // Advances the world by settings.dt; false (with `error`) if the engine failed.
   virtual bool step(std::string& error) = 0;
   // The state of every body, in the scene's order, fixed bodies included.
   virtual void readBodies(std::vector<BodyState>& states) const = 0;
+  // The anchors of every joint, in the scene's order.
+  virtual void readJointAnchors(std::vector<JointAnchors>& anchors) const = 0;
 };
 
 struct EngineInfo {
@@ -99,6 +131,7 @@ const std::vector<EngineInfo>& knownEngines();
 
 std::unique_ptr<Engine> createPfxEngine();
 std::unique_ptr<Engine> createBulletEngine();
+std::unique_ptr<Engine> createBulletMultiBodyEngine();
 std::unique_ptr<Engine> createOdeEngine();
 std::unique_ptr<Engine> createMujocoEngine();
 

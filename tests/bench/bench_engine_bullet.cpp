@@ -1,101 +1,52 @@
 // Bullet 3 behind the benchmark's interface: btDiscreteDynamicsWorld with the sequential
-// impulse solver. Sub-steps are taken as separate variable-length steps of exactly
-// dt / substeps: Bullet's fixed-step accumulator (stepSimulation(dt, N, dt / N)) divides
+// impulse solver; ball joints are btPoint2PointConstraints, hinges btHingeConstraints.
+// Sub-steps are taken as separate variable-length steps of exactly dt / substeps:
+// Bullet's fixed-step accumulator (stepSimulation(dt, N, dt / N)) divides
 // single-precision time by the rounded sub-step, and when N is not a power of two it now
 // and then defers a sub-step to the next call.
-#include <btBulletDynamicsCommon.h>
-
-#include <algorithm>
-#include <cmath>
 #include <string>
+#include <utility>
 
-#include "bench_engine.h"
+#include "bench_bullet_common.h"
 
 namespace pfxbench {
 
 namespace {
 
-btVector3 toBt(const Vec3& v) { return btVector3(btScalar(v.x()), btScalar(v.y()), btScalar(v.z())); }
-btQuaternion toBt(const Quat& q) {
-  return btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w()));
-}
-Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
-
-// Bullet multiplies the two bodies' coefficients by default; pfx takes the geometric mean
-// of friction and the larger restitution.
-btScalar combinedFriction(const btCollisionObject* a, const btCollisionObject* b) {
-  return std::sqrt(a->getFriction() * b->getFriction());
-}
-btScalar combinedRestitution(const btCollisionObject* a, const btCollisionObject* b) {
-  return std::max(a->getRestitution(), b->getRestitution());
-}
-
-std::unique_ptr<btCollisionShape> makeBtShape(const ShapeDesc& shape) {
-  const auto radius = btScalar(shape.radius);
-  const auto half = btScalar(shape.halfLength);
-  std::unique_ptr<btCollisionShape> made;
-  switch (shape.type) {
-    case ShapeType::Sphere: made = std::make_unique<btSphereShape>(radius); break;
-    case ShapeType::Box: made = std::make_unique<btBoxShape>(toBt(shape.halfExtents)); break;
-    case ShapeType::Capsule: made = std::make_unique<btCapsuleShapeX>(radius, 2 * half); break;
-    case ShapeType::Cylinder:
-      made = std::make_unique<btCylinderShapeX>(btVector3(half, radius, radius));
-      break;
-  }
-  // A sphere's margin is its radius; for the others the default 4 cm margin is carved out
-  // of the shape, which a thin box cannot hold.
-  if (shape.type != ShapeType::Sphere) {
-    made->setMargin(std::min(made->getMargin(), btScalar(0.1 * shape.innerRadius())));
-  }
-  return made;
-}
+// A joint as Bullet holds it. A joint to the world is made on body B alone, which Bullet
+// then calls its body A; `swapped` says so, to report the anchors in the scene's order.
+struct BtJoint {
+  std::unique_ptr<btTypedConstraint> constraint;
+  bool swapped = false;
+};
 
 class BulletEngine final : public Engine {
  public:
   ~BulletEngine() override {
     if (!m_world) return;
+    for (auto& joint : m_joints) m_world->removeConstraint(joint.constraint.get());
     for (auto& body : m_bodies) m_world->removeRigidBody(body.get());
   }
 
   bool build(const Scene& scene, const EngineSettings& settings, std::string&) override {
-    gCalculateCombinedFrictionCallback = combinedFriction;
-    gCalculateCombinedRestitutionCallback = combinedRestitution;
+    useMatchedMaterialCombination();
     m_dispatcher = std::make_unique<btCollisionDispatcher>(&m_configuration);
     m_world = std::make_unique<btDiscreteDynamicsWorld>(m_dispatcher.get(), &m_broadphase,
                                                         &m_solver, &m_configuration);
     m_world->setGravity(toBt(scene.gravity));
-    btContactSolverInfo& info = m_world->getSolverInfo();
-    info.m_numIterations = settings.iterations;
-    // As pfx: every overlap beyond a 5 mm slop is pushed out by split impulses, a fifth per
-    // step (Bullet's default erp2), rotation included; warm starting in full.
-    info.m_linearSlop = btScalar(0.005);
-    info.m_splitImpulse = 1;
-    info.m_splitImpulsePenetrationThreshold = 0;
-    info.m_splitImpulseTurnErp = 1;
-    info.m_erp2 = btScalar(0.2);
-    info.m_warmstartingFactor = 1;
+    matchSolverSettings(m_world->getSolverInfo(), settings);
     m_subTimeStep = btScalar(settings.dt / settings.substeps);
     m_substeps = settings.substeps;
 
     for (const BodyDesc& desc : scene.bodies) {
       m_shapes.push_back(makeBtShape(desc.shape));
-      btCollisionShape* shape = m_shapes.back().get();
-      const btScalar mass = desc.fixed ? 0 : btScalar(desc.mass);
-      btRigidBody::btRigidBodyConstructionInfo ci(
-          mass, nullptr, shape, desc.fixed ? btVector3(0, 0, 0) : toBt(desc.inertia));
-      ci.m_startWorldTransform = btTransform(toBt(desc.orientation), toBt(desc.position));
-      ci.m_friction = btScalar(desc.friction);
-      ci.m_restitution = btScalar(desc.restitution);
-      m_bodies.push_back(std::make_unique<btRigidBody>(ci));
-      btRigidBody* body = m_bodies.back().get();
-      if (!desc.fixed) {
-        body->setLinearVelocity(toBt(desc.linearVelocity));
-        body->setAngularVelocity(toBt(desc.angularVelocity));
-        body->setActivationState(DISABLE_DEACTIVATION);
-        body->setCcdMotionThreshold(btScalar(desc.shape.innerRadius()));
-        body->setCcdSweptSphereRadius(btScalar(desc.shape.innerRadius()));
-      }
-      m_world->addRigidBody(body);
+      m_bodies.push_back(makeBtRigidBody(desc, m_shapes.back().get()));
+      m_world->addRigidBody(m_bodies.back().get());
+    }
+    for (const JointDesc& desc : scene.joints) {
+      m_joints.push_back(makeJoint(desc));
+      // Bodies held together by a joint do not collide, as in pfx.
+      m_world->addConstraint(m_joints.back().constraint.get(), true);
     }
     return true;
   }
@@ -110,15 +61,62 @@ class BulletEngine final : public Engine {
     for (std::size_t i = 0; i < m_bodies.size(); ++i) {
       const btRigidBody& body = *m_bodies[i];
       const btTransform& t = body.getWorldTransform();
-      const btQuaternion q = t.getRotation();
       states[i].position = fromBt(t.getOrigin());
-      states[i].orientation = Quat(q.w(), q.x(), q.y(), q.z());
+      states[i].orientation = fromBt(t.getRotation());
       states[i].linearVelocity = fromBt(body.getLinearVelocity());
       states[i].angularVelocity = fromBt(body.getAngularVelocity());
     }
   }
 
+  void readJointAnchors(std::vector<JointAnchors>& anchors) const override {
+    anchors.resize(m_joints.size());
+    for (std::size_t i = 0; i < m_joints.size(); ++i) {
+      const btTypedConstraint& c = *m_joints[i].constraint;
+      btVector3 onFirst, onSecond;
+      if (c.getConstraintType() == POINT2POINT_CONSTRAINT_TYPE) {
+        const auto& p2p = static_cast<const btPoint2PointConstraint&>(c);
+        onFirst = p2p.getRigidBodyA().getCenterOfMassTransform() * p2p.getPivotInA();
+        onSecond = p2p.getRigidBodyB().getCenterOfMassTransform() * p2p.getPivotInB();
+      } else {
+        const auto& hinge = static_cast<const btHingeConstraint&>(c);
+        onFirst = hinge.getRigidBodyA().getCenterOfMassTransform() * hinge.getAFrame().getOrigin();
+        onSecond = hinge.getRigidBodyB().getCenterOfMassTransform() * hinge.getBFrame().getOrigin();
+      }
+      if (m_joints[i].swapped) std::swap(onFirst, onSecond);
+      anchors[i].onA = fromBt(onFirst);
+      anchors[i].onB = fromBt(onSecond);
+    }
+  }
+
  private:
+  BtJoint makeJoint(const JointDesc& desc) {
+    btRigidBody& b = *m_bodies[desc.bodyB];
+    const btTransform toB = b.getCenterOfMassTransform().inverse();
+    const btVector3 pivotInB = toB * toBt(desc.anchor);
+    const btVector3 axisInB = toB.getBasis() * toBt(desc.axis.normalized());
+    BtJoint joint;
+    if (desc.bodyA == kWorld) {
+      joint.swapped = true;
+      if (desc.type == JointType::Ball) {
+        joint.constraint = std::make_unique<btPoint2PointConstraint>(b, pivotInB);
+      } else {
+        joint.constraint = std::make_unique<btHingeConstraint>(b, pivotInB, axisInB);
+      }
+      return joint;
+    }
+    btRigidBody& a = *m_bodies[desc.bodyA];
+    const btTransform toA = a.getCenterOfMassTransform().inverse();
+    const btVector3 pivotInA = toA * toBt(desc.anchor);
+    if (desc.type == JointType::Ball) {
+      joint.constraint = std::make_unique<btPoint2PointConstraint>(a, b, pivotInA, pivotInB);
+    } else {
+      const btVector3 axisInA = toA.getBasis() * toBt(desc.axis.normalized());
+      joint.constraint =
+          std::make_unique<btHingeConstraint>(a, b, pivotInA, pivotInB, axisInA, axisInB);
+    }
+    return joint;
+  }
+
   // Declared in the order of construction; the world goes first on destruction.
   btDefaultCollisionConfiguration m_configuration;
   btDbvtBroadphase m_broadphase;
@@ -126,6 +124,7 @@ class BulletEngine final : public Engine {
   std::unique_ptr<btCollisionDispatcher> m_dispatcher;
   std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
   std::vector<std::unique_ptr<btRigidBody>> m_bodies;
+  std::vector<BtJoint> m_joints;
   std::unique_ptr<btDiscreteDynamicsWorld> m_world;
   btScalar m_subTimeStep = btScalar(1) / 60;
   int m_substeps = 1;

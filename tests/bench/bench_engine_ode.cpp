@@ -1,5 +1,6 @@
 // ODE behind the benchmark's interface: dWorldQuickStep (projected Gauss-Seidel) with
-// contact joints made each sub-step from dCollide, at most kContactsPerPair per pair.
+// contact joints made each sub-step from dCollide, at most kContactsPerPair per pair, and
+// the scene's joints as dJointCreateBall / dJointCreateHinge (body 0 for the world).
 // ODE's capsules and cylinders lie along Z; their geoms are turned onto the body's X axis.
 #include <ode/ode.h>
 
@@ -114,6 +115,7 @@ class OdeEngine final : public Engine {
       }
       m_bodies.push_back(body);
     }
+    for (const JointDesc& desc : scene.joints) addJoint(desc);
     return true;
   }
 
@@ -145,12 +147,52 @@ class OdeEngine final : public Engine {
     }
   }
 
+  // ODE keeps each joint's anchor on its first and on its second body (the world point
+  // where that side is the world), which are the two sides of the scene's joint.
+  void readJointAnchors(std::vector<JointAnchors>& anchors) const override {
+    anchors.resize(m_joints.size());
+    for (std::size_t i = 0; i < m_joints.size(); ++i) {
+      const dJointID joint = m_joints[i];
+      dVector3 onA, onB;
+      if (dJointGetType(joint) == dJointTypeBall) {
+        dJointGetBallAnchor(joint, onA);
+        dJointGetBallAnchor2(joint, onB);
+      } else {
+        dJointGetHingeAnchor(joint, onA);
+        dJointGetHingeAnchor2(joint, onB);
+      }
+      anchors[i].onA = Vec3(onA[0], onA[1], onA[2]);
+      anchors[i].onB = Vec3(onB[0], onB[1], onB[2]);
+    }
+  }
+
  private:
+  void addJoint(const JointDesc& desc) {
+    const dBodyID a = desc.bodyA == kWorld ? nullptr : m_bodies[desc.bodyA];
+    const dBodyID b = m_bodies[desc.bodyB];
+    const Vec3& p = desc.anchor;
+    dJointID joint = nullptr;
+    if (desc.type == JointType::Ball) {
+      joint = dJointCreateBall(m_world, nullptr);
+      dJointAttach(joint, a, b);
+      dJointSetBallAnchor(joint, p.x(), p.y(), p.z());
+    } else {
+      const Vec3 axis = desc.axis.normalized();
+      joint = dJointCreateHinge(m_world, nullptr);
+      dJointAttach(joint, a, b);
+      dJointSetHingeAnchor(joint, p.x(), p.y(), p.z());
+      dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
+    }
+    m_joints.push_back(joint);
+  }
+
   static void nearCallback(void* data, dGeomID a, dGeomID b) {
     auto* self = static_cast<OdeEngine*>(data);
     const dBodyID bodyA = dGeomGetBody(a);
     const dBodyID bodyB = dGeomGetBody(b);
     if (!bodyA && !bodyB) return;
+    // Bodies held together by a joint do not collide, as in pfx.
+    if (bodyA && bodyB && dAreConnectedExcluding(bodyA, bodyB, dJointTypeContact)) return;
     dContact contacts[kContactsPerPair];
     const int n = dCollide(a, b, kContactsPerPair, &contacts[0].geom, sizeof(dContact));
     if (n <= 0) return;
@@ -174,6 +216,7 @@ class OdeEngine final : public Engine {
   std::vector<Material> m_materials;
   std::vector<dBodyID> m_bodies;           // null where the body is fixed
   std::vector<BodyState> m_fixedStates;    // indexed like m_bodies, set where fixed
+  std::vector<dJointID> m_joints;          // the scene's joints, destroyed with the world
   double m_subTimeStep = 1.0 / 60;
   int m_substeps = 1;
 };

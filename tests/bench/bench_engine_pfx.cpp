@@ -1,8 +1,11 @@
 // pfx behind the benchmark's interface: the stable pipeline (cached pairs and contacts,
 // warm-started solver), sub-steps by stepping the world several times at dt / substeps.
+// Joints are PfxJoints made by pfxInitializeBallJoint / pfxInitializeHingeJoint; joints to
+// the world hang from one extra fixed body that collides with nothing.
 #include <string>
 
 #include "bench_engine.h"
+#include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
 
 namespace pfxbench {
@@ -61,7 +64,8 @@ class PfxEngine final : public Engine {
         return false;
       }
     }
-    return true;
+    m_numSceneBodies = m_world.getNumRigidBodies();
+    return addJoints(scene, error);
   }
 
   bool step(std::string& error) override {
@@ -75,8 +79,8 @@ class PfxEngine final : public Engine {
   }
 
   void readBodies(std::vector<BodyState>& states) const override {
-    states.resize(m_world.getNumRigidBodies());
-    for (PfxUInt32 i = 0; i < m_world.getNumRigidBodies(); ++i) {
+    states.resize(m_numSceneBodies);
+    for (PfxUInt32 i = 0; i < m_numSceneBodies; ++i) {
       const PfxRigidState& s = m_world.getRigidState(i);
       states[i].position = s.getPosition().cast<double>();
       states[i].orientation = s.getOrientation().cast<double>();
@@ -85,8 +89,70 @@ class PfxEngine final : public Engine {
     }
   }
 
+  void readJointAnchors(std::vector<JointAnchors>& anchors) const override {
+    anchors.resize(m_world.getNumJoints());
+    for (PfxUInt32 i = 0; i < m_world.getNumJoints(); ++i) {
+      const PfxJoint& joint = m_world.getJoint(i);
+      const PfxRigidState& a = m_world.getRigidState(joint.m_rigidBodyIdA);
+      const PfxRigidState& b = m_world.getRigidState(joint.m_rigidBodyIdB);
+      anchors[i].onA = (a.getPosition() + a.getOrientation() * joint.m_anchorA).cast<double>();
+      anchors[i].onB = (b.getPosition() + b.getOrientation() * joint.m_anchorB).cast<double>();
+    }
+  }
+
  private:
+  // The fixed body that joints to the world hang from, added after the scene's bodies.
+  PfxInt32 addWorldAnchor(PfxUInt32& id) {
+    PfxRigidState state;
+    state.reset();
+    state.setMotionType(kPfxMotionTypeFixed);
+    state.setContactFilterSelf(0);
+    state.setContactFilterTarget(0);
+    PfxRigidBody body;
+    body.reset();
+    const PfxShape shape = pfxMakeShape(PfxSphere(PfxFloat(0.01)));
+    return m_world.addRigidBody(state, body, &shape, 1, &id);
+  }
+
+  bool addJoints(const Scene& scene, std::string& error) {
+    PfxUInt32 worldAnchor = 0;
+    bool haveWorldAnchor = false;
+    for (const JointDesc& desc : scene.joints) {
+      if (desc.bodyA == kWorld && !haveWorldAnchor) {
+        if (const PfxInt32 err = addWorldAnchor(worldAnchor); err != PFX_OK) {
+          error = std::string("pfx: world anchor rejected: ") + pfxErrorString(err);
+          return false;
+        }
+        haveWorldAnchor = true;
+      }
+      const PfxUInt32 idA = desc.bodyA == kWorld ? worldAnchor : static_cast<PfxUInt32>(desc.bodyA);
+      const PfxRigidState& stateA = m_world.getRigidState(idA);
+      const PfxRigidState& stateB = m_world.getRigidState(static_cast<PfxUInt32>(desc.bodyB));
+      PfxJoint joint;
+      PfxInt32 err = PFX_OK;
+      if (desc.type == JointType::Ball) {
+        PfxBallJointInitParam param;
+        param.anchorPoint = toPfx(desc.anchor);
+        err = pfxInitializeBallJoint(joint, stateA, stateB, param);
+      } else {
+        PfxHingeJointInitParam param;
+        param.anchorPoint = toPfx(desc.anchor);
+        param.axis = toPfx(desc.axis).normalized();
+        err = pfxInitializeHingeJoint(joint, stateA, stateB, param);
+        // The description's hinges turn freely; the init function limits them to a turn.
+        if (err == PFX_OK) joint.m_constraints[kPfxJointAxisTwist].m_lock = kPfxJointLockFree;
+      }
+      if (err == PFX_OK) err = m_world.addJoint(joint);
+      if (err != PFX_OK) {
+        error = std::string("pfx: joint rejected: ") + pfxErrorString(err);
+        return false;
+      }
+    }
+    return true;
+  }
+
   PfxWorld m_world;
+  PfxUInt32 m_numSceneBodies = 0;
   int m_substeps = 1;
 };
 

@@ -9,8 +9,10 @@ const std::vector<EngineInfo>& knownEngines() {
       {"pfx", createPfxEngine, 1},
 #ifdef PFX_BENCH_HAVE_BULLET
       {"bullet", createBulletEngine, 1},
+      {"bullet_multibody", createBulletMultiBodyEngine, 1},
 #else
       {"bullet", nullptr, 0},
+      {"bullet_multibody", nullptr, 0},
 #endif
 #ifdef PFX_BENCH_HAVE_ODE
       {"ode", createOdeEngine, 1},

@@ -61,7 +61,9 @@ bool selectEngines(const Options& options, std::vector<const EngineInfo*>& selec
       if (name == info.name) found = &info;
     }
     if (!found) {
-      std::fprintf(stderr, "unknown engine '%s' (known: pfx, bullet, ode, mujoco)\n", name.c_str());
+      std::fprintf(stderr, "unknown engine '%s' (known:", name.c_str());
+      for (const EngineInfo& info : knownEngines()) std::fprintf(stderr, " %s", info.name);
+      std::fprintf(stderr, ")\n");
       return false;
     }
     if (!found->create) {
@@ -155,6 +157,7 @@ int main(int argc, char** argv) {
   Progress progress(totalWork);
   std::vector<ResultRow> rows;
   int failures = 0;
+  int stopped = 0;
   for (const Job& job : jobs) {
     const std::string label = describeJob(job);
     progress.setLabel(label);
@@ -173,6 +176,10 @@ int main(int argc, char** argv) {
                   1e3 * result.wallSecondsPerSimSecond * job.settings.dt,
                   result.wallSecondsPerSimSecond);
     progress.log(label + timing);
+    if (result.stopped) {
+      ++stopped;
+      progress.log(label + ": " + result.error + "; its figures are NaN");
+    }
     for (const auto& [metric, value] : result.metrics) {
       const ResultRow row{job.scene->name, job.engine->name, job.scene->variant, job.settings.dt,
                           job.settings.substeps, job.settings.iterations, job.settings.threads,
@@ -188,6 +195,7 @@ int main(int argc, char** argv) {
     tsvFile.close();
     writePlots(rows, options.outDir);
   }
+  if (stopped > 0) std::fprintf(stderr, "%d run(s) stopped by their engine (figures NaN)\n", stopped);
   if (failures > 0) std::fprintf(stderr, "%d run(s) failed\n", failures);
   return failures > 0 ? 1 : 0;
 }

@@ -70,6 +70,13 @@ void MetricRecorder::observe(const std::vector<BodyState>& states) {
   }
 }
 
+void MetricRecorder::observeJoints(const std::vector<JointAnchors>& anchors) {
+  for (const JointAnchors& joint : anchors) {
+    const Vec3 gap = joint.onB - joint.onA;
+    m_jointGap = maxKeepingNaN(m_jointGap, gap.allFinite() ? gap.norm() : kNaN);
+  }
+}
+
 double MetricRecorder::value(Metric metric) const {
   if (m_last.empty()) return kNaN;
   switch (metric) {
@@ -90,6 +97,7 @@ double MetricRecorder::value(Metric metric) const {
       }
       return escaped;
     }
+    case Metric::JointGapMax: return m_jointGap;
     case Metric::PositionError: break;
   }
   return kNaN;
@@ -97,14 +105,20 @@ double MetricRecorder::value(Metric metric) const {
 
 void appendTrackedPoints(const Scene& scene, const std::vector<BodyState>& states,
                          std::vector<Vec3>& points) {
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    if (scene.bodies[i].fixed) continue;
+  auto appendCorners = [&](std::size_t i) {
     const Vec3 half = trackedHalfExtents(scene.bodies[i].shape);
     for (int corner = 0; corner < 8; ++corner) {
       const Vec3 local((corner & 1) ? half.x() : -half.x(), (corner & 2) ? half.y() : -half.y(),
                        (corner & 4) ? half.z() : -half.z());
       points.push_back(states[i].position + states[i].orientation.normalized() * local);
     }
+  };
+  if (!scene.trackedBodies.empty()) {
+    for (int i : scene.trackedBodies) appendCorners(static_cast<std::size_t>(i));
+    return;
+  }
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (!scene.bodies[i].fixed) appendCorners(i);
   }
 }
 

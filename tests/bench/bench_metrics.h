@@ -10,11 +10,13 @@
 namespace pfxbench {
 
 // Follows one run. observe() is called with the initial states and then at every sample
-// time, the last one at the end of the run.
+// time, the last one at the end of the run; observeJoints() with the joints' anchors at the
+// start and after every step.
 class MetricRecorder {
  public:
   explicit MetricRecorder(const Scene& scene);
   void observe(const std::vector<BodyState>& states);
+  void observeJoints(const std::vector<JointAnchors>& anchors);
   // A figure of the scene's metrics other than position_error; NaN where the run produced
   // non-finite states or nothing was observed.
   double value(Metric metric) const;
@@ -25,11 +27,12 @@ class MetricRecorder {
   std::vector<BodyState> m_last;
   double m_stackDrift = 0;
   double m_penetration = 0;
+  double m_jointGap = 0;
 };
 
-// The points whose paths position_error compares: the eight corners of each dynamic
-// body's bounding box in its own frame, so that an error of orientation shows as one of
-// position. Appended to `points`.
+// The points whose paths position_error compares: the eight corners of the bounding box,
+// in its own frame, of each tracked body (every dynamic body unless the scene names some),
+// so that an error of orientation shows as one of position. Appended to `points`.
 void appendTrackedPoints(const Scene& scene, const std::vector<BodyState>& states,
                          std::vector<Vec3>& points);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 
@@ -12,6 +13,7 @@ namespace pfxbench {
 
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kReferenceStepDivisor = 16;
 constexpr int kReferenceIterationFactor = 4;
 // States are sampled for the metrics at 60 Hz, or every step when steps are longer.
@@ -28,36 +30,88 @@ double bodyWeight(const Scene& scene) {
                                                  [](const BodyDesc& b) { return !b.fixed; }));
 }
 
+// False, saying which body, when the scene sets a speed limit and a dynamic body moves
+// faster or its state is not finite. Scenes without a limit keep their figures to the end
+// (a body gone NaN counts as escaped there).
+bool withinSpeedLimit(const Scene& scene, const std::vector<BodyState>& states,
+                      std::string& error) {
+  if (!std::isfinite(scene.speedLimit)) return true;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    if (scene.bodies[i].fixed) continue;
+    const BodyState& s = states[i];
+    const double speed = s.linearVelocity.norm();
+    const bool finite = s.position.allFinite() && s.orientation.coeffs().allFinite() &&
+                        s.angularVelocity.allFinite() && std::isfinite(speed);
+    if (finite && speed <= scene.speedLimit) continue;
+    char text[160];
+    if (finite) {
+      std::snprintf(text, sizeof(text), "blew up: body %zu at %.3g m/s, beyond the scene's %.3g m/s",
+                    i, speed, scene.speedLimit);
+    } else {
+      std::snprintf(text, sizeof(text), "blew up: body %zu has a state that is not finite", i);
+    }
+    error = text;
+    return false;
+  }
+  return true;
+}
+
 struct Simulation {
-  bool ok = false;
+  bool built = false;
+  bool ok = false;  // built and stepped to the end
   std::string error;
   double wallSeconds = 0;
+  double simulatedSeconds = 0;
 };
 
-using Observer = std::function<void(const std::vector<BodyState>&)>;
+struct Observers {
+  std::function<void(const std::vector<BodyState>&)> bodies;
+  // Null when the joints are not watched; otherwise called at the start and after every
+  // step, so that joint_gap_max sees every step, not only the samples.
+  std::function<void(const std::vector<JointAnchors>&)> joints;
+};
 
 // Builds the scene in a fresh engine and takes `steps` steps, showing the states to the
-// observer at the start, every `every` steps and at the end.
+// observer at the start, every `every` steps and at the end. Only the steps are timed.
 Simulation simulate(const EngineInfo& info, const Scene& scene, const EngineSettings& settings,
-                    long long steps, long long every, const Observer& observe,
+                    long long steps, long long every, const Observers& observers,
                     Progress& progress) {
   Simulation sim;
   std::unique_ptr<Engine> engine = info.create();
   if (!engine->build(scene, settings, sim.error)) return sim;
+  sim.built = true;
   std::vector<BodyState> states;
+  std::vector<JointAnchors> anchors;
   engine->readBodies(states);
-  observe(states);
+  observers.bodies(states);
+  if (observers.joints) {
+    engine->readJointAnchors(anchors);
+    observers.joints(anchors);
+  }
   const double weight = bodyWeight(scene);
+  const long long chunkLength = observers.joints ? 1 : every;
   for (long long done = 0; done < steps;) {
-    const long long chunk = std::min(every, steps - done);
+    const long long chunk = std::min(chunkLength, steps - done);
     const auto start = std::chrono::steady_clock::now();
     for (long long i = 0; i < chunk; ++i) {
-      if (!engine->step(sim.error)) return sim;
+      if (!engine->step(sim.error)) {
+        sim.wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        sim.simulatedSeconds = static_cast<double>(done + i) * settings.dt;
+        return sim;
+      }
     }
     sim.wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     done += chunk;
-    engine->readBodies(states);
-    observe(states);
+    sim.simulatedSeconds = static_cast<double>(done) * settings.dt;
+    if (observers.joints) {
+      engine->readJointAnchors(anchors);
+      observers.joints(anchors);
+    }
+    if (done % every == 0 || done == steps) {
+      engine->readBodies(states);
+      observers.bodies(states);
+      if (!withinSpeedLimit(scene, states, sim.error)) return sim;
+    }
     progress.advance(static_cast<double>(chunk) * weight);
   }
   sim.ok = true;
@@ -85,35 +139,54 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
 
   MetricRecorder recorder(scene);
   std::vector<Vec3> points;
-  const Simulation run = simulate(
-      engine, scene, settings, steps, every,
-      [&](const std::vector<BodyState>& states) {
-        recorder.observe(states);
-        if (tracked) appendTrackedPoints(scene, states, points);
-      },
-      progress);
-  if (!run.ok) {
+  Observers observers;
+  observers.bodies = [&](const std::vector<BodyState>& states) {
+    recorder.observe(states);
+    if (tracked) appendTrackedPoints(scene, states, points);
+  };
+  if (scene.hasMetric(Metric::JointGapMax)) {
+    observers.joints = [&](const std::vector<JointAnchors>& anchors) {
+      recorder.observeJoints(anchors);
+    };
+  }
+  const Simulation run = simulate(engine, scene, settings, steps, every, observers, progress);
+  if (!run.built) {
     result.error = run.error;
     return result;
   }
-  result.wallSecondsPerSimSecond = run.wallSeconds / (static_cast<double>(steps) * settings.dt);
+  if (!run.ok) {
+    char when[64];
+    std::snprintf(when, sizeof(when), "stopped after %.4g s: ", run.simulatedSeconds);
+    result.ok = true;
+    result.stopped = true;
+    result.error = when + run.error;
+    result.wallSecondsPerSimSecond =
+        run.simulatedSeconds > 0 ? run.wallSeconds / run.simulatedSeconds : kNaN;
+    for (Metric metric : scene.metrics) result.metrics.emplace_back(metric, kNaN);
+    return result;
+  }
+  result.wallSecondsPerSimSecond = run.wallSeconds / run.simulatedSeconds;
 
-  double positionError = std::numeric_limits<double>::quiet_NaN();
+  double positionError = kNaN;
   if (tracked) {
     EngineSettings fine = settings;
     fine.dt = settings.dt / kReferenceStepDivisor;
     fine.iterations = settings.iterations * kReferenceIterationFactor;
     std::vector<Vec3> referencePoints;
-    const Simulation reference = simulate(
-        engine, scene, fine, steps * kReferenceStepDivisor, every * kReferenceStepDivisor,
-        [&](const std::vector<BodyState>& states) {
-          appendTrackedPoints(scene, states, referencePoints);
-        },
-        progress);
+    Observers referenceObservers;
+    referenceObservers.bodies = [&](const std::vector<BodyState>& states) {
+      appendTrackedPoints(scene, states, referencePoints);
+    };
+    const Simulation reference = simulate(engine, scene, fine, steps * kReferenceStepDivisor,
+                                          every * kReferenceStepDivisor, referenceObservers,
+                                          progress);
     if (reference.ok) {
       positionError = largestDeviation(points, referencePoints);
     } else {
-      progress.log("reference run failed: " + reference.error);
+      char when[64];
+      std::snprintf(when, sizeof(when), " after %.4g s", reference.simulatedSeconds);
+      progress.log("reference run stopped" + std::string(reference.built ? when : "") + ": " +
+                   reference.error + "; position_error is NaN");
     }
   }
 

@@ -16,6 +16,10 @@ namespace pfxbench {
 struct RunResult {
   bool ok = false;
   bool skipped = false;  // the engine cannot run this scene here; `error` says why
+  // The engine gave up during the run (it diverged or reported an error): a result, not a
+  // failure of the benchmark. Its figures are NaN, its time is per second it did simulate,
+  // and `error` says what happened when.
+  bool stopped = false;
   std::string error;
   double wallSecondsPerSimSecond = 0;
   std::vector<std::pair<Metric, double>> metrics;

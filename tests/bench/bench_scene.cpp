@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 namespace pfxbench {
 
@@ -17,8 +18,13 @@ struct SceneEntry {
 const SceneEntry kScenes[] = {
     {"pyramid", buildPyramidScene}, {"tower", buildTowerScene},
     {"spinner", buildSpinnerScene}, {"rain", buildRainScene},
-    {"bullet", buildBulletScene},
+    {"bullet", buildBulletScene}, {"chain", buildChainScene},
+    {"longchain", buildLongChainScene},
 };
+
+int otherEnd(const JointDesc& joint, int body) {
+  return joint.bodyA == body ? joint.bodyB : joint.bodyA;
+}
 
 }  // namespace
 
@@ -142,12 +148,79 @@ const char* metricName(Metric metric) {
     case Metric::MomentumDrift: return "momentum_drift";
     case Metric::Escaped: return "escaped";
     case Metric::PositionError: return "position_error";
+    case Metric::JointGapMax: return "joint_gap_max";
   }
   return "unknown";
 }
 
 bool Scene::hasMetric(Metric metric) const {
   return std::find(metrics.begin(), metrics.end(), metric) != metrics.end();
+}
+
+bool buildJointForest(const Scene& scene, JointForest& forest, std::string& reason) {
+  const int numBodies = static_cast<int>(scene.bodies.size());
+  auto dynamicBody = [&](int i) { return i >= 0 && i < numBodies && !scene.bodies[i].fixed; };
+  std::vector<std::vector<int>> jointsOfBody(scene.bodies.size());
+  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
+    const JointDesc& joint = scene.joints[j];
+    if (!dynamicBody(joint.bodyB) || joint.bodyA == joint.bodyB ||
+        (joint.bodyA != kWorld && !dynamicBody(joint.bodyA))) {
+      reason = "joint " + std::to_string(j) + " does not join a dynamic body to another or to the world";
+      return false;
+    }
+    jointsOfBody[joint.bodyB].push_back(static_cast<int>(j));
+    if (joint.bodyA != kWorld) jointsOfBody[joint.bodyA].push_back(static_cast<int>(j));
+  }
+
+  forest.parentJoint.assign(scene.bodies.size(), -1);
+  forest.parentBody.assign(scene.bodies.size(), kWorld);
+  forest.order.clear();
+  std::vector<bool> reached(scene.bodies.size(), false);
+  const std::string loop = "the joints close a loop";
+  // Walks the jointed group below `root` breadth first; false on meeting a body twice.
+  auto grow = [&](int root) {
+    std::deque<int> queue{root};
+    while (!queue.empty()) {
+      const int body = queue.front();
+      queue.pop_front();
+      for (int j : jointsOfBody[body]) {
+        if (j == forest.parentJoint[body]) continue;
+        const int child = otherEnd(scene.joints[j], body);
+        if (child == kWorld || reached[child]) return false;
+        reached[child] = true;
+        forest.parentJoint[child] = j;
+        forest.parentBody[child] = body;
+        forest.order.push_back(child);
+        queue.push_back(child);
+      }
+    }
+    return true;
+  };
+  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
+    const JointDesc& joint = scene.joints[j];
+    if (joint.bodyA != kWorld) continue;
+    if (reached[joint.bodyB]) {
+      reason = loop;
+      return false;
+    }
+    reached[joint.bodyB] = true;
+    forest.parentJoint[joint.bodyB] = static_cast<int>(j);
+    forest.order.push_back(joint.bodyB);
+    if (!grow(joint.bodyB)) {
+      reason = loop;
+      return false;
+    }
+  }
+  for (int i = 0; i < numBodies; ++i) {
+    if (scene.bodies[i].fixed || reached[i]) continue;
+    reached[i] = true;
+    forest.order.push_back(i);
+    if (!grow(i)) {
+      reason = loop;
+      return false;
+    }
+  }
+  return true;
 }
 
 const std::vector<std::string>& sceneNames() {

@@ -1,5 +1,5 @@
-// Engine-neutral description of a benchmark scene: bodies with one shape each, gravity,
-// how long to simulate, and which error metrics judge it. Every engine adapter builds its
+// Engine-neutral description of a benchmark scene: bodies with one shape each, the joints
+// between them, gravity, how long to simulate, and which error metrics judge it. Every engine adapter builds its
 // world from this alone, so that all engines run the very same scene.
 //
 // Frame conventions are pfx's: Y is up in the scenes, capsules and cylinders lie along
@@ -59,8 +59,33 @@ BodyDesc makeDynamicBody(const ShapeDesc& shape, double mass, const Vec3& positi
 BodyDesc makeFixedBody(const ShapeDesc& shape, const Vec3& position,
                        const Quat& orientation = Quat::Identity());
 
+// Stands for the fixed world where a joint names a body.
+constexpr int kWorld = -1;
+
+enum class JointType { Ball, Hinge };
+
+// A joint between two dynamic bodies, or between a dynamic body and the fixed world. Its
+// anchor point is given in world coordinates for the bodies' initial poses; each body
+// carries it along rigidly from there. Joints to fixed bodies are not part of the
+// description: attach to the world instead.
+struct JointDesc {
+  JointType type = JointType::Ball;
+  int bodyA = kWorld;  // index of a dynamic body, or kWorld
+  int bodyB = 0;       // index of a dynamic body
+  Vec3 anchor = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();  // hinge: the free axis, world direction in the initial poses
+};
+
 // The error figures a scene is judged by; each becomes one TSV row per run.
-enum class Metric { StackDrift, PenetrationMax, EnergyDrift, MomentumDrift, Escaped, PositionError };
+enum class Metric {
+  StackDrift,
+  PenetrationMax,
+  EnergyDrift,
+  MomentumDrift,
+  Escaped,
+  PositionError,
+  JointGapMax
+};
 const char* metricName(Metric metric);
 
 struct Aabb {
@@ -77,11 +102,30 @@ struct Scene {
   Vec3 gravity = Vec3(0, -9.80665, 0);
   double duration = 5;        // simulated seconds unless the command line says otherwise
   std::vector<BodyDesc> bodies;
+  std::vector<JointDesc> joints;
   std::vector<Metric> metrics;
+  // Dynamic bodies whose paths position_error compares; empty: all of them.
+  std::vector<int> trackedBodies;
   // `escaped` counts dynamic bodies whose centre ends outside this box.
   Aabb keepInside;
+  // A body faster than this (m/s) at a sample means the run blew up: it stops there and
+  // its figures are NaN, so that an exploded run cannot pass for an accurate one.
+  double speedLimit = std::numeric_limits<double>::infinity();
   bool hasMetric(Metric metric) const;
 };
+
+// The joints seen as a forest: each jointed body hangs from one parent (a body or the
+// world) by one joint, and a group of jointed bodies not attached to the world has a root
+// body that floats free. Engines in generalised coordinates build their trees from this.
+struct JointForest {
+  std::vector<int> parentJoint;  // per body: the joint to its parent, -1 for roots and free bodies
+  std::vector<int> parentBody;   // per body: the parent body, kWorld when none
+  std::vector<int> order;        // every dynamic body, each after its parent
+};
+
+// False, with the reason, when the joints close a loop or name a body that cannot take a
+// joint (out of range, fixed, or both ends the same).
+bool buildJointForest(const Scene& scene, JointForest& forest, std::string& reason);
 
 // Names of every scene this build knows, in the order of the default sweep.
 const std::vector<std::string>& sceneNames();
@@ -94,5 +138,9 @@ void buildTowerScene(std::vector<Scene>& variants);
 void buildSpinnerScene(std::vector<Scene>& variants);
 void buildRainScene(std::vector<Scene>& variants);
 void buildBulletScene(std::vector<Scene>& variants);
+
+// Jointed scenes (bench_scenes_joint.cpp).
+void buildChainScene(std::vector<Scene>& variants);
+void buildLongChainScene(std::vector<Scene>& variants);
 
 }  // namespace pfxbench
