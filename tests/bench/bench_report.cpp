@@ -133,11 +133,13 @@ bool plotScene(const std::string& scene, const std::vector<const ResultRow*>& ro
              << "unset label 1\nset autoscale x\nset autoscale y\n";
       continue;
     }
+    // Linetypes follow the curve, so that an engine keeps its colour in every panel.
     script << "plot ";
     for (std::size_t b = 0; b < panel.blocks.size(); ++b) {
       const CurveKey& curve = curveKeys[panel.blocks[b].first];
       script << (b ? ", \\\n     " : "") << "\"" << dataPath << "\" index "
-             << panel.blocks[b].second << " using 1:2 with linespoints title \""
+             << panel.blocks[b].second << " using 1:2 with linespoints linetype "
+             << panel.blocks[b].first + 1 << " title \""
              << curveTitle(curve, iterations.size() > 1, substeps.size() > 1, threads.size() > 1)
              << "\"";
     }
