@@ -13,6 +13,7 @@
 
 #include "bench_cli.h"
 #include "bench_engine.h"
+#include "bench_rays.h"
 #include "bench_report.h"
 #include "bench_run.h"
 #include "bench_scene.h"
@@ -133,9 +134,17 @@ int main(int argc, char** argv) {
     std::printf("%s", usage());
     return 0;
   }
+  // The rays scene measures rays per second, not stepping, and runs apart (bench_rays.h).
+  RaySceneRequest rays;
+  if (!takeRaySceneRequest(options.scenes, options.engines, rays, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
   std::vector<const EngineInfo*> engines;
   std::vector<Scene> scenes;
-  if (!selectEngines(options, engines) || !selectScenes(options, scenes)) return 2;
+  if (rays.otherScenes && (!selectEngines(options, engines) || !selectScenes(options, scenes))) {
+    return 2;
+  }
   const std::vector<Job> jobs = planJobs(options, scenes, engines);
 
   std::ofstream tsvFile;
@@ -191,6 +200,15 @@ int main(int argc, char** argv) {
     std::cout.flush();
   }
   progress.finish();
+  if (rays.wanted) {
+    std::vector<ResultRow> rayRows;
+    failures += runRayScene(rays, rayRows);
+    for (const ResultRow& row : rayRows) {
+      writeTsvRow(std::cout, row);
+      if (tsvFile) writeTsvRow(tsvFile, row);
+    }
+    std::cout.flush();
+  }
   if (!options.outDir.empty()) {
     tsvFile.close();
     writePlots(rows, options.outDir);
