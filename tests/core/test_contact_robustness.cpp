@@ -2,6 +2,7 @@
 #include <random>
 
 #include "pfx/base_level/collision/pfx_collidable.h"
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx_contact_test_util.h"
 
 namespace pfx_test {
@@ -157,23 +158,34 @@ TEST(ContactCollidables, CompoundAgainstBoxFillsShapeIds) {
             0u);
 }
 
-TEST(ContactCollidables, LargeMeshShapesAreSkipped) {
-  // A large mesh is not convex and is handled elsewhere: a compound of one large mesh and
-  // one sphere reports only the sphere (shape 1). The mesh is never read here, so any
-  // non-null address serves as its pointer.
-  static int placeholder;
+TEST(ContactCollidables, LargeMeshShapesMeetConvexShapesOnly) {
+  // A compound of a large mesh (a 2 x 2 m square 5 m below) and a sphere: against a sphere
+  // beside it, only the compound's sphere (shape 1) touches. The convex-pair routine
+  // itself does not take large meshes (they go through the mesh's own search).
+  const PfxFloat vertices[] = {-1, -5, -1, 1, -5, -1, 1, -5, 1, -1, -5, 1};
+  const PfxUInt32 triangles[] = {0, 2, 1, 0, 3, 2};
+  PfxCreateLargeTriMeshParam param;
+  param.m_vertices = vertices;
+  param.m_numVertices = 4;
+  param.m_triangles = triangles;
+  param.m_numTriangles = 2;
+  PfxLargeTriMesh mesh;
+  ASSERT_EQ(pfxCreateLargeTriMesh(mesh, param), PFX_OK);
+
   PfxShape shapes[2];
   const PfxUInt16 ids[2] = {0, 1};
   PfxCollidable compound;
   ASSERT_EQ(compound.reset(shapes, ids, 2), PFX_OK);
   PfxShape large;
   large.reset();
-  large.setLargeTriMesh(reinterpret_cast<const PfxLargeTriMesh*>(&placeholder));
+  large.setLargeTriMesh(&mesh);
   ASSERT_EQ(compound.addShape(large), PFX_OK);
   ASSERT_EQ(compound.addShape(makeSphere(0.5f)), PFX_OK);
+  ASSERT_EQ(compound.finish(), PFX_OK);
   PfxCollidable other;
   other.reset();
   ASSERT_EQ(other.addShape(makeSphere(0.5f)), PFX_OK);
+  ASSERT_EQ(other.finish(), PFX_OK);
   PfxContactCandidate out[4];
   const PfxUInt32 n = pfxContactCollidables(compound, pose(PfxVector3::Zero()), other,
                                             pose(PfxVector3(0.9f, 0, 0)), 0.02f, out, 4);
@@ -181,10 +193,18 @@ TEST(ContactCollidables, LargeMeshShapesAreSkipped) {
   EXPECT_EQ(out[0].m_shapeIdA, 1);
   EXPECT_NEAR(out[0].m_distance, -0.1f, 1e-5f);
 
+  // The same sphere resting on the square does touch the mesh (shape 0).
+  const PfxUInt32 onMesh = pfxContactCollidables(compound, pose(PfxVector3::Zero()), other,
+                                                 pose(PfxVector3(0, -4.52f, 0)), 0.05f, out, 4);
+  ASSERT_GE(onMesh, 1u);
+  EXPECT_EQ(out[0].m_shapeIdA, 0);
+  EXPECT_NEAR(out[0].m_distance, -0.02f, 1e-4f);
+
   PfxShape sphere = makeSphere(0.5f);
   EXPECT_EQ(pfxContactConvexShapes(large, pose(PfxVector3::Zero()), sphere,
                                    pose(PfxVector3::Zero()), 0.02f, out, 4),
             0u);
+  pfxReleaseLargeTriMesh(mesh);
 }
 
 TEST(ContactBadInput, RejectedCallsWriteNothing) {

@@ -3,11 +3,9 @@
 // contact filters, compounds, the proxy walk against testing every body, watertightness,
 // bad input, and the world's casts.
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
-#include <new>
 #include <random>
 #include <vector>
 
@@ -18,25 +16,8 @@
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx_contact_test_util.h"
 #include "pfx_large_mesh_test_util.h"
+#include "pfx_allocation_counter.h"
 
-// Every heap allocation of this test program passes here, so a test can count them.
-static std::atomic<long> g_allocations{0};
-
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, std::align_val_t align) {
-  ++g_allocations;
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace pfx_test {
 namespace {
@@ -1279,13 +1260,13 @@ TEST(WorldRaycast, CastsAndStepsAllocateNothingOnceWarm) {
     ASSERT_EQ(world.step(), PFX_OK);
     ASSERT_EQ(world.castRay(ray, out), PFX_OK);
   }
-  const long before = g_allocations.load();
+  const long before = pfx_test::pfxAllocationCount();
   for (int i = 0; i < 60; ++i) {
     ASSERT_EQ(world.step(), PFX_OK);
     ASSERT_EQ(world.castRay(ray, out), PFX_OK);
     ASSERT_EQ(world.castRays(&ray, &out, 1), PFX_OK);
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(pfx_test::pfxAllocationCount() - before, 0);
   EXPECT_TRUE(out.m_contactFlag);
 }
 

@@ -2,35 +2,16 @@
 // the same world stepped the same way gives the same bits.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <new>
 #include <vector>
 
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx_allocation_counter.h"
 
 using namespace pfx;
 
-// Every heap allocation of this test program passes here, so a test can count them.
-static std::atomic<long> g_allocations{0};
-
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, std::align_val_t align) {
-  ++g_allocations;
-  const std::size_t a = static_cast<std::size_t>(align);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -223,9 +204,9 @@ TEST(World, StepAllocatesNothingAfterWarmUp) {
     PfxWorld world;
     buildScene(world, pipeline);
     for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
-    const long before = g_allocations.load();
+    const long before = pfx_test::pfxAllocationCount();
     for (int i = 0; i < 240; ++i) ASSERT_EQ(world.step(), PFX_OK);
-    EXPECT_EQ(g_allocations.load() - before, 0) << "pipeline " << int(pipeline);
+    EXPECT_EQ(pfx_test::pfxAllocationCount() - before, 0) << "pipeline " << int(pipeline);
     EXPECT_GT(world.getStats().numContactPoints, 0u);
   }
 }
