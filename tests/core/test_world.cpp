@@ -2,7 +2,6 @@
 // the same world stepped the same way gives the same bits.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <vector>
