@@ -11,11 +11,18 @@
 // of vertical, 100 m long, so that every ray hits. Both come from fixed seeds and use
 // the generator's raw output only, so every machine casts the very same rays.
 //
+// Time is the process's CPU time (CLOCK_PROCESS_CPUTIME_ID), builds and casts alike: the
+// machines this runs on are shared, and wall time there swings by a factor of two with
+// other processes' load, while CPU time leaves out the time the process waits for a core.
+// With one thread working, as here, it equals the wall time on an idle machine. It still
+// moves by some 20% with the load, which shares caches and cores, so compare the figures
+// of one run with each other rather than with another run's.
+//
 // Settings that could not be matched between engines:
 // - Threads. Every ray is cast on the calling thread, one at a time or in the engine's
 //   batch call, so rays/s are single-threaded throughout. Embree's device is created with
 //   "threads=1", which limits its build to one thread too; the log line of its build shows
-//   CPU seconds over wall seconds to prove it.
+//   its CPU and wall seconds (more CPU than wall time would mean more threads).
 // - Instruction set. pfx and the Debian Bullet are compiled for baseline x86-64 (SSE2);
 //   Embree picks its widest kernels (AVX2 or AVX-512) at run time.
 // - Precision. All three are single precision. pfx's quantized variants store positions
@@ -31,9 +38,10 @@
 //   indices copied into buffers it owns.
 //
 // TSV rows (scene `rays`; dt, substeps and iterations do not apply and read 0, 1, 1):
-//   engine pfx / bullet / embree, metric build_s and bytes_per_triangle, wall_s = build s;
-//   engine naming the way rays are cast, metric rays_per_s, wall_s = seconds per batch of
-//   all rays (the fastest of several passes), and metric mismatches (rays whose hit
+//   engine pfx / bullet / embree, metric build_s and bytes_per_triangle, wall_s_per_sim_s =
+//   build CPU seconds; engine naming the way rays are cast, metric rays_per_s,
+//   wall_s_per_sim_s = CPU seconds per batch of all rays (the fastest of several passes),
+//   and metric mismatches (rays whose hit
 //   distance differs from pfx's reference by more than 1e-4 m, a miss on one side
 //   included) and distance_error_max (m, over rays both hit). The ways:
 //   pfx        pfxRayCastLargeTriMesh, one ray at a time
@@ -50,7 +58,6 @@
 // the TSV (stdout and --out) but into no plot: they are a table, not error against time.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -101,20 +108,22 @@ struct RayEngineFigures {
   std::vector<RayCastFigures> casts;
 };
 
+// CPU seconds the process has used so far, all its threads together.
+double processCpuSeconds();
+
 // Casts every ray once untimed (which fills `distances`), then times kRayTimedPasses
-// more passes and returns the fastest, so that a pass slowed by another process on the
-// machine does not count.
-constexpr int kRayTimedPasses = 3;
+// more passes and returns the fastest, so that a pass whose caches another process on
+// the machine cooled does not count.
+constexpr int kRayTimedPasses = 5;
 template <class CastAll>
 double timeFastestPass(RayDistances& distances, CastAll&& castAll) {
   castAll(distances);
   double fastest = std::numeric_limits<double>::infinity();
   RayDistances scratch(distances.size());
   for (int pass = 0; pass < kRayTimedPasses; ++pass) {
-    const auto start = std::chrono::steady_clock::now();
+    const double start = processCpuSeconds();
     castAll(scratch);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = processCpuSeconds() - start;
     if (seconds < fastest) fastest = seconds;
   }
   return fastest;

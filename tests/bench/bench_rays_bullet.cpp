@@ -6,7 +6,6 @@
 #include <btBulletCollisionCommon.h>
 #include <malloc.h>
 
-#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,7 +42,7 @@ bool runBulletRays(const RayTerrain& terrain, const RaySet& rays, RayEngineFigur
   static_assert(sizeof(int) == sizeof(std::uint32_t), "indices are shared with Bullet as int");
   static_assert(sizeof(btScalar) == sizeof(float), "vertices are shared with Bullet as float");
   const double heapBefore = heapBytesInUse();
-  const auto start = std::chrono::steady_clock::now();
+  const double start = processCpuSeconds();
   auto vertexArray = std::make_unique<btTriangleIndexVertexArray>(
       int(terrain.numTriangles()),
       const_cast<int*>(reinterpret_cast<const int*>(terrain.triangles.data())), int(3 * sizeof(int)),
@@ -51,8 +50,7 @@ bool runBulletRays(const RayTerrain& terrain, const RaySet& rays, RayEngineFigur
       int(3 * sizeof(btScalar)));
   auto shape = std::make_unique<btBvhTriangleMeshShape>(vertexArray.get(), true, true);
   RayBuildFigures build{"bullet", "quantized_bvh", 0, 0};
-  build.buildSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build.buildSeconds = processCpuSeconds() - start;
   const double sharedArrayBytes = double(terrain.vertices.size() * sizeof(float) +
                                          terrain.triangles.size() * sizeof(std::uint32_t));
   build.bytesPerTriangle =

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -76,7 +75,7 @@ bool runEmbreeRays(const RayTerrain& terrain, const RaySet& rays, RayEngineFigur
   rtcSetDeviceMemoryMonitorFunction(handles.device, trackDeviceMemory, &deviceBytes);
 
   const double bytesBefore = deviceBytes;
-  const std::clock_t cpuStart = std::clock();
+  const double cpuStart = processCpuSeconds();
   const auto start = std::chrono::steady_clock::now();
   handles.scene = rtcNewScene(handles.device);
   rtcSetSceneBuildQuality(handles.scene, RTC_BUILD_QUALITY_HIGH);
@@ -100,14 +99,14 @@ bool runEmbreeRays(const RayTerrain& terrain, const RaySet& rays, RayEngineFigur
   rtcReleaseGeometry(geometry);
   rtcCommitScene(handles.scene);
   RayBuildFigures build{"embree", "high_quality", 0, 0};
-  build.buildSeconds =
+  build.buildSeconds = processCpuSeconds() - cpuStart;
+  const double wallSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   if (deviceFailed(handles.device, "building the scene", error)) return false;
   build.bytesPerTriangle = (deviceBytes - bytesBefore) / double(terrain.numTriangles());
   // More CPU than wall time would mean that the build ran on more than one thread.
-  std::fprintf(stderr, "rays: embree build took %.3f CPU s in %.3f wall s\n", cpuSeconds,
-               build.buildSeconds);
+  std::fprintf(stderr, "rays: embree build took %.3f CPU s in %.3f wall s\n",
+               build.buildSeconds, wallSeconds);
   figures.builds.push_back(build);
 
   RTCIntersectContext context;

@@ -1,7 +1,6 @@
 // The rays scene on pfx: the terrain as a large triangle mesh in each storage variant,
 // cast directly (pfxRayCastLargeTriMesh) and as the one body of a PfxWorld (castRay one at
 // a time, castRays in one call).
-#include <chrono>
 #include <string>
 #include <vector>
 
@@ -46,9 +45,9 @@ bool buildMesh(const RayTerrain& terrain, PfxUInt32 flags, MeshOwner& owner, dou
   param.m_triangles = terrain.triangles.data();
   param.m_numTriangles = PfxUInt32(terrain.numTriangles());
   param.m_flags = flags;
-  const auto start = std::chrono::steady_clock::now();
+  const double start = processCpuSeconds();
   const PfxInt32 result = pfxCreateLargeTriMesh(owner.mesh, param);
-  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  seconds = processCpuSeconds() - start;
   if (result != PFX_OK) {
     error = "pfxCreateLargeTriMesh returned " + std::to_string(result);
     return false;
