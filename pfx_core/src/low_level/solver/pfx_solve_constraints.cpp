@@ -34,7 +34,7 @@ void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
 }
 
 // Sweeps of the small problem of one manifold's normal rows; it converges in a few.
-constexpr int kBlockSweeps = 8;
+constexpr int kBlockSweeps = 6;
 
 // Solves the normal rows of one manifold together, as a small projected Gauss-Seidel on
 // the manifold's own coupling matrix K: the points of one face hold a body up jointly, and
@@ -44,14 +44,25 @@ constexpr int kBlockSweeps = 8;
 void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
                       PfxFloat* impulse, PfxFloat* delta) {
   const PfxUInt32 n = manifold.getNumContacts();
-  for (PfxUInt32 i = 0; i < n; ++i) delta[i] = 0;
+  // The coupling matrix and its diagonal's reciprocals, read once: the sweeps below are the
+  // solver's innermost loop.
+  PfxFloat k[PFX_NUM_CONTACTS_PER_MANIFOLD][PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat inverseDiagonal[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  PfxFloat remaining[PFX_NUM_CONTACTS_PER_MANIFOLD];  // residual minus K * delta
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    for (PfxUInt32 j = 0; j < n; ++j) k[i][j] = manifold.getNormalCoupling(i, j);
+    inverseDiagonal[i] = k[i][i] > 0 ? PfxFloat(1) / k[i][i] : PfxFloat(0);
+    remaining[i] = residual[i];
+    delta[i] = 0;
+  }
   for (int sweep = 0; sweep < kBlockSweeps; ++sweep) {
     for (PfxUInt32 i = 0; i < n; ++i) {
-      const PfxFloat kii = manifold.getNormalCoupling(i, i);
-      if (kii <= 0) continue;
-      PfxFloat r = residual[i];
-      for (PfxUInt32 j = 0; j < n; ++j) r -= manifold.getNormalCoupling(i, j) * delta[j];
-      delta[i] = std::max(impulse[i] + delta[i] + r / kii, PfxFloat(0)) - impulse[i];
+      const PfxFloat updated =
+          std::max(impulse[i] + delta[i] + remaining[i] * inverseDiagonal[i], PfxFloat(0)) -
+          impulse[i];
+      const PfxFloat change = updated - delta[i];
+      delta[i] = updated;
+      for (PfxUInt32 j = 0; j < n; ++j) remaining[j] -= k[j][i] * change;
     }
   }
   for (PfxUInt32 i = 0; i < n; ++i) impulse[i] += delta[i];
