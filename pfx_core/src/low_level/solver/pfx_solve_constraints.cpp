@@ -41,31 +41,43 @@ constexpr int kBlockSweeps = 6;
 // solving them one at a time lets it rock between them, which tall stacks turn into sway.
 // `residual` is each row's target velocity minus its current velocity; `impulse` is the
 // accumulated impulse, updated; `delta` receives the change to apply.
-void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
+// The sweeps for a manifold of N points, N known at compile time so that the loops unroll.
+template <PfxUInt32 N>
+void sweepNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
                       PfxFloat* impulse, PfxFloat* delta) {
-  const PfxUInt32 n = manifold.getNumContacts();
   // The coupling matrix and its diagonal's reciprocals, read once: the sweeps below are the
   // solver's innermost loop.
-  PfxFloat k[PFX_NUM_CONTACTS_PER_MANIFOLD][PFX_NUM_CONTACTS_PER_MANIFOLD];
-  PfxFloat inverseDiagonal[PFX_NUM_CONTACTS_PER_MANIFOLD];
-  PfxFloat remaining[PFX_NUM_CONTACTS_PER_MANIFOLD];  // residual minus K * delta
-  for (PfxUInt32 i = 0; i < n; ++i) {
-    for (PfxUInt32 j = 0; j < n; ++j) k[i][j] = manifold.getNormalCoupling(i, j);
+  PfxFloat k[N][N];
+  PfxFloat inverseDiagonal[N];
+  PfxFloat remaining[N];  // residual minus K * delta
+  for (PfxUInt32 i = 0; i < N; ++i) {
+    for (PfxUInt32 j = 0; j < N; ++j) k[i][j] = manifold.getNormalCoupling(i, j);
     inverseDiagonal[i] = k[i][i] > 0 ? PfxFloat(1) / k[i][i] : PfxFloat(0);
     remaining[i] = residual[i];
     delta[i] = 0;
   }
   for (int sweep = 0; sweep < kBlockSweeps; ++sweep) {
-    for (PfxUInt32 i = 0; i < n; ++i) {
+    for (PfxUInt32 i = 0; i < N; ++i) {
       const PfxFloat updated =
           std::max(impulse[i] + delta[i] + remaining[i] * inverseDiagonal[i], PfxFloat(0)) -
           impulse[i];
       const PfxFloat change = updated - delta[i];
       delta[i] = updated;
-      for (PfxUInt32 j = 0; j < n; ++j) remaining[j] -= k[j][i] * change;
+      for (PfxUInt32 j = 0; j < N; ++j) remaining[j] -= k[j][i] * change;
     }
   }
-  for (PfxUInt32 i = 0; i < n; ++i) impulse[i] += delta[i];
+  for (PfxUInt32 i = 0; i < N; ++i) impulse[i] += delta[i];
+}
+
+void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
+                      PfxFloat* impulse, PfxFloat* delta) {
+  switch (manifold.getNumContacts()) {
+    case 1: sweepNormalBlock<1>(manifold, residual, impulse, delta); break;
+    case 2: sweepNormalBlock<2>(manifold, residual, impulse, delta); break;
+    case 3: sweepNormalBlock<3>(manifold, residual, impulse, delta); break;
+    case 4: sweepNormalBlock<4>(manifold, residual, impulse, delta); break;
+    default: break;
+  }
 }
 
 // Applies normal impulses `delta` at the manifold's points to linear/angular velocities.
