@@ -310,6 +310,23 @@ void PfxWorld::dropJointedPairs() {
   m_numFoundPairs = kept;
 }
 
+// Every stage that works on the contact pairs (or the joints) names them the same way.
+template <typename Param>
+void PfxWorld::bindContacts(Param& param) {
+  param.contactPairs = m_pairs.data();
+  param.numContactPairs = m_numPairs;
+  param.offsetContactManifolds = m_manifolds.data();
+  param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+}
+
+template <typename Param>
+void PfxWorld::bindJoints(Param& param) {
+  param.jointPairs = m_jointPairs.data();
+  param.numJointPairs = getNumJoints();
+  param.offsetJoints = m_joints.data();
+  param.numJoints = getNumJoints();
+}
+
 PfxInt32 PfxWorld::updateBroadphase() {
   const PfxUInt32 numBodies = getNumRigidBodies();
   const int axis = pfxChooseSweepAxis(m_states.data(), numBodies);
@@ -417,10 +434,7 @@ PfxInt32 PfxWorld::detectCollision() {
   if (stable) {
     StageTimer timer(m_stats, kPfxStageRefreshContacts);
     PfxRefreshContactsParam param;
-    param.contactPairs = m_pairs.data();
-    param.numContactPairs = m_numPairs;
-    param.offsetContactManifolds = m_manifolds.data();
-    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    bindContacts(param);
     param.offsetRigidStates = m_states.data();
     param.numRigidBodies = getNumRigidBodies();
     param.offsetCollidables = m_collidables.data();
@@ -428,10 +442,7 @@ PfxInt32 PfxWorld::detectCollision() {
   }
   StageTimer timer(m_stats, kPfxStageDetectCollision);
   PfxDetectCollisionParam param;
-  param.contactPairs = m_pairs.data();
-  param.numContactPairs = m_numPairs;
-  param.offsetContactManifolds = m_manifolds.data();
-  param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+  bindContacts(param);
   param.offsetRigidStates = m_states.data();
   param.offsetCollidables = m_collidables.data();
   param.numRigidBodies = getNumRigidBodies();
@@ -467,10 +478,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   {
     StageTimer timer(m_stats, kPfxStageSetupContactConstraints);
     PfxSetupContactConstraintsParam param;
-    param.contactPairs = m_pairs.data();
-    param.numContactPairs = m_numPairs;
-    param.offsetContactManifolds = m_manifolds.data();
-    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    bindContacts(param);
     param.offsetRigidStates = m_states.data();
     param.offsetRigidBodies = m_bodies.data();
     param.offsetSolverBodies = m_solverBodies.data();
@@ -489,10 +497,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
                           m_states[joint.m_rigidBodyIdB]);
     }
     PfxSetupJointConstraintsParam param;
-    param.jointPairs = m_jointPairs.data();
-    param.numJointPairs = getNumJoints();
-    param.offsetJoints = m_joints.data();
-    param.numJoints = getNumJoints();
+    bindJoints(param);
     param.offsetRigidStates = m_states.data();
     param.offsetRigidBodies = m_bodies.data();
     param.offsetSolverBodies = m_solverBodies.data();
@@ -505,14 +510,8 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     PfxSolveConstraintsParam param;
     param.workBuff = m_solverWork.data();
     param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
-    param.jointPairs = m_jointPairs.data();
-    param.numJointPairs = getNumJoints();
-    param.offsetJoints = m_joints.data();
-    param.numJoints = getNumJoints();
-    param.contactPairs = m_pairs.data();
-    param.numContactPairs = m_numPairs;
-    param.offsetContactManifolds = m_manifolds.data();
-    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    bindJoints(param);
+    bindContacts(param);
     param.offsetRigidStates = m_states.data();
     param.offsetSolverBodies = m_solverBodies.data();
     param.numRigidBodies = numBodies;
@@ -535,10 +534,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   PfxCorrectJointPositionsParam param;
   param.workBuff = m_solverWork.data();
   param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
-  param.jointPairs = m_jointPairs.data();
-  param.numJointPairs = getNumJoints();
-  param.offsetJoints = m_joints.data();
-  param.numJoints = getNumJoints();
+  bindJoints(param);
   param.offsetRigidStates = m_states.data();
   param.offsetRigidBodies = m_bodies.data();
   param.offsetSolverBodies = m_solverBodies.data();

@@ -165,6 +165,10 @@ class PfxWorld {
   PfxInt32 detectCollision();
   PfxInt32 subStep(PfxFloat timeStep);
   PfxInt32 validateJoint(const PfxJoint& joint) const;
+  template <typename Param>
+  void bindContacts(Param& param);
+  template <typename Param>
+  void bindJoints(Param& param);
   void reserveSolverWork();
   void dropJointedPairs();
   void gatherStats();
