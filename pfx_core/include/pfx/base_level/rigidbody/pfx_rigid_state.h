@@ -54,7 +54,8 @@ class PfxRigidState {
   PfxUInt8 m_sleeping;
 };
 
-static_assert(sizeof(PfxRigidState) == 68, "PfxRigidState must stay free of padding");
+static_assert(sizeof(PfxRigidState) == 13 * sizeof(PfxFloat) + 4 * sizeof(PfxUInt32),
+              "PfxRigidState must stay free of padding");
 
 // Drives a keyframe body toward a target pose over the next step: the change of pose
 // becomes the linear and angular velocity that the other bodies see (seed 4_motion_type).
