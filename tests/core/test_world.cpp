@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx_allocation_counter.h"
 
@@ -236,4 +237,68 @@ TEST(World, ReportsStageTimesAndSkipsRefreshInSimplePipeline) {
   EXPECT_GT(stats.numPairs, 0u);
   EXPECT_GE(stats.numPairs, stats.numContactPairs);
   EXPECT_GE(stats.maxPenetration, 0);
+}
+
+// A scene of spheres only skips the joint stages (zero time); the step reports the joints'
+// gap and, when asked, how much energy and momentum it changed.
+TEST(World, ReportsItsOwnErrorFigures) {
+  PfxWorldParam param;
+  param.gravity.setZero();
+  param.measureConservation = true;
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxBodyInit a;
+  a.position = PfxVector3(-1, 0, 0);
+  a.linearVelocity = PfxVector3(3, 0, 0);
+  a.angularVelocity = PfxVector3(0, 4, 1);
+  a.mass = 2;
+  PfxBodyInit b = a;
+  b.position = PfxVector3(1, 0.2f, 0);
+  b.linearVelocity = PfxVector3(-1, 0, 0);
+  b.mass = 1;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.3f)), a), PFX_OK);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.3f)), b), PFX_OK);
+  const PfxConservedQuantities start = world.measureConservedQuantities();
+  double energyLost = 0;
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxWorldStats& stats = world.getStats();
+    EXPECT_EQ(stats.stageSeconds[kPfxStageSetupJointConstraints], 0.0);
+    EXPECT_EQ(stats.stageSeconds[kPfxStageCorrectJointPositions], 0.0);
+    EXPECT_EQ(stats.maxJointGap, 0);
+    EXPECT_LT(stats.linearMomentumChange, 1e-4);
+    EXPECT_LT(stats.angularMomentumChange, 1e-4);
+    energyLost -= stats.energyChange;
+  }
+  // The spheres met (inelastic, e = 0): energy went, momentum stayed.
+  const PfxConservedQuantities end = world.measureConservedQuantities();
+  EXPECT_GT(energyLost, 0.1 * start.energy);
+  EXPECT_NEAR(start.energy - end.energy, energyLost, 1e-4 * start.energy);
+  EXPECT_LT((end.linearMomentum - start.linearMomentum).norm(), 1e-4f);
+
+  // With a pendulum the joint stages run and the gap is reported.
+  PfxWorld pendulum;
+  ASSERT_EQ(pendulum.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit pivot;
+  pivot.mass = 0;
+  PfxUInt32 pivotId = 0, bobId = 0;
+  ASSERT_EQ(pfxAddBody(pendulum, pfxMakeShape(PfxSphere(0.05f)), pivot, &pivotId), PFX_OK);
+  PfxBodyInit bob;
+  bob.position = PfxVector3(1, 0, 0);
+  ASSERT_EQ(pfxAddBody(pendulum, pfxMakeShape(PfxSphere(0.1f)), bob, &bobId), PFX_OK);
+  PfxBallJointInitParam ball;
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeBallJoint(joint, pendulum.getRigidState(pivotId),
+                                   pendulum.getRigidState(bobId), ball),
+            PFX_OK);
+  ASSERT_EQ(pendulum.addJoint(joint), PFX_OK);
+  // Pull the bob 1 cm off its anchor: the step reports the gap it leaves (much less).
+  PfxRigidState pulled = pendulum.getRigidState(bobId);
+  pulled.setPosition(PfxVector3(1.01f, 0, 0));
+  ASSERT_EQ(pendulum.setRigidState(bobId, pulled), PFX_OK);
+  ASSERT_EQ(pendulum.step(), PFX_OK);
+  EXPECT_GT(pendulum.getStats().stageSeconds[kPfxStageCorrectJointPositions], 0.0);
+  EXPECT_LT(pendulum.getStats().maxJointGap, 1e-4f);
+  EXPECT_NEAR((pendulum.getRigidState(bobId).getPosition() - PfxVector3::Zero()).norm(), 1,
+              1e-3f);
 }

@@ -544,7 +544,44 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   return pfxCorrectJointPositions(param);
 }
 
+PfxConservedQuantities PfxWorld::measureConservedQuantities() const {
+  PfxConservedQuantities totals;
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+  for (PfxUInt32 i = 0; i < getNumRigidBodies(); ++i) {
+    const PfxRigidState& s = m_states[i];
+    if (!pfxMotionTypeIsDynamic(s.getMotionType())) continue;
+    const PfxRigidBody& b = m_bodies[i];
+    const Eigen::Vector3d v = s.getLinearVelocity().cast<double>();
+    const Eigen::Vector3d w = s.getAngularVelocity().cast<double>();
+    const Eigen::Vector3d x = s.getPosition().cast<double>();
+    const Eigen::Matrix3d inertia =
+        pfxRotateInertia(s.getOrientation().toRotationMatrix(), b.getInertia()).cast<double>();
+    const Eigen::Vector3d p = double(b.getMass()) * v;
+    totals.energy += 0.5 * (p.dot(v) + w.dot(inertia * w)) -
+                     double(b.getMass()) * m_param.gravity.cast<double>().dot(x);
+    linear += p;
+    angular += x.cross(p) + inertia * w;
+  }
+  totals.linearMomentum = linear.cast<PfxFloat>();
+  totals.angularMomentum = angular.cast<PfxFloat>();
+  return totals;
+}
+
 void PfxWorld::gatherStats() {
+  m_stats.maxJointGap = 0;
+  for (const PfxJoint& joint : m_joints) {
+    bool anchored = true;
+    for (int axis = 0; axis < 3; ++axis) {
+      anchored = anchored && joint.m_constraints[axis].m_lock == kPfxJointLockLocked;
+    }
+    if (!anchored) continue;
+    const PfxRigidState& a = m_states[joint.m_rigidBodyIdA];
+    const PfxRigidState& b = m_states[joint.m_rigidBodyIdB];
+    const PfxFloat gap = ((a.getPosition() + a.getOrientation() * joint.m_anchorA) -
+                          (b.getPosition() + b.getOrientation() * joint.m_anchorB))
+                             .norm();
+    m_stats.maxJointGap = std::max(m_stats.maxJointGap, gap);
+  }
   m_stats.numPairs = m_numPairs;
   m_stats.numContactPairs = 0;
   m_stats.numContactPoints = 0;
@@ -560,6 +597,8 @@ void PfxWorld::gatherStats() {
 
 PfxInt32 PfxWorld::step() {
   const Clock::time_point start = Clock::now();
+  PfxConservedQuantities before;
+  if (m_param.measureConservation) before = measureConservedQuantities();
   m_rayProxiesStale = true;
   for (double& seconds : m_stats.stageSeconds) seconds = 0;
   {
@@ -586,6 +625,12 @@ PfxInt32 PfxWorld::step() {
   std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
   std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
   gatherStats();
+  if (m_param.measureConservation) {
+    const PfxConservedQuantities after = measureConservedQuantities();
+    m_stats.energyChange = after.energy - before.energy;
+    m_stats.linearMomentumChange = (after.linearMomentum - before.linearMomentum).norm();
+    m_stats.angularMomentumChange = (after.angularMomentum - before.angularMomentum).norm();
+  }
   m_stats.stepSeconds = std::chrono::duration<double>(Clock::now() - start).count();
   return PFX_OK;
 }

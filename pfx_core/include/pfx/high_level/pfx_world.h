@@ -43,6 +43,9 @@ struct PfxWorldParam {
   // Shapes closer than this become speculative contacts (plus what velocity closes in a step).
   PfxFloat contactMargin = PfxFloat(0.02);
   PfxFloat restitutionThreshold = PfxFloat(0.2);
+  // Measure the total energy and momentum before and after each step (two passes over the
+  // bodies) and report their change in PfxWorldStats.
+  bool measureConservation = false;
   PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
 };
 
@@ -75,6 +78,22 @@ struct PfxWorldStats {
   PfxUInt32 numContactPoints = 0;
   PfxUInt32 numOutOfWorld = 0;
   PfxFloat maxPenetration = 0;     // deepest overlap among contact points (m, >= 0)
+  // Largest distance between the two anchors of a joint whose translations are all locked,
+  // after the step (m); 0 without such joints.
+  PfxFloat maxJointGap = 0;
+  // With PfxWorldParam::measureConservation: how much the step changed the totals of
+  // PfxConservedQuantities (J, kg m/s, kg m^2/s). Gravity, forces, contacts with fixed or
+  // keyframe bodies and inelastic collisions change them; a free body must not.
+  double energyChange = 0;
+  double linearMomentumChange = 0;
+  double angularMomentumChange = 0;
+};
+
+// Totals over the bodies that forces move (active and one-way, awake or asleep).
+struct PfxConservedQuantities {
+  double energy = 0;  // kinetic plus potential in the world's gravity (J)
+  PfxVector3 linearMomentum = PfxVector3::Zero();
+  PfxVector3 angularMomentum = PfxVector3::Zero();  // about the world origin
 };
 
 class PfxWorld {
@@ -135,6 +154,7 @@ class PfxWorld {
   // One step of param.timeStep.
   PfxInt32 step();
   const PfxWorldStats& getStats() const { return m_stats; }
+  PfxConservedQuantities measureConservedQuantities() const;
 
   // The closest hit of a ray, or of each of `numRays` rays, on the bodies as they are now
   // (seed chapter 5; rules in pfx_ray.h and pfx_cast_rays.h). The first cast after a step
