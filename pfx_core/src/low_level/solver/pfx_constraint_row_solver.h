@@ -31,14 +31,17 @@ inline PfxVector3 pfxRelativeDeltaVelocity(const PfxSolverBody& a, const PfxVect
          a.m_deltaAngularVelocity.cross(rA);
 }
 
-inline void pfxApplyRowImpulse(const PfxVector3& normal, PfxFloat impulse, PfxSolverBody& a,
-                               const PfxVector3& rA, PfxFloat receivesA, PfxSolverBody& b,
-                               const PfxVector3& rB, PfxFloat receivesB) {
+// By default to the solved velocities; the split impulses pass the push velocities.
+inline void pfxApplyRowImpulse(
+    const PfxVector3& normal, PfxFloat impulse, PfxSolverBody& a, const PfxVector3& rA,
+    PfxFloat receivesA, PfxSolverBody& b, const PfxVector3& rB, PfxFloat receivesB,
+    PfxVector3 PfxSolverBody::*linearVelocity = &PfxSolverBody::m_deltaLinearVelocity,
+    PfxVector3 PfxSolverBody::*angularVelocity = &PfxSolverBody::m_deltaAngularVelocity) {
   const PfxVector3 linear = normal * impulse;
-  a.m_deltaLinearVelocity -= (receivesA * a.m_massInv) * linear;
-  a.m_deltaAngularVelocity -= receivesA * (a.m_inertiaInv * rA.cross(linear));
-  b.m_deltaLinearVelocity += (receivesB * b.m_massInv) * linear;
-  b.m_deltaAngularVelocity += receivesB * (b.m_inertiaInv * rB.cross(linear));
+  a.*linearVelocity -= (receivesA * a.m_massInv) * linear;
+  a.*angularVelocity -= receivesA * (a.m_inertiaInv * rA.cross(linear));
+  b.*linearVelocity += (receivesB * b.m_massInv) * linear;
+  b.*angularVelocity += receivesB * (b.m_inertiaInv * rB.cross(linear));
 }
 
 // One Gauss-Seidel update: the impulse that brings the row to its target velocity, with the

@@ -200,11 +200,9 @@ void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloa
                                                  &PfxSolverBody::m_pushAngularVelocity);
     const PfxFloat closing = -(1 + restitution) * cp.m_distance / timeStep;
     const PfxFloat impulse = std::min((closing - pushVelocity) * row.m_jacDiagInv, PfxFloat(0));
-    const PfxVector3 linear = row.m_normal * impulse;
-    p.a.m_pushLinearVelocity -= (p.receivesA * p.a.m_massInv) * linear;
-    p.a.m_pushAngularVelocity -= p.receivesA * (p.a.m_inertiaInv * cp.m_armA.cross(linear));
-    p.b.m_pushLinearVelocity += (p.receivesB * p.b.m_massInv) * linear;
-    p.b.m_pushAngularVelocity += p.receivesB * (p.b.m_inertiaInv * cp.m_armB.cross(linear));
+    pfxApplyRowImpulse(row.m_normal, impulse, p.a, cp.m_armA, p.receivesA, p.b, cp.m_armB,
+                       p.receivesB, &PfxSolverBody::m_pushLinearVelocity,
+                       &PfxSolverBody::m_pushAngularVelocity);
   }
 }
 
