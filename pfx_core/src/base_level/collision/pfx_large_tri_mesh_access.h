@@ -88,22 +88,13 @@ void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, con
     const PfxUInt32 count = pfxLargeMeshLeafCount(link);
     for (PfxUInt32 t = first; t < first + count; ++t) visit(island, t);
   };
-  if (pfxLargeMeshIsQuantized(mesh)) {
-    // The box in quantization steps, rounded outward; a box that misses the quantization
-    // box misses every node.
-    PfxInt32 qlo[3], qhi[3];
-    for (int i = 0; i < 3; ++i) {
-      const PfxFloat a = std::floor((lo[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
-      const PfxFloat b = std::ceil((hi[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
-      if (!(b >= 0) || !(a <= PfxFloat(65535))) return;
-      qlo[i] = static_cast<PfxInt32>(std::max(a, PfxFloat(0)));
-      qhi[i] = static_cast<PfxInt32>(std::min(b, PfxFloat(65535)));
-    }
-    const PfxLargeMeshQuantizedNode* nodes = mesh.m_quantizedNodes;
+  // Depth first over nodes of either storage, with the box in the nodes' own units.
+  const auto walk = [&](const auto* nodes, const auto& boxLo, const auto& boxHi) {
     for (;;) {
-      const PfxLargeMeshQuantizedNode& n = nodes[node];
-      const bool overlap = n.m_min[0] <= qhi[0] && n.m_max[0] >= qlo[0] && n.m_min[1] <= qhi[1] &&
-                           n.m_max[1] >= qlo[1] && n.m_min[2] <= qhi[2] && n.m_max[2] >= qlo[2];
+      const auto& n = nodes[node];
+      const bool overlap = n.m_min[0] <= boxHi[0] && n.m_max[0] >= boxLo[0] &&
+                           n.m_min[1] <= boxHi[1] && n.m_max[1] >= boxLo[1] &&
+                           n.m_min[2] <= boxHi[2] && n.m_max[2] >= boxLo[2];
       if (overlap) {
         if (!pfxLargeMeshIsLeaf(n.m_link)) {
           node = pfxLargeMeshFirstChild(n.m_link);
@@ -115,23 +106,22 @@ void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, con
       if (depth == 0) return;
       node = stack[--depth];
     }
-  }
-  const PfxLargeMeshNode* nodes = mesh.m_nodes;
-  for (;;) {
-    const PfxLargeMeshNode& n = nodes[node];
-    const bool overlap = n.m_min[0] <= hi[0] && n.m_max[0] >= lo[0] && n.m_min[1] <= hi[1] &&
-                         n.m_max[1] >= lo[1] && n.m_min[2] <= hi[2] && n.m_max[2] >= lo[2];
-    if (overlap) {
-      if (!pfxLargeMeshIsLeaf(n.m_link)) {
-        node = pfxLargeMeshFirstChild(n.m_link);
-        stack[depth++] = node + 1;
-        continue;
-      }
-      visitLeaf(n.m_link);
+  };
+  if (pfxLargeMeshIsQuantized(mesh)) {
+    // The box in quantization steps, rounded outward; a box that misses the quantization
+    // box misses every node.
+    PfxInt32 qlo[3], qhi[3];
+    for (int i = 0; i < 3; ++i) {
+      const PfxFloat a = std::floor((lo[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
+      const PfxFloat b = std::ceil((hi[i] - mesh.m_quantOrigin[i]) / mesh.m_quantStep[i]);
+      if (!(b >= 0) || !(a <= PfxFloat(65535))) return;
+      qlo[i] = static_cast<PfxInt32>(std::max(a, PfxFloat(0)));
+      qhi[i] = static_cast<PfxInt32>(std::min(b, PfxFloat(65535)));
     }
-    if (depth == 0) return;
-    node = stack[--depth];
+    walk(mesh.m_quantizedNodes, qlo, qhi);
+    return;
   }
+  walk(mesh.m_nodes, lo, hi);
 }
 
 }  // namespace pfx
