@@ -43,7 +43,9 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
   PfxJointTreeSolver tree;
   tree.build(param.workBuff, param.workBytes, param.jointPairs, param.numJointPairs,
              param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies);
+  // The direct solve is exact: alternating with it pays only while iterated rows act.
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
+    bool iterated = false;
     for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
       const PfxConstraintPair& pair = param.jointPairs[i];
       if (!pfxGetActive(pair)) continue;
@@ -60,9 +62,11 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
         if (c.m_rowType == kPfxJointRowNone || lockedDirectly) continue;
         if (c.m_pushRhs == 0 && c.m_pushImpulse == 0) continue;
         pfxSolveJointPushRow(c, joint, axis, a, receivesA, b, receivesB);
+        iterated = true;
       }
     }
     tree.solvePush();
+    if (!iterated) break;
   }
   for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
     if (param.offsetSolverBodies[i].m_massInv == 0) continue;
