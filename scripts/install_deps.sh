@@ -1,14 +1,28 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, what the build needs. Usage: install_deps.sh [core|all]
 #   core: compiler, CMake, Eigen, GoogleTest, Google Benchmark (the physics core and its tests)
-#   all:  core plus what later parts use when present (loaders, ROS node, benchmark peers)
+#   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo), the ROS node
+#         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
+#         peers (Bullet, ODE, MuJoCo, Embree, gnuplot)
 set -euo pipefail
 
 set_name=${1:-core}
 core=(build-essential cmake pkg-config libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev)
 packages=("${core[@]}")
 if [ "$set_name" = all ]; then
-  packages+=(libbullet-dev libode-dev libmujoco-dev libqhull-dev gnuplot-nox)
+  packages+=(liburdfdom-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
+  # ROS1 from Debian: the message packages come twice, as C++ headers (lib*-dev) and as
+  # the .msg definitions that message generation reads (ros-*).
+  packages+=(catkin libroscpp-dev libtf2-ros-dev liburdf-dev ros-message-generation
+    ros-message-runtime python3-gencpp python3-genmsg librostest-dev python3-rosmaster
+    python3-roslaunch python3-rostest rosout rosbash python3-rosservice python3-rostopic
+    python3-rosnode tf2-tools python3-numpy)
+  for msgs in geometry-msgs std-msgs visualization-msgs sensor-msgs std-srvs diagnostic-msgs; do
+    packages+=("lib${msgs}-dev" "ros-${msgs}")
+  done
+  packages+=(libros-rosgraph-msgs-dev ros-rosgraph-msgs)
+  packages+=(rviz xvfb xauth imagemagick)
+  packages+=(libbullet-dev libode-dev libmujoco-dev libembree-dev gnuplot-nox)
 fi
 
 missing=()
