@@ -54,7 +54,10 @@
 //   and a joint cannot open, so their joint_gap_max is zero by construction (what is
 //   reported is rounding). Both integrate the velocity-dependent (Coriolis and centripetal)
 //   terms explicitly with their default semi-implicit Euler step; MuJoCo's joints have no
-//   damping or armature. bullet_multibody runs only scenes whose joints form trees hanging
+//   damping or armature. Hinge limits (the ragdoll's elbows and knees) are each engine's
+//   own: pfx's limit rows, Bullet's btHingeConstraint::setLimit with its default softness,
+//   bias and relaxation, ODE's hinge stops with the world's ERP and CFM, MuJoCo's
+//   limited range with its default solref and solimp. bullet_multibody runs only scenes whose joints form trees hanging
 //   from the world and starting at rest (the chains); its links have no damping and no cap
 //   on joint speed (Bullet's defaults are 0.04 and 100 rad/s, which would mask a blow-up
 //   as a clamped speed), and its contact impulses are not capped either. MuJoCo runs

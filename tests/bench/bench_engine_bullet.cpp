@@ -4,6 +4,7 @@
 // Bullet's fixed-step accumulator (stepSimulation(dt, N, dt / N)) divides
 // single-precision time by the rounded sub-step, and when N is not a power of two it now
 // and then defers a sub-step to the next call.
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -93,14 +94,15 @@ class BulletEngine final : public Engine {
     btRigidBody& b = *m_bodies[desc.bodyB];
     const btTransform toB = b.getCenterOfMassTransform().inverse();
     const btVector3 pivotInB = toB * toBt(desc.anchor);
-    const btVector3 axisInB = toB.getBasis() * toBt(desc.axis.normalized());
     BtJoint joint;
     if (desc.bodyA == kWorld) {
       joint.swapped = true;
       if (desc.type == JointType::Ball) {
         joint.constraint = std::make_unique<btPoint2PointConstraint>(b, pivotInB);
       } else {
-        joint.constraint = std::make_unique<btHingeConstraint>(b, pivotInB, axisInB);
+        auto hinge = std::make_unique<btHingeConstraint>(b, toB * hingeFrame(desc));
+        limitHinge(*hinge, desc);
+        joint.constraint = std::move(hinge);
       }
       return joint;
     }
@@ -110,11 +112,26 @@ class BulletEngine final : public Engine {
     if (desc.type == JointType::Ball) {
       joint.constraint = std::make_unique<btPoint2PointConstraint>(a, b, pivotInA, pivotInB);
     } else {
-      const btVector3 axisInA = toA.getBasis() * toBt(desc.axis.normalized());
-      joint.constraint =
-          std::make_unique<btHingeConstraint>(a, b, pivotInA, pivotInB, axisInA, axisInB);
+      const btTransform frame = hingeFrame(desc);
+      auto hinge = std::make_unique<btHingeConstraint>(a, b, toA * frame, toB * frame);
+      limitHinge(*hinge, desc);
+      joint.constraint = std::move(hinge);
     }
     return joint;
+  }
+
+  // The hinge's frame in the world (its Z axis is the hinge axis), given to both bodies as
+  // they are now, so that Bullet's angle is zero at the initial pose as in the other engines.
+  static btTransform hingeFrame(const JointDesc& desc) {
+    btVector3 axis = toBt(desc.axis.normalized()), u, v;
+    btPlaneSpace1(axis, u, v);
+    return btTransform(btMatrix3x3(u.x(), v.x(), axis.x(), u.y(), v.y(), axis.y(), u.z(), v.z(),
+                                   axis.z()),
+                       toBt(desc.anchor));
+  }
+
+  static void limitHinge(btHingeConstraint& hinge, const JointDesc& desc) {
+    if (std::isfinite(desc.limit)) hinge.setLimit(btScalar(-desc.limit), btScalar(desc.limit));
   }
 
   // Declared in the order of construction; the world goes first on destruction.

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -114,7 +115,11 @@ struct MjcfWriter {
         out << " type=\"ball\"/>\n";
       } else {
         out << " type=\"hinge\" axis=\"" << body.orientation.conjugate() * joint.axis.normalized()
-            << "\"/>\n";
+            << '"';
+        if (std::isfinite(joint.limit)) {
+          out << " limited=\"true\" range=\"" << -joint.limit << ' ' << joint.limit << '"';
+        }
+        out << "/>\n";
       }
     }
     out << "<inertial pos=\"0 0 0\" mass=\"" << body.mass << "\" diaginertia=\"" << body.inertia

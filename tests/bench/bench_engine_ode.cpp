@@ -182,6 +182,10 @@ class OdeEngine final : public Engine {
       dJointAttach(joint, a, b);
       dJointSetHingeAnchor(joint, p.x(), p.y(), p.z());
       dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
+      if (std::isfinite(desc.limit)) {
+        dJointSetHingeParam(joint, dParamLoStop, -desc.limit);
+        dJointSetHingeParam(joint, dParamHiStop, desc.limit);
+      }
     }
     m_joints.push_back(joint);
   }

@@ -2,6 +2,7 @@
 // warm-started solver), sub-steps by stepping the world several times at dt / substeps.
 // Joints are PfxJoints made by pfxInitializeBallJoint / pfxInitializeHingeJoint; joints to
 // the world hang from one extra fixed body that collides with nothing.
+#include <cmath>
 #include <string>
 
 #include "bench_engine.h"
@@ -138,9 +139,16 @@ class PfxEngine final : public Engine {
         PfxHingeJointInitParam param;
         param.anchorPoint = toPfx(desc.anchor);
         param.axis = toPfx(desc.axis).normalized();
+        const bool limited = std::isfinite(desc.limit);
+        if (limited) {
+          param.lowerAngle = static_cast<PfxFloat>(-desc.limit);
+          param.upperAngle = static_cast<PfxFloat>(desc.limit);
+        }
         err = pfxInitializeHingeJoint(joint, stateA, stateB, param);
-        // The description's hinges turn freely; the init function limits them to a turn.
-        if (err == PFX_OK) joint.m_constraints[kPfxJointAxisTwist].m_lock = kPfxJointLockFree;
+        // Without a limit the hinge turns freely; the init function would limit it to a turn.
+        if (err == PFX_OK && !limited) {
+          joint.m_constraints[kPfxJointAxisTwist].m_lock = kPfxJointLockFree;
+        }
       }
       if (err == PFX_OK) err = m_world.addJoint(joint);
       if (err != PFX_OK) {

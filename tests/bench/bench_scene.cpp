@@ -19,7 +19,7 @@ const SceneEntry kScenes[] = {
     {"pyramid", buildPyramidScene}, {"tower", buildTowerScene},
     {"spinner", buildSpinnerScene}, {"rain", buildRainScene},
     {"bullet", buildBulletScene}, {"chain", buildChainScene},
-    {"longchain", buildLongChainScene},
+    {"longchain", buildLongChainScene}, {"ragdoll", buildRagdollScene},
 };
 
 int otherEnd(const JointDesc& joint, int body) {

@@ -74,6 +74,10 @@ struct JointDesc {
   int bodyB = 0;       // index of a dynamic body
   Vec3 anchor = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();  // hinge: the free axis, world direction in the initial poses
+  // Hinge: the angle stays within +-limit of the initial pose (rad); infinity: free. The
+  // range is symmetric so that every engine's sign convention of the angle gives the same
+  // joint.
+  double limit = std::numeric_limits<double>::infinity();
 };
 
 // The error figures a scene is judged by; each becomes one TSV row per run.
@@ -142,5 +146,6 @@ void buildBulletScene(std::vector<Scene>& variants);
 // Jointed scenes (bench_scenes_joint.cpp).
 void buildChainScene(std::vector<Scene>& variants);
 void buildLongChainScene(std::vector<Scene>& variants);
+void buildRagdollScene(std::vector<Scene>& variants);
 
 }  // namespace pfxbench

@@ -65,3 +65,99 @@ void buildLongChainScene(std::vector<Scene>& variants) {
 }
 
 }  // namespace pfxbench
+
+namespace pfxbench {
+
+namespace {
+
+// One ragdoll of 11 bodies, 70 kg, standing with its arms stretched out sideways, feet at
+// y = 0: ball joints at the neck, spine, shoulders and hips, hinges limited to +-1.2 rad at
+// the elbows and knees. Poses are given in the ragdoll's own frame.
+struct RagdollPart {
+  ShapeDesc shape;
+  double mass;
+  Vec3 position;
+  bool upright;  // capsule turned from X to Y (legs)
+};
+
+struct RagdollJoint {
+  int parent, child;
+  JointType type;
+  Vec3 anchor;
+  Vec3 axis;
+};
+
+void addRagdoll(Scene& scene, const Vec3& origin, const Quat& turn) {
+  constexpr double pelvis = 1.05;  // height of the pelvis centre
+  const RagdollPart parts[] = {
+      {ShapeDesc::capsule(0.10, 0.10), 10, Vec3(0, pelvis, 0), false},               // 0 pelvis
+      {ShapeDesc::capsule(0.12, 0.12), 20, Vec3(0, pelvis + 0.30, 0), false},        // 1 torso
+      {ShapeDesc::sphere(0.10), 5, Vec3(0, pelvis + 0.57, 0), false},                // 2 head
+      {ShapeDesc::capsule(0.105, 0.045), 2.5, Vec3(-0.39, pelvis + 0.38, 0), false},  // 3 arms
+      {ShapeDesc::capsule(0.105, 0.045), 2.5, Vec3(0.39, pelvis + 0.38, 0), false},
+      {ShapeDesc::capsule(0.10, 0.04), 1.5, Vec3(-0.68, pelvis + 0.38, 0), false},    // 5 forearms
+      {ShapeDesc::capsule(0.10, 0.04), 1.5, Vec3(0.68, pelvis + 0.38, 0), false},
+      {ShapeDesc::capsule(0.18, 0.07), 7, Vec3(-0.1, pelvis - 0.35, 0), true},        // 7 thighs
+      {ShapeDesc::capsule(0.18, 0.07), 7, Vec3(0.1, pelvis - 0.35, 0), true},
+      {ShapeDesc::capsule(0.17, 0.055), 6.5, Vec3(-0.1, pelvis - 0.825, 0), true},    // 9 shins
+      {ShapeDesc::capsule(0.17, 0.055), 6.5, Vec3(0.1, pelvis - 0.825, 0), true},
+  };
+  const Vec3 bend = Vec3::UnitY(), knee = Vec3::UnitX();
+  const RagdollJoint joints[] = {
+      {0, 1, JointType::Ball, Vec3(0, pelvis + 0.14, 0), Vec3::Zero()},
+      {1, 2, JointType::Ball, Vec3(0, pelvis + 0.46, 0), Vec3::Zero()},
+      {1, 3, JointType::Ball, Vec3(-0.24, pelvis + 0.38, 0), Vec3::Zero()},
+      {1, 4, JointType::Ball, Vec3(0.24, pelvis + 0.38, 0), Vec3::Zero()},
+      {3, 5, JointType::Hinge, Vec3(-0.54, pelvis + 0.38, 0), bend},
+      {4, 6, JointType::Hinge, Vec3(0.54, pelvis + 0.38, 0), bend},
+      {0, 7, JointType::Ball, Vec3(-0.1, pelvis - 0.10, 0), Vec3::Zero()},
+      {0, 8, JointType::Ball, Vec3(0.1, pelvis - 0.10, 0), Vec3::Zero()},
+      {7, 9, JointType::Hinge, Vec3(-0.1, pelvis - 0.60, 0), knee},
+      {8, 10, JointType::Hinge, Vec3(0.1, pelvis - 0.60, 0), knee},
+  };
+  const int first = static_cast<int>(scene.bodies.size());
+  const Quat upright(Eigen::AngleAxisd(0.5 * M_PI, Vec3::UnitZ()));
+  for (const RagdollPart& part : parts) {
+    const Quat local = part.upright ? upright : Quat::Identity();
+    scene.bodies.push_back(
+        makeDynamicBody(part.shape, part.mass, origin + turn * part.position, turn * local));
+  }
+  for (const RagdollJoint& j : joints) {
+    JointDesc joint;
+    joint.type = j.type;
+    joint.bodyA = first + j.parent;
+    joint.bodyB = first + j.child;
+    joint.anchor = origin + turn * j.anchor;
+    if (j.type == JointType::Hinge) {
+      joint.axis = turn * j.axis;
+      joint.limit = 1.2;
+    }
+    scene.joints.push_back(joint);
+  }
+}
+
+}  // namespace
+
+// Eight ragdolls dropped lying flat, each turned 45 degrees from the one below, onto one
+// spot of the ground: a pile of limbs pressing on jointed limbs, joint limits under load.
+void buildRagdollScene(std::vector<Scene>& variants) {
+  Scene scene;
+  scene.name = "ragdoll";
+  scene.duration = 5;
+  scene.metrics = {Metric::JointGapMax, Metric::PenetrationMax, Metric::Escaped};
+  scene.bodies.push_back(makeFixedBody(ShapeDesc::box(Vec3(20, 1, 20)), Vec3(0, -1, 0)));
+  const Quat lieDown(Eigen::AngleAxisd(-0.5 * M_PI, Vec3::UnitX()));
+  for (int i = 0; i < 8; ++i) {
+    const Quat yaw(Eigen::AngleAxisd(0.25 * M_PI * i, Vec3::UnitY()));
+    // Lying down puts the pelvis 1.05 m out along -Z; shift it back over the origin.
+    const Quat turn = yaw * lieDown;
+    const Vec3 origin = Vec3(0, 0.2 + 0.35 * i, 0) - turn * Vec3(0, 1.05, 0);
+    addRagdoll(scene, origin, turn);
+  }
+  scene.keepInside.min = Vec3(-5, -0.5, -5);
+  scene.keepInside.max = Vec3(5, 10, 5);
+  scene.speedLimit = 30;
+  variants.push_back(scene);
+}
+
+}  // namespace pfxbench
