@@ -1,0 +1,65 @@
+// pfx_node: simulates the robot of robot_description (with a ground and an optional
+// OctoMap) at a fixed time step, paced by a real-time factor, and publishes and serves
+// what pfx_node_state_publisher.h, pfx_node_diagnostics.h, pfx_node_markers.h and
+// pfx_node_services.h describe. Everything runs on one thread: service calls are answered
+// between steps, so they always see a whole step.
+#pragma once
+
+#include <ros/ros.h>
+
+#include <memory>
+#include <string>
+
+#include "pfx_ros/pfx_node_diagnostics.h"
+#include "pfx_ros/pfx_node_markers.h"
+#include "pfx_ros/pfx_node_services.h"
+#include "pfx_ros/pfx_node_simulation.h"
+#include "pfx_ros/pfx_node_state_publisher.h"
+
+namespace pfx {
+
+// The node's parameters (private unless said otherwise), as read by PfxNode::initialize.
+struct PfxNodeParam {
+  PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
+                                       // ~octomap_file, ~ground_plane, ~ground_size, ~dt,
+                                       // ~substeps, ~iterations, ~fixed_base, ~initial_height
+  std::string fixedFrame = "world";    // ~fixed_frame
+  double realTimeFactor = 1;           // ~real_time_factor: 0 runs as fast as it can
+  // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
+  // 0 for markers or diagnostics means never.
+  double publishRate = 100;    // ~publish_rate: TF, /joint_states, /clock
+  double markerRate = 10;      // ~marker_rate
+  double diagnosticsRate = 1;  // ~diagnostics_rate
+  int maxBatchRays = 100000;   // ~max_batch_rays
+  bool paused = false;         // ~paused: start paused
+};
+
+class PfxNode {
+ public:
+  PfxNode();
+  ~PfxNode();
+
+  // Reads the parameters and builds the world; false (with the reason logged) when a
+  // parameter is invalid or the robot does not load.
+  bool initialize();
+  // Steps until ROS shuts down.
+  void run();
+
+ private:
+  bool readParam(PfxNodeParam& param) const;
+  ros::Time stamp() const;
+  void publishState();
+
+  ros::NodeHandle m_handle;
+  ros::NodeHandle m_privateHandle{"~"};
+  PfxNodeParam m_param;
+  bool m_useSimTime = false;
+  PfxNodeSimulation m_simulation;
+  PfxUInt32 m_boundGeneration = 0;
+  std::unique_ptr<PfxNodeServices> m_services;
+  std::unique_ptr<PfxNodeStatePublisher> m_statePublisher;
+  std::unique_ptr<PfxNodeDiagnostics> m_diagnostics;
+  std::unique_ptr<PfxNodeMarkers> m_markers;
+};
+
+}  // namespace pfx

@@ -1,0 +1,53 @@
+// The node's services, in its private namespace. Each checks the whole request before it
+// touches the world: a bad request (unknown link or joint, NaN, a zero-length ray, a
+// negative duration, too many rays, a quaternion that is not unit) gets success = false
+// and a message saying what was wrong, and changes nothing. Callbacks run between steps.
+#pragma once
+
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+
+#include <vector>
+
+#include "pfx/ApplyBodyWrench.h"
+#include "pfx/GetContacts.h"
+#include "pfx/Raycast.h"
+#include "pfx/RaycastBatch.h"
+#include "pfx/SetBodyState.h"
+#include "pfx/SetJointCommand.h"
+#include "pfx_ros/pfx_node_simulation.h"
+
+namespace pfx {
+
+class PfxNodeServices {
+ public:
+  // Advertises the services on `privateHandle`; a batch may hold at most maxBatchRays rays.
+  PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
+                  PfxUInt32 maxBatchRays, bool startPaused);
+
+  bool isPaused() const { return m_paused; }
+
+ private:
+  bool raycast(Raycast::Request& req, Raycast::Response& res);
+  bool raycastBatch(RaycastBatch::Request& req, RaycastBatch::Response& res);
+  bool getContacts(GetContacts::Request& req, GetContacts::Response& res);
+  bool applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res);
+  bool setBodyState(SetBodyState::Request& req, SetBodyState::Response& res);
+  bool setJointCommand(SetJointCommand::Request& req, SetJointCommand::Response& res);
+  bool reset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool pause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool unpause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+
+  // Name of what a ray hit, empty on a miss.
+  std::string hitName(const PfxRayOutput& hit) const;
+
+  PfxNodeSimulation& m_simulation;
+  PfxUInt32 m_maxBatchRays;
+  bool m_paused = false;
+  std::vector<ros::ServiceServer> m_servers;
+  std::vector<PfxRayInput> m_batchRays;  // kept between calls: batches reuse the memory
+  std::vector<PfxRayOutput> m_batchHits;
+  std::vector<PfxNodeContact> m_contacts;
+};
+
+}  // namespace pfx

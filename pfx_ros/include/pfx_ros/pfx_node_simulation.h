@@ -1,0 +1,112 @@
+// The world behind pfx_node: the robot of robot_description, a ground and an optional
+// OctoMap in one PfxWorld stepped at a fixed dt, and what the node's services ask of it
+// (rays, contacts, wrenches held for a duration, body states, motor commands, reset). No
+// ROS types here: this is plain use of pfx's API, and the services only translate.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pfx/high_level/pfx_world.h"
+#include "pfx/loaders/pfx_octomap_loader.h"
+#include "pfx/loaders/pfx_urdf_loader.h"
+
+namespace pfx {
+
+struct PfxNodeSimulationConfig {
+  std::string urdfXml;
+  // The file the URDF text came from: relative mesh paths resolve against its folder.
+  // Empty: against the working directory.
+  std::string urdfPath;
+  std::string octomapFile;  // empty: no map
+  bool groundPlane = true;  // a fixed box whose top face is the plane z = 0
+  PfxFloat groundSize = 20;  // edge of the square ground (m)
+  PfxFloat timeStep = PfxFloat(0.004);
+  PfxUInt32 subSteps = 1;
+  PfxUInt32 iterations = 10;
+  bool fixedBase = false;
+  PfxFloat initialHeight = 0;  // z of the root link's frame at the start (m)
+};
+
+// One point where two bodies touch (or pushed on each other during the last step).
+struct PfxNodeContact {
+  PfxUInt32 bodyA = 0;
+  PfxUInt32 bodyB = 0;
+  PfxVector3 position = PfxVector3::Zero();  // midway between the two surfaces
+  PfxVector3 normal = PfxVector3::Zero();    // from A to B
+  PfxFloat depth = 0;                        // overlap, > 0 when interpenetrating
+  PfxFloat impulse = 0;                      // normal impulse of the last sub-step (N s)
+};
+
+class PfxNodeSimulation {
+ public:
+  PfxNodeSimulation();
+  ~PfxNodeSimulation();
+
+  // Builds the world. On error returns the code, writes why into *message and keeps the
+  // world it had.
+  PfxInt32 load(const PfxNodeSimulationConfig& config, std::string* message);
+  // Builds the world again as load() built it: every body and joint back at its start and
+  // motor commands and pending wrenches dropped. Simulated time keeps running, so that
+  // time stamps never go back.
+  PfxInt32 reset(std::string* message);
+  // One step of the time step; the wrenches that are due act during it.
+  PfxInt32 step();
+
+  double getTime() const { return static_cast<double>(m_stepCount) * m_config.timeStep; }
+  PfxUInt64 getStepCount() const { return m_stepCount; }
+  // Counts load() and reset() calls: whoever draws the static bodies draws them again.
+  PfxUInt32 getGeneration() const { return m_generation; }
+  const PfxNodeSimulationConfig& getConfig() const { return m_config; }
+  const PfxWorld& getWorld() const;
+  const PfxUrdfModel& getModel() const;
+  // The link a body carries (the one nearest the URDF root when fixed joints lumped
+  // several into it), "ground" or "octomap".
+  const std::string& getBodyName(PfxUInt32 bodyId) const;
+  // Index into getModel().links, or -1.
+  PfxInt32 findLink(const std::string& name) const;
+  PfxInt32 findJoint(const std::string& name) const;
+  // Body id of a link, of "ground" or of "octomap", or -1.
+  PfxInt64 findBody(const std::string& name) const;
+  PfxTransform3 getLinkPose(PfxUInt32 linkIndex) const;
+
+  PfxInt32 castRay(const PfxRayInput& ray, PfxRayOutput& hit);
+  PfxInt32 castRays(const PfxRayInput* rays, PfxRayOutput* hits, PfxUInt32 numRays);
+  // The points of the last step where bodies overlap or pushed on each other; speculative
+  // points that did nothing are left out.
+  void getContacts(std::vector<PfxNodeContact>& contacts) const;
+
+  // A force at the link's origin plus a torque (world frame), on the link's body for
+  // `duration` seconds of simulated time (at least one step).
+  PfxInt32 applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force,
+                           const PfxVector3& torque, double duration);
+  // Moves the link's body so that the link's frame is at `pose`, with the link origin's
+  // velocity and the angular velocity given (world frame).
+  PfxInt32 setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,
+                        const PfxVector3& linearVelocity, const PfxVector3& angularVelocity);
+  // One drive for several joints, all or none: when one is rejected the joints set before
+  // it are put back.
+  PfxInt32 setJointCommands(const std::vector<PfxUInt32>& jointIndices, PfxJointDrive drive,
+                            const std::vector<PfxFloat>& targets,
+                            const std::vector<PfxFloat>& maxForces);
+
+ private:
+  struct Scene;
+  struct Wrench {
+    PfxUInt32 linkIndex;
+    PfxVector3 force;
+    PfxVector3 torque;
+    double remainingSteps;
+  };
+  PfxInt32 buildScene(const PfxNodeSimulationConfig& config, std::unique_ptr<Scene>& scene,
+                      std::string* message) const;
+
+  PfxNodeSimulationConfig m_config;
+  std::unique_ptr<Scene> m_scene;
+  std::vector<Wrench> m_wrenches;
+  PfxUInt64 m_stepCount = 0;
+  PfxUInt32 m_generation = 0;
+};
+
+}  // namespace pfx

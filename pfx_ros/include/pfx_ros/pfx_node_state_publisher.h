@@ -1,0 +1,43 @@
+// What the node publishes of the robot's state: TF for every link (the URDF tree, its
+// root under the fixed frame), /joint_states with the URDF joint names, and /clock when
+// the node runs on simulated time (use_sim_time).
+#pragma once
+
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <string>
+#include <vector>
+
+#include "pfx_ros/pfx_node_simulation.h"
+
+namespace pfx {
+
+class PfxNodeStatePublisher {
+ public:
+  PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
+                        bool publishClock);
+
+  // Reads the link tree and joint list of the simulation's robot; call after every load
+  // or reset.
+  void bind(const PfxNodeSimulation& simulation);
+  void publish(const PfxNodeSimulation& simulation, const ros::Time& stamp);
+
+ private:
+  std::string m_fixedFrame;
+  bool m_publishClock;
+  tf2_ros::TransformBroadcaster m_broadcaster;
+  ros::Publisher m_jointStates;
+  ros::Publisher m_clock;
+  // Per link: index of its parent link in the model, or -1 when it hangs from the fixed frame.
+  std::vector<PfxInt32> m_parentLink;
+  std::vector<geometry_msgs::TransformStamped> m_transforms;
+  std::vector<PfxTransform3> m_linkPoses;
+  std::vector<PfxUInt32> m_movableJoints;  // indices into the model's joints
+  std::vector<double> m_positions;
+  std::vector<double> m_velocities;
+  sensor_msgs::JointState m_jointState;
+};
+
+}  // namespace pfx

@@ -1,0 +1,167 @@
+#include "pfx_ros/pfx_node.h"
+
+#include <ros/callback_queue.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pfx {
+
+namespace {
+
+// A step this late (a slow step, a long service call) is not caught up with a burst of
+// steps: the schedule starts again from now.
+const ros::WallDuration kMaxLag(0.1);
+// While paused, how long the loop waits for service calls before it looks around again.
+const ros::WallDuration kPausedWait(0.01);
+
+ros::WallDuration periodOf(double rate) {
+  return rate > 0 ? ros::WallDuration(1.0 / rate) : ros::WallDuration(0);
+}
+
+bool positiveFinite(double x) { return std::isfinite(x) && x > 0; }
+bool nonNegativeFinite(double x) { return std::isfinite(x) && x >= 0; }
+
+}  // namespace
+
+PfxNode::PfxNode() = default;
+PfxNode::~PfxNode() = default;
+
+bool PfxNode::readParam(PfxNodeParam& p) const {
+  const ros::NodeHandle& nh = m_privateHandle;
+  if (!m_handle.getParam("robot_description", p.simulation.urdfXml)) {
+    ROS_FATAL("pfx_node: parameter robot_description (the robot's URDF text) is not set");
+    return false;
+  }
+  nh.param<std::string>("urdf_path", p.simulation.urdfPath, "");
+  nh.param<std::string>("octomap_file", p.simulation.octomapFile, "");
+  nh.param("ground_plane", p.simulation.groundPlane, true);
+  nh.param("fixed_base", p.simulation.fixedBase, false);
+  nh.param<std::string>("fixed_frame", p.fixedFrame, "world");
+  nh.param("paused", p.paused, false);
+  double groundSize, dt, initialHeight;
+  int subSteps, iterations;
+  nh.param("ground_size", groundSize, 20.0);
+  nh.param("dt", dt, 0.004);
+  nh.param("substeps", subSteps, 1);
+  nh.param("iterations", iterations, 10);
+  nh.param("initial_height", initialHeight, 0.0);
+  nh.param("real_time_factor", p.realTimeFactor, 1.0);
+  nh.param("publish_rate", p.publishRate, 100.0);
+  nh.param("marker_rate", p.markerRate, 10.0);
+  nh.param("diagnostics_rate", p.diagnosticsRate, 1.0);
+  nh.param("max_batch_rays", p.maxBatchRays, 100000);
+
+  const char* invalid = nullptr;
+  if (!positiveFinite(dt)) invalid = "~dt must be a positive number of seconds";
+  if (subSteps < 1) invalid = "~substeps must be at least 1";
+  if (iterations < 1) invalid = "~iterations must be at least 1";
+  if (!positiveFinite(groundSize)) invalid = "~ground_size must be a positive number of metres";
+  if (!std::isfinite(initialHeight)) invalid = "~initial_height must be finite";
+  if (!nonNegativeFinite(p.realTimeFactor)) invalid = "~real_time_factor must be >= 0";
+  if (!nonNegativeFinite(p.publishRate) || !nonNegativeFinite(p.markerRate) ||
+      !nonNegativeFinite(p.diagnosticsRate)) {
+    invalid = "~publish_rate, ~marker_rate and ~diagnostics_rate must be >= 0";
+  }
+  if (p.maxBatchRays < 1) invalid = "~max_batch_rays must be at least 1";
+  if (p.fixedFrame.empty()) invalid = "~fixed_frame must not be empty";
+  if (invalid) {
+    ROS_FATAL("pfx_node: %s", invalid);
+    return false;
+  }
+  p.simulation.groundSize = PfxFloat(groundSize);
+  p.simulation.timeStep = PfxFloat(dt);
+  p.simulation.subSteps = PfxUInt32(subSteps);
+  p.simulation.iterations = PfxUInt32(iterations);
+  p.simulation.initialHeight = PfxFloat(initialHeight);
+  return true;
+}
+
+bool PfxNode::initialize() {
+  if (!readParam(m_param)) return false;
+  std::string why;
+  if (m_simulation.load(m_param.simulation, &why) != PFX_OK) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
+  for (const std::string& warning : m_simulation.getModel().warnings) {
+    ROS_WARN_STREAM("pfx_node: " << warning);
+  }
+  ros::param::param("/use_sim_time", m_useSimTime, false);
+
+  m_statePublisher =
+      std::make_unique<PfxNodeStatePublisher>(m_handle, m_param.fixedFrame, m_useSimTime);
+  m_statePublisher->bind(m_simulation);
+  m_boundGeneration = m_simulation.getGeneration();
+  m_diagnostics = std::make_unique<PfxNodeDiagnostics>(m_handle, m_param.realTimeFactor);
+  m_markers = std::make_unique<PfxNodeMarkers>(m_privateHandle, m_param.fixedFrame);
+  m_services = std::make_unique<PfxNodeServices>(
+      m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused);
+
+  const PfxUrdfModel& model = m_simulation.getModel();
+  ROS_INFO("pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
+           "%u sub-steps, %u iterations, real-time factor %g%s",
+           model.name.c_str(), model.links.size(), model.joints.size(),
+           m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
+           m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
+           m_param.paused ? " (paused)" : "");
+  return true;
+}
+
+ros::Time PfxNode::stamp() const {
+  return m_useSimTime ? ros::Time(m_simulation.getTime()) : ros::Time::now();
+}
+
+void PfxNode::run() {
+  ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
+  const double dt = m_param.simulation.timeStep;
+  const ros::WallDuration stepPeriod(m_param.realTimeFactor > 0 ? dt / m_param.realTimeFactor : 0);
+  const ros::WallDuration statePeriod = periodOf(m_param.publishRate);
+  const ros::WallDuration markerPeriod = periodOf(m_param.markerRate);
+  const ros::WallDuration diagnosticsPeriod = periodOf(m_param.diagnosticsRate);
+
+  ros::WallTime now = ros::WallTime::now();
+  ros::WallTime nextStep = now, nextState = now, nextMarkers = now;
+  ros::WallTime nextDiagnostics = now + diagnosticsPeriod;
+  bool stepsUnpublished = false;
+  while (ros::ok()) {
+    now = ros::WallTime::now();
+    const bool paused = m_services->isPaused();
+    if (paused) {
+      nextStep = now;  // no burst of steps on unpause
+    } else if (now >= nextStep) {
+      if (const PfxInt32 err = m_simulation.step(); err != PFX_OK) {
+        ROS_ERROR_THROTTLE(1.0, "pfx_node: step at t = %.3f s failed: %s", m_simulation.getTime(),
+                           pfxErrorString(err));
+      }
+      m_diagnostics->addStep(m_simulation.getWorld().getStats());
+      stepsUnpublished = true;
+      nextStep += stepPeriod;
+      if (now - nextStep > kMaxLag) nextStep = now;
+    }
+    if (m_simulation.getGeneration() != m_boundGeneration) {
+      m_statePublisher->bind(m_simulation);
+      m_boundGeneration = m_simulation.getGeneration();
+    }
+    // Stamps are simulated time under use_sim_time: only a step makes a new state.
+    if (stepsUnpublished && now >= nextState) {
+      m_statePublisher->publish(m_simulation, stamp());
+      stepsUnpublished = false;
+      nextState = now + statePeriod;
+    }
+    if (m_param.markerRate > 0 && now >= nextMarkers) {
+      m_markers->publish(m_simulation, stamp());
+      nextMarkers = now + markerPeriod;
+    }
+    if (m_param.diagnosticsRate > 0 && now >= nextDiagnostics) {
+      m_diagnostics->publish(m_simulation, paused, stamp());
+      nextDiagnostics = now + diagnosticsPeriod;
+    }
+    // Answer service calls until the next step is due.
+    const ros::WallTime wake = paused ? now + kPausedWait : nextStep;
+    const ros::WallDuration wait = wake - ros::WallTime::now();
+    queue.callAvailable(wait > ros::WallDuration(0) ? wait : ros::WallDuration(0));
+  }
+}
+
+}  // namespace pfx

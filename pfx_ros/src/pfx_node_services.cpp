@@ -1,0 +1,302 @@
+#include "pfx_ros/pfx_node_services.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "pfx_ros/pfx_ros_conversions.h"
+
+namespace pfx {
+
+namespace {
+
+template <typename Response>
+bool reject(Response& res, const char* service, const std::string& why) {
+  res.success = false;
+  res.message = why;
+  ROS_WARN_STREAM("pfx_node: " << service << " rejected: " << why);
+  return true;  // the call itself worked; success says the request did not
+}
+
+template <typename Response>
+bool accept(Response& res, const std::string& message = "") {
+  res.success = true;
+  res.message = message;
+  return true;
+}
+
+// Empty when the ray can be cast, otherwise why not.
+std::string makeRay(const geometry_msgs::Point& origin, const geometry_msgs::Vector3& direction,
+                    PfxRayInput& ray) {
+  ray.reset();
+  ray.m_startPosition = pfxFromMsg(origin);
+  ray.m_direction = pfxFromMsg(direction);
+  if (!pfxIsFinite(ray.m_startPosition)) return "origin is not finite (NaN, infinite or too large)";
+  if (!pfxIsFinite(ray.m_direction)) return "direction is not finite (NaN, infinite or too large)";
+  switch (pfxCheckRayInput(ray)) {
+    case PFX_OK:
+      return "";
+    case PFX_ERR_DEGENERATE:
+      return "direction has zero length (its length is the ray's length)";
+    default:
+      return "direction is too long to cast";
+  }
+}
+
+std::string unknownLink(const std::string& name) {
+  return name.empty() ? "no link named" : "unknown link '" + name + "'";
+}
+
+bool isFinite(const geometry_msgs::Vector3& v) {
+  return pfxIsFinite(pfxFromMsg(v));
+}
+
+}  // namespace
+
+PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
+                                 PfxUInt32 maxBatchRays, bool startPaused)
+    : m_simulation(simulation), m_maxBatchRays(maxBatchRays), m_paused(startPaused) {
+  ros::NodeHandle& nh = privateHandle;
+  m_servers.push_back(nh.advertiseService("raycast", &PfxNodeServices::raycast, this));
+  m_servers.push_back(nh.advertiseService("raycast_batch", &PfxNodeServices::raycastBatch, this));
+  m_servers.push_back(nh.advertiseService("get_contacts", &PfxNodeServices::getContacts, this));
+  m_servers.push_back(
+      nh.advertiseService("apply_body_wrench", &PfxNodeServices::applyBodyWrench, this));
+  m_servers.push_back(nh.advertiseService("set_body_state", &PfxNodeServices::setBodyState, this));
+  m_servers.push_back(
+      nh.advertiseService("set_joint_command", &PfxNodeServices::setJointCommand, this));
+  m_servers.push_back(nh.advertiseService("reset", &PfxNodeServices::reset, this));
+  m_servers.push_back(nh.advertiseService("pause", &PfxNodeServices::pause, this));
+  m_servers.push_back(nh.advertiseService("unpause", &PfxNodeServices::unpause, this));
+}
+
+std::string PfxNodeServices::hitName(const PfxRayOutput& hit) const {
+  if (!hit.m_contactFlag || hit.m_objectId == PFX_RAY_NO_OBJECT) return "";
+  return m_simulation.getBodyName(hit.m_objectId);
+}
+
+bool PfxNodeServices::raycast(Raycast::Request& req, Raycast::Response& res) {
+  PfxRayInput ray;
+  if (const std::string why = makeRay(req.origin, req.direction, ray); !why.empty()) {
+    return reject(res, "raycast", why);
+  }
+  PfxRayOutput hit;
+  if (const PfxInt32 err = m_simulation.castRay(ray, hit); err != PFX_OK) {
+    return reject(res, "raycast", std::string("cast failed: ") + pfxErrorString(err));
+  }
+  res.hit = hit.m_contactFlag;
+  res.point = pfxToPointMsg(hit.m_contactPoint);
+  res.normal = pfxToVector3Msg(hit.m_contactNormal);
+  res.fraction = hit.m_variable;
+  res.distance = double(hit.m_variable) * double(ray.m_direction.norm());
+  res.link = hitName(hit);
+  return accept(res);
+}
+
+bool PfxNodeServices::raycastBatch(RaycastBatch::Request& req, RaycastBatch::Response& res) {
+  const std::size_t numRays = req.origins.size();
+  if (req.directions.size() != numRays) {
+    std::ostringstream why;
+    why << req.origins.size() << " origins but " << req.directions.size()
+        << " directions: one of each per ray";
+    return reject(res, "raycast_batch", why.str());
+  }
+  if (numRays > m_maxBatchRays) {
+    std::ostringstream why;
+    why << numRays << " rays in one batch, at most " << m_maxBatchRays << " allowed";
+    return reject(res, "raycast_batch", why.str());
+  }
+  m_batchRays.resize(numRays);
+  m_batchHits.resize(numRays);
+  for (std::size_t i = 0; i < numRays; ++i) {
+    if (const std::string why = makeRay(req.origins[i], req.directions[i], m_batchRays[i]);
+        !why.empty()) {
+      return reject(res, "raycast_batch", "ray " + std::to_string(i) + ": " + why);
+    }
+  }
+  if (numRays > 0) {
+    const PfxInt32 err =
+        m_simulation.castRays(m_batchRays.data(), m_batchHits.data(), PfxUInt32(numRays));
+    if (err != PFX_OK) {
+      return reject(res, "raycast_batch", std::string("cast failed: ") + pfxErrorString(err));
+    }
+  }
+  res.hit.resize(numRays);
+  res.points.resize(numRays);
+  res.normals.resize(numRays);
+  res.fractions.resize(numRays);
+  res.links.resize(numRays);
+  for (std::size_t i = 0; i < numRays; ++i) {
+    const PfxRayOutput& hit = m_batchHits[i];
+    res.hit[i] = hit.m_contactFlag;
+    res.points[i] = pfxToPointMsg(hit.m_contactPoint);
+    res.normals[i] = pfxToVector3Msg(hit.m_contactNormal);
+    res.fractions[i] = hit.m_variable;
+    res.links[i] = hitName(hit);
+  }
+  return accept(res);
+}
+
+bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Response& res) {
+  PfxInt64 body = -1;
+  if (!req.link.empty()) {
+    body = m_simulation.findBody(req.link);
+    if (body < 0) return reject(res, "get_contacts", unknownLink(req.link));
+  }
+  m_simulation.getContacts(m_contacts);
+  for (const PfxNodeContact& c : m_contacts) {
+    if (body >= 0 && c.bodyA != body && c.bodyB != body) continue;
+    // The link asked about comes first, the normal pointing away from it.
+    const bool swap = body >= 0 && c.bodyA != body;
+    Contact msg;
+    msg.link_a = m_simulation.getBodyName(swap ? c.bodyB : c.bodyA);
+    msg.link_b = m_simulation.getBodyName(swap ? c.bodyA : c.bodyB);
+    msg.position = pfxToPointMsg(c.position);
+    msg.normal = pfxToVector3Msg(swap ? PfxVector3(-c.normal) : c.normal);
+    msg.depth = c.depth;
+    msg.impulse = c.impulse;
+    res.contacts.push_back(msg);
+  }
+  return accept(res);
+}
+
+bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
+                                      ApplyBodyWrench::Response& res) {
+  const PfxInt32 link = m_simulation.findLink(req.link);
+  if (link < 0) return reject(res, "apply_body_wrench", unknownLink(req.link));
+  if (!isFinite(req.force)) return reject(res, "apply_body_wrench", "force is not finite");
+  if (!isFinite(req.torque)) return reject(res, "apply_body_wrench", "torque is not finite");
+  if (!std::isfinite(req.duration) || req.duration < 0) {
+    std::ostringstream why;
+    why << "duration " << req.duration << " s: must be finite and >= 0 (0: one step)";
+    return reject(res, "apply_body_wrench", why.str());
+  }
+  if (const PfxInt32 err = m_simulation.applyLinkWrench(PfxUInt32(link), pfxFromMsg(req.force),
+                                                        pfxFromMsg(req.torque), req.duration);
+      err != PFX_OK) {
+    return reject(res, "apply_body_wrench", pfxErrorString(err));
+  }
+  return accept(res);
+}
+
+bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Response& res) {
+  const PfxInt32 link = m_simulation.findLink(req.link);
+  if (link < 0) return reject(res, "set_body_state", unknownLink(req.link));
+  const PfxVector3 position = pfxFromMsg(req.pose.position);
+  if (!pfxIsFinite(position)) return reject(res, "set_body_state", "position is not finite");
+  const PfxQuat orientation = pfxFromMsg(req.pose.orientation);
+  const double norm = std::sqrt(req.pose.orientation.x * req.pose.orientation.x +
+                                req.pose.orientation.y * req.pose.orientation.y +
+                                req.pose.orientation.z * req.pose.orientation.z +
+                                req.pose.orientation.w * req.pose.orientation.w);
+  if (!pfxIsFinite(orientation) || !(std::abs(norm - 1) <= 1e-3)) {
+    std::ostringstream why;
+    why << "orientation is not a unit quaternion (norm " << norm << ")";
+    return reject(res, "set_body_state", why.str());
+  }
+  if (!isFinite(req.twist.linear) || !isFinite(req.twist.angular)) {
+    return reject(res, "set_body_state", "twist is not finite");
+  }
+  const PfxTransform3 pose = pfxMakeTransform(orientation.normalized(), position);
+  if (const PfxInt32 err = m_simulation.setLinkState(PfxUInt32(link), pose,
+                                                     pfxFromMsg(req.twist.linear),
+                                                     pfxFromMsg(req.twist.angular));
+      err != PFX_OK) {
+    return reject(res, "set_body_state", pfxErrorString(err));
+  }
+  return accept(res);
+}
+
+bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
+                                      SetJointCommand::Response& res) {
+  const char* service = "set_joint_command";
+  const std::size_t n = req.names.size();
+  if (n == 0) return reject(res, service, "no joints named");
+  PfxJointDrive drive;
+  switch (req.mode) {
+    case SetJointCommand::Request::OFF:
+      drive = kPfxJointDriveNone;
+      break;
+    case SetJointCommand::Request::POSITION:
+      drive = kPfxJointDrivePosition;
+      break;
+    case SetJointCommand::Request::VELOCITY:
+      drive = kPfxJointDriveVelocity;
+      break;
+    default:
+      return reject(res, service,
+                    "mode " + std::to_string(req.mode) + ": OFF (0), POSITION (1) or VELOCITY (2)");
+  }
+  const bool needTargets = drive != kPfxJointDriveNone;
+  if (req.targets.size() != n && (needTargets || !req.targets.empty())) {
+    return reject(res, service, std::to_string(n) + " joints but " +
+                                    std::to_string(req.targets.size()) + " targets");
+  }
+  if (!req.max_forces.empty() && req.max_forces.size() != n) {
+    return reject(res, service, std::to_string(n) + " joints but " +
+                                    std::to_string(req.max_forces.size()) +
+                                    " max_forces (empty, or one per joint)");
+  }
+  const PfxUrdfModel& model = m_simulation.getModel();
+  std::vector<PfxUInt32> joints(n);
+  std::vector<PfxFloat> targets(n, 0);
+  std::vector<PfxFloat> maxForces(n, 0);
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string& name = req.names[i];
+    const PfxInt32 index = m_simulation.findJoint(name);
+    if (index < 0) return reject(res, service, "unknown joint '" + name + "'");
+    if (!seen.insert(name).second) return reject(res, service, "joint '" + name + "' named twice");
+    const PfxUrdfJoint& joint = model.joints[index];
+    if (joint.jointId == kPfxUrdfNoJoint) {
+      return reject(res, service, "joint '" + name + "' has no coordinate to drive");
+    }
+    if (joint.mimicLeader >= 0) {
+      return reject(res, service, "joint '" + name + "' mimics '" +
+                                      model.joints[joint.mimicLeader].name +
+                                      "': command the leader");
+    }
+    if (needTargets) {
+      targets[i] = PfxFloat(req.targets[i]);
+      if (!pfxIsFinite(targets[i])) {
+        return reject(res, service, "target of joint '" + name + "' is not finite");
+      }
+    }
+    if (!req.max_forces.empty()) {
+      maxForces[i] = PfxFloat(req.max_forces[i]);
+      if (!pfxIsFinite(maxForces[i]) || maxForces[i] < 0) {
+        return reject(res, service, "max_force of joint '" + name + "' must be finite and >= 0");
+      }
+    }
+    joints[i] = PfxUInt32(index);
+  }
+  if (const PfxInt32 err = m_simulation.setJointCommands(joints, drive, targets, maxForces);
+      err != PFX_OK) {
+    return reject(res, service, pfxErrorString(err));
+  }
+  return accept(res);
+}
+
+bool PfxNodeServices::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  std::string why;
+  if (m_simulation.reset(&why) != PFX_OK) return reject(res, "reset", why);
+  return accept(res, "initial state restored");
+}
+
+bool PfxNodeServices::pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  const bool was = m_paused;
+  m_paused = true;
+  std::ostringstream msg;
+  msg << (was ? "already paused" : "paused") << " at t = " << m_simulation.getTime() << " s";
+  return accept(res, msg.str());
+}
+
+bool PfxNodeServices::unpause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  const bool was = m_paused;
+  m_paused = false;
+  std::ostringstream msg;
+  msg << (was ? "running" : "already running") << " from t = " << m_simulation.getTime() << " s";
+  return accept(res, msg.str());
+}
+
+}  // namespace pfx

@@ -1,0 +1,294 @@
+#include "pfx_ros/pfx_node_simulation.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "pfx/high_level/pfx_body_init.h"
+
+namespace pfx {
+
+struct PfxNodeSimulation::Scene {
+  // Declared before the world: the world's shapes point into the model's and the map's
+  // meshes, so the world goes first when a scene is destroyed.
+  PfxUrdfModel model;
+  std::unique_ptr<PfxOctomap> octomap;
+  std::unique_ptr<PfxWorld> world;
+  std::vector<std::string> bodyNames;
+  std::unordered_map<std::string, PfxUInt32> bodyByName;
+};
+
+namespace {
+
+const char* const kGroundName = "ground";
+const char* const kOctomapName = "octomap";
+
+std::string folderOf(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Several links share a body when fixed joints lumped them; the body is named after the
+// one whose parent lies on another body (or that has no parent).
+void nameRobotBodies(const PfxUrdfModel& model, std::vector<std::string>& bodyNames) {
+  std::unordered_map<std::string, PfxUInt32> bodyOfLink;
+  for (const PfxUrdfLink& link : model.links) bodyOfLink[link.name] = link.bodyId;
+  std::unordered_map<std::string, std::string> parentOf;
+  for (const PfxUrdfJoint& joint : model.joints) parentOf[joint.childLink] = joint.parentLink;
+  for (const PfxUrdfLink& link : model.links) {
+    const auto parent = parentOf.find(link.name);
+    const bool parentOnSameBody = parent != parentOf.end() &&
+                                  bodyOfLink.count(parent->second) != 0 &&
+                                  bodyOfLink[parent->second] == link.bodyId;
+    if (!parentOnSameBody && bodyNames[link.bodyId].empty()) bodyNames[link.bodyId] = link.name;
+  }
+}
+
+}  // namespace
+
+PfxNodeSimulation::PfxNodeSimulation() = default;
+PfxNodeSimulation::~PfxNodeSimulation() = default;
+
+PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
+                                       std::unique_ptr<Scene>& scene,
+                                       std::string* message) const {
+  auto built = std::make_unique<Scene>();
+  built->world = std::make_unique<PfxWorld>();
+  PfxWorld& world = *built->world;
+
+  PfxWorldParam param;
+  param.gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
+  param.timeStep = config.timeStep;
+  param.subStep = config.subSteps;
+  param.iteration = config.iterations;
+  // Robots have few bodies: the two extra passes cost little, and the diagnostics report
+  // the energy and momentum each step changed.
+  param.measureConservation = true;
+  if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
+    if (message) {
+      *message = std::string("world parameters rejected (dt, substeps, iterations): ") +
+                 pfxErrorString(err);
+    }
+    return err;
+  }
+
+  if (config.groundPlane) {
+    if (!(config.groundSize > 0) || !pfxIsFinite(config.groundSize)) {
+      if (message) *message = "ground_size must be a positive number of metres";
+      return PFX_ERR_INVALID_VALUE;
+    }
+    // A thick box rather than a thin plate, so that nothing fast tunnels through it; its
+    // top face is z = 0 exactly.
+    const PfxFloat halfThickness = PfxFloat(0.5);
+    PfxBodyInit ground;
+    ground.mass = 0;
+    ground.position = PfxVector3(0, 0, -halfThickness);
+    const PfxFloat half = config.groundSize / 2;
+    if (const PfxInt32 err =
+            pfxAddBody(world, pfxMakeShape(PfxBox(half, half, halfThickness)), ground);
+        err != PFX_OK) {
+      if (message) *message = std::string("ground plane: ") + pfxErrorString(err);
+      return err;
+    }
+  }
+
+  if (!config.octomapFile.empty()) {
+    built->octomap = std::make_unique<PfxOctomap>();
+    std::string why;
+    if (const PfxInt32 err = pfxLoadOctomapFile(world, config.octomapFile, PfxOctomapLoadParam(),
+                                                *built->octomap, &why);
+        err != PFX_OK) {
+      if (message) *message = why;
+      return err;
+    }
+  }
+
+  PfxUrdfLoadParam urdfParam;
+  urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
+  urdfParam.fixedBase = config.fixedBase;
+  std::string why;
+  if (const PfxInt32 err =
+          pfxLoadUrdfString(world, config.urdfXml,
+                            config.urdfPath.empty() ? "." : folderOf(config.urdfPath),
+                            urdfParam, built->model, &why);
+      err != PFX_OK) {
+    if (message) *message = why;
+    return err;
+  }
+
+  built->bodyNames.assign(world.getNumRigidBodies(), std::string());
+  if (config.groundPlane) built->bodyNames[0] = kGroundName;
+  if (built->octomap) built->bodyNames[built->octomap->bodyId] = kOctomapName;
+  nameRobotBodies(built->model, built->bodyNames);
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    if (built->bodyNames[id].empty()) built->bodyNames[id] = "body_" + std::to_string(id);
+    built->bodyByName.emplace(built->bodyNames[id], id);
+  }
+  for (const PfxUrdfLink& link : built->model.links) {
+    built->bodyByName.emplace(link.name, link.bodyId);
+  }
+  scene = std::move(built);
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::load(const PfxNodeSimulationConfig& config, std::string* message) {
+  std::unique_ptr<Scene> scene;
+  if (const PfxInt32 err = buildScene(config, scene, message); err != PFX_OK) return err;
+  m_config = config;
+  m_scene = std::move(scene);
+  m_wrenches.clear();
+  m_stepCount = 0;
+  ++m_generation;
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::reset(std::string* message) {
+  std::unique_ptr<Scene> scene;
+  if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
+  m_scene = std::move(scene);
+  m_wrenches.clear();
+  ++m_generation;
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::step() {
+  PfxWorld& world = *m_scene->world;
+  for (Wrench& wrench : m_wrenches) {
+    const PfxUrdfLink& link = m_scene->model.links[wrench.linkIndex];
+    const PfxVector3 arm =
+        getLinkPose(wrench.linkIndex).translation() - world.getRigidState(link.bodyId).getPosition();
+    world.applyForce(link.bodyId, wrench.force, wrench.torque + arm.cross(wrench.force));
+    wrench.remainingSteps -= 1;
+  }
+  const PfxInt32 err = world.step();
+  ++m_stepCount;
+  std::size_t kept = 0;
+  for (const Wrench& wrench : m_wrenches) {
+    if (wrench.remainingSteps > 0) m_wrenches[kept++] = wrench;
+  }
+  m_wrenches.resize(kept);
+  return err;
+}
+
+const PfxWorld& PfxNodeSimulation::getWorld() const { return *m_scene->world; }
+
+const PfxUrdfModel& PfxNodeSimulation::getModel() const { return m_scene->model; }
+
+const std::string& PfxNodeSimulation::getBodyName(PfxUInt32 bodyId) const {
+  return m_scene->bodyNames[bodyId];
+}
+
+PfxInt32 PfxNodeSimulation::findLink(const std::string& name) const {
+  return pfxFindUrdfLink(m_scene->model, name);
+}
+
+PfxInt32 PfxNodeSimulation::findJoint(const std::string& name) const {
+  return pfxFindUrdfJoint(m_scene->model, name);
+}
+
+PfxInt64 PfxNodeSimulation::findBody(const std::string& name) const {
+  const auto it = m_scene->bodyByName.find(name);
+  return it == m_scene->bodyByName.end() ? -1 : static_cast<PfxInt64>(it->second);
+}
+
+PfxTransform3 PfxNodeSimulation::getLinkPose(PfxUInt32 linkIndex) const {
+  return pfxGetUrdfLinkPose(*m_scene->world, m_scene->model.links[linkIndex]);
+}
+
+PfxInt32 PfxNodeSimulation::castRay(const PfxRayInput& ray, PfxRayOutput& hit) {
+  return m_scene->world->castRay(ray, hit);
+}
+
+PfxInt32 PfxNodeSimulation::castRays(const PfxRayInput* rays, PfxRayOutput* hits,
+                                     PfxUInt32 numRays) {
+  return m_scene->world->castRays(rays, hits, numRays);
+}
+
+void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const {
+  contacts.clear();
+  const PfxWorld& world = *m_scene->world;
+  for (PfxUInt32 p = 0; p < world.getNumContactPairs(); ++p) {
+    const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(p));
+    if (manifold.getNumContacts() == 0) continue;
+    const PfxUInt32 idA = manifold.getRigidBodyIdA();
+    const PfxUInt32 idB = manifold.getRigidBodyIdB();
+    const PfxTransform3 transformA = world.getRigidState(idA).getTransform();
+    const PfxTransform3 transformB = world.getRigidState(idB).getTransform();
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      const PfxContactPoint& point = manifold.getContactPoint(i);
+      const PfxFloat impulse = point.m_constraintRow[0].m_accumImpulse;
+      if (point.m_distance > 0 && impulse <= 0) continue;
+      PfxNodeContact contact;
+      contact.bodyA = idA;
+      contact.bodyB = idB;
+      contact.position = (transformA * point.m_localPointA + transformB * point.m_localPointB) / 2;
+      contact.normal = point.getNormal();
+      contact.depth = -point.m_distance;
+      contact.impulse = impulse;
+      contacts.push_back(contact);
+    }
+  }
+}
+
+PfxInt32 PfxNodeSimulation::applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force,
+                                            const PfxVector3& torque, double duration) {
+  if (linkIndex >= m_scene->model.links.size()) return PFX_ERR_OUT_OF_RANGE;
+  if (!pfxIsFinite(force) || !pfxIsFinite(torque) || !std::isfinite(duration) || duration < 0) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  // Steps whose start lies within the duration; a tolerance keeps 0.1 s at dt 0.004 from
+  // rounding to 26 steps.
+  const double steps = std::ceil(duration / m_config.timeStep - 1e-6);
+  m_wrenches.push_back({linkIndex, force, torque, std::max(1.0, steps)});
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,
+                                         const PfxVector3& linearVelocity,
+                                         const PfxVector3& angularVelocity) {
+  if (linkIndex >= m_scene->model.links.size()) return PFX_ERR_OUT_OF_RANGE;
+  const PfxUrdfLink& link = m_scene->model.links[linkIndex];
+  const PfxTransform3 bodyPose = pose * link.linkInBody.inverse();
+  PfxRigidState state = m_scene->world->getRigidState(link.bodyId);
+  state.setPosition(bodyPose.translation());
+  state.setOrientation(PfxQuat(bodyPose.linear()).normalized());
+  // The link's origin and the body's centre of mass move alike only without rotation.
+  state.setLinearVelocity(linearVelocity +
+                          angularVelocity.cross(bodyPose.translation() - pose.translation()));
+  state.setAngularVelocity(angularVelocity);
+  state.wakeup();
+  return m_scene->world->setRigidState(link.bodyId, state);
+}
+
+PfxInt32 PfxNodeSimulation::setJointCommands(const std::vector<PfxUInt32>& jointIndices,
+                                             PfxJointDrive drive,
+                                             const std::vector<PfxFloat>& targets,
+                                             const std::vector<PfxFloat>& maxForces) {
+  if (targets.size() != jointIndices.size() || maxForces.size() != jointIndices.size()) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  PfxWorld& world = *m_scene->world;
+  const PfxUrdfModel& model = m_scene->model;
+  for (const PfxUInt32 index : jointIndices) {
+    if (index >= model.joints.size()) return PFX_ERR_OUT_OF_RANGE;
+  }
+  std::vector<PfxJoint> before;
+  for (const PfxUInt32 index : jointIndices) {
+    const PfxUInt32 jointId = model.joints[index].jointId;
+    if (jointId == kPfxUrdfNoJoint) return PFX_ERR_INVALID_VALUE;
+    before.push_back(world.getJoint(jointId));
+  }
+  for (std::size_t i = 0; i < jointIndices.size(); ++i) {
+    const PfxInt32 err =
+        pfxSetUrdfJointCommand(world, model, jointIndices[i], drive, targets[i], maxForces[i]);
+    if (err != PFX_OK) {
+      for (std::size_t j = i; j-- > 0;) {
+        world.setJoint(model.joints[jointIndices[j]].jointId, before[j]);
+      }
+      return err;
+    }
+  }
+  return PFX_OK;
+}
+
+}  // namespace pfx

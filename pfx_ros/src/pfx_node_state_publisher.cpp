@@ -1,0 +1,80 @@
+#include "pfx_ros/pfx_node_state_publisher.h"
+
+#include <rosgraph_msgs/Clock.h>
+
+#include <unordered_map>
+
+#include "pfx_ros/pfx_ros_conversions.h"
+
+namespace pfx {
+
+PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle,
+                                             const std::string& fixedFrame, bool publishClock)
+    : m_fixedFrame(fixedFrame), m_publishClock(publishClock) {
+  m_jointStates = handle.advertise<sensor_msgs::JointState>("joint_states", 10);
+  if (m_publishClock) m_clock = handle.advertise<rosgraph_msgs::Clock>("/clock", 10);
+}
+
+void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
+  const PfxUrdfModel& model = simulation.getModel();
+  std::unordered_map<std::string, PfxInt32> linkIndex;
+  for (std::size_t i = 0; i < model.links.size(); ++i) {
+    linkIndex[model.links[i].name] = PfxInt32(i);
+  }
+  m_parentLink.assign(model.links.size(), -1);
+  for (const PfxUrdfJoint& joint : model.joints) {
+    const auto child = linkIndex.find(joint.childLink);
+    const auto parent = linkIndex.find(joint.parentLink);
+    if (child != linkIndex.end() && parent != linkIndex.end()) {
+      m_parentLink[child->second] = parent->second;
+    }
+  }
+  m_transforms.assign(model.links.size(), geometry_msgs::TransformStamped());
+  for (std::size_t i = 0; i < model.links.size(); ++i) {
+    m_transforms[i].header.frame_id =
+        m_parentLink[i] < 0 ? m_fixedFrame : model.links[m_parentLink[i]].name;
+    m_transforms[i].child_frame_id = model.links[i].name;
+  }
+  m_linkPoses.resize(model.links.size());
+
+  m_movableJoints.clear();
+  m_jointState.name.clear();
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    if (model.joints[j].jointId == kPfxUrdfNoJoint) continue;
+    m_movableJoints.push_back(PfxUInt32(j));
+    m_jointState.name.push_back(model.joints[j].name);
+  }
+  m_jointState.position.resize(m_movableJoints.size());
+  m_jointState.velocity.resize(m_movableJoints.size());
+}
+
+void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
+  for (std::size_t i = 0; i < m_linkPoses.size(); ++i) {
+    m_linkPoses[i] = simulation.getLinkPose(PfxUInt32(i));
+  }
+  for (std::size_t i = 0; i < m_transforms.size(); ++i) {
+    const PfxTransform3 pose = m_parentLink[i] < 0
+                                   ? m_linkPoses[i]
+                                   : PfxTransform3(m_linkPoses[m_parentLink[i]].inverse() *
+                                                   m_linkPoses[i]);
+    m_transforms[i].header.stamp = stamp;
+    m_transforms[i].transform = pfxToTransformMsg(pose);
+  }
+  m_broadcaster.sendTransform(m_transforms);
+
+  pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(), m_positions, m_velocities);
+  for (std::size_t k = 0; k < m_movableJoints.size(); ++k) {
+    m_jointState.position[k] = m_positions[m_movableJoints[k]];
+    m_jointState.velocity[k] = m_velocities[m_movableJoints[k]];
+  }
+  m_jointState.header.stamp = stamp;
+  m_jointStates.publish(m_jointState);
+
+  if (m_publishClock) {
+    rosgraph_msgs::Clock clock;
+    clock.clock = stamp;
+    m_clock.publish(clock);
+  }
+}
+
+}  // namespace pfx
