@@ -92,6 +92,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_freeManifolds.clear();
   m_joints.clear();
   m_jointPairs.clear();
+  m_jointCouplings.clear();
   m_jointedPairKeys.clear();
   m_solverWork.clear();
   return PFX_OK;
@@ -292,7 +293,59 @@ PfxInt32 PfxWorld::setJoint(PfxUInt32 id, const PfxJoint& joint) {
     return PFX_ERR_INVALID_VALUE;  // a joint keeps its bodies; add another for others
   }
   if (const PfxInt32 err = validateJoint(joint); err != PFX_OK) return err;
+  for (const PfxJointCoupling& coupling : m_jointCouplings) {
+    const bool locksLeader = coupling.m_leaderJointId == id &&
+                             joint.m_constraints[coupling.m_leaderAxis].m_lock == kPfxJointLockLocked;
+    const bool locksFollower =
+        coupling.m_followerJointId == id &&
+        joint.m_constraints[coupling.m_followerAxis].m_lock == kPfxJointLockLocked;
+    if (locksLeader || locksFollower) return PFX_ERR_INVALID_VALUE;
+  }
   m_joints[id] = joint;
+  return PFX_OK;
+}
+
+// The coupling with its solver state cleared and its coordinates measured at the bodies'
+// current poses.
+PfxJointCoupling PfxWorld::measuredCoupling(const PfxJointCoupling& coupling) const {
+  PfxJointCoupling measured = coupling;
+  measured.m_numBodies = 0;
+  measured.m_row.m_normal.setZero();
+  measured.m_row.m_rhs = measured.m_row.m_jacDiagInv = 0;
+  measured.m_row.m_lowerLimit = measured.m_row.m_upperLimit = measured.m_row.m_accumImpulse = 0;
+  measured.m_pushRhs = measured.m_pushImpulse = 0;
+  PfxFloat coordinates[6];
+  const PfxJoint& leader = m_joints[coupling.m_leaderJointId];
+  pfxCalcJointCoordinates(leader, m_states[leader.m_rigidBodyIdA], m_states[leader.m_rigidBodyIdB],
+                          coordinates);
+  measured.m_leaderPosition = coordinates[coupling.m_leaderAxis];
+  const PfxJoint& follower = m_joints[coupling.m_followerJointId];
+  pfxCalcJointCoordinates(follower, m_states[follower.m_rigidBodyIdA],
+                          m_states[follower.m_rigidBodyIdB], coordinates);
+  measured.m_followerPosition = coordinates[coupling.m_followerAxis];
+  measured.m_error = measured.m_followerPosition -
+                     measured.m_multiplier * measured.m_leaderPosition - measured.m_offset;
+  return measured;
+}
+
+PfxInt32 PfxWorld::addJointCoupling(const PfxJointCoupling& coupling, PfxUInt32* outId) {
+  if (const PfxInt32 err = pfxCheckJointCoupling(coupling, m_joints.data(), getNumJoints());
+      err != PFX_OK) {
+    return err;
+  }
+  const PfxUInt32 id = getNumJointCouplings();
+  m_jointCouplings.push_back(measuredCoupling(coupling));
+  if (outId) *outId = id;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupling) {
+  if (id >= getNumJointCouplings()) return PFX_ERR_OUT_OF_RANGE;
+  if (const PfxInt32 err = pfxCheckJointCoupling(coupling, m_joints.data(), getNumJoints());
+      err != PFX_OK) {
+    return err;
+  }
+  m_jointCouplings[id] = measuredCoupling(coupling);
   return PFX_OK;
 }
 
@@ -325,6 +378,8 @@ void PfxWorld::bindJoints(Param& param) {
   param.numJointPairs = getNumJoints();
   param.offsetJoints = m_joints.data();
   param.numJoints = getNumJoints();
+  param.offsetJointCouplings = m_jointCouplings.data();
+  param.numJointCouplings = getNumJointCouplings();
 }
 
 PfxInt32 PfxWorld::updateBroadphase() {

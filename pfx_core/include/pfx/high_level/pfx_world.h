@@ -11,6 +11,7 @@
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
@@ -148,8 +149,20 @@ class PfxWorld {
   PfxInt32 addJoint(const PfxJoint& joint, PfxUInt32* outId = nullptr);
   PfxUInt32 getNumJoints() const { return static_cast<PfxUInt32>(m_joints.size()); }
   const PfxJoint& getJoint(PfxUInt32 id) const { return m_joints[id]; }
-  // Replaces a joint (same checks as addJoint); use it to change limits or drives.
+  // Replaces a joint (same checks as addJoint); use it to change limits or drives. An axis
+  // that a coupling uses cannot be locked (PFX_ERR_INVALID_VALUE).
   PfxInt32 setJoint(PfxUInt32 id, const PfxJoint& joint);
+
+  // Couples two joint axes: follower = multiplier * leader + offset (URDF <mimic>). Rejects
+  // what pfxCheckJointCoupling rejects (unknown joints or axes: PFX_ERR_OUT_OF_RANGE; a
+  // locked axis, NaN, a bias outside [0, 1]: PFX_ERR_INVALID_VALUE); the world is unchanged
+  // then. The coordinates are measured now, so that rotations are followed across turns
+  // from here on.
+  PfxInt32 addJointCoupling(const PfxJointCoupling& coupling, PfxUInt32* outId = nullptr);
+  PfxUInt32 getNumJointCouplings() const { return static_cast<PfxUInt32>(m_jointCouplings.size()); }
+  const PfxJointCoupling& getJointCoupling(PfxUInt32 id) const { return m_jointCouplings[id]; }
+  // Replaces a coupling (same checks); its impulse starts afresh.
+  PfxInt32 setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupling);
 
   // One step of param.timeStep.
   PfxInt32 step();
@@ -185,6 +198,7 @@ class PfxWorld {
   PfxInt32 detectCollision();
   PfxInt32 subStep(PfxFloat timeStep);
   PfxInt32 validateJoint(const PfxJoint& joint) const;
+  PfxJointCoupling measuredCoupling(const PfxJointCoupling& coupling) const;
   template <typename Param>
   void bindContacts(Param& param);
   template <typename Param>
@@ -227,6 +241,7 @@ class PfxWorld {
 
   std::vector<PfxJoint> m_joints;
   std::vector<PfxConstraintPair> m_jointPairs;
+  std::vector<PfxJointCoupling> m_jointCouplings;
   std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
   std::vector<PfxSortData16> m_solverWork;   // the joints' direct solve
 

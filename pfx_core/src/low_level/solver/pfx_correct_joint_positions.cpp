@@ -1,6 +1,7 @@
 #include "pfx/low_level/solver/pfx_correct_joint_positions.h"
 
 #include "low_level/solver/pfx_constraint_row_solver.h"
+#include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 #include "low_level/solver/pfx_joint_tree_solver.h"
 #include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
@@ -32,6 +33,8 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
   setup.numJointPairs = param.numJointPairs;
   setup.offsetJoints = param.offsetJoints;
   setup.numJoints = param.numJoints;
+  setup.offsetJointCouplings = param.offsetJointCouplings;
+  setup.numJointCouplings = param.numJointCouplings;
   setup.offsetRigidStates = param.offsetRigidStates;
   setup.offsetRigidBodies = param.offsetRigidBodies;
   setup.offsetSolverBodies = param.offsetSolverBodies;
@@ -64,6 +67,12 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param) {
         pfxSolveJointPushRow(c, joint, axis, a, receivesA, b, receivesB);
         iterated = true;
       }
+    }
+    for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+      PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+      if (coupling.m_pushRhs == 0 && coupling.m_pushImpulse == 0) continue;
+      pfxSolveJointCouplingBlock(coupling, param.offsetJoints, param.offsetSolverBodies, true);
+      iterated = true;
     }
     tree.solvePush();
     if (!iterated) break;

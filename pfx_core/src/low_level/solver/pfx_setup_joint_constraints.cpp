@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 
 namespace pfx {
@@ -191,6 +192,10 @@ void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVecto
 }  // namespace
 
 PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
+  if (param.numJointCouplings > 0 && (!param.offsetJointCouplings || !param.offsetJoints ||
+                                      !param.offsetRigidStates || !param.offsetSolverBodies)) {
+    return PFX_ERR_NULL_POINTER;
+  }
   if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints ||
                                   !param.offsetRigidStates || !param.offsetRigidBodies ||
                                   !param.offsetSolverBodies)) {
@@ -203,6 +208,21 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
   if (!pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
                        param.numJoints)) {
     return PFX_ERR_OUT_OF_RANGE;
+  }
+  for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+    const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+    if (coupling.m_leaderJointId >= param.numJoints ||
+        coupling.m_followerJointId >= param.numJoints || coupling.m_leaderAxis > 5 ||
+        coupling.m_followerAxis > 5) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+    for (const PfxUInt32 jointId : {coupling.m_leaderJointId, coupling.m_followerJointId}) {
+      const PfxJoint& joint = param.offsetJoints[jointId];
+      if (joint.m_rigidBodyIdA >= param.numRigidBodies ||
+          joint.m_rigidBodyIdB >= param.numRigidBodies) {
+        return PFX_ERR_OUT_OF_RANGE;
+      }
+    }
   }
   for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
     const PfxConstraintPair& pair = param.jointPairs[i];
@@ -234,6 +254,18 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
                              pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
     setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, param.timeStep,
                param.warmStartFactor);
+  }
+  for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+    PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+    if (!coupling.m_active || !param.offsetJoints[coupling.m_leaderJointId].m_active ||
+        !param.offsetJoints[coupling.m_followerJointId].m_active) {
+      coupling.m_numBodies = 0;
+      coupling.m_pushRhs = coupling.m_pushImpulse = 0;
+      unsetRow(coupling.m_row);
+      continue;
+    }
+    pfxSetupJointCouplingRow(coupling, param.offsetJoints, param.offsetRigidStates,
+                             param.offsetSolverBodies, param.timeStep, param.warmStartFactor);
   }
   return PFX_OK;
 }

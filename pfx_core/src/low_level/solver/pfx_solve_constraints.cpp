@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "low_level/solver/pfx_constraint_row_solver.h"
+#include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 #include "low_level/solver/pfx_joint_tree_solver.h"
 
@@ -263,6 +264,18 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints)) {
     return PFX_ERR_NULL_POINTER;
   }
+  if (param.numJointCouplings > 0 && (!param.offsetJointCouplings || !param.offsetSolverBodies)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+    const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+    for (PfxUInt32 b = 0; b < coupling.m_numBodies; ++b) {
+      if (coupling.m_numBodies > PFX_JOINT_COUPLING_MAX_BODIES ||
+          coupling.m_bodies[b].m_rigidBodyId >= param.numRigidBodies) {
+        return PFX_ERR_OUT_OF_RANGE;
+      }
+    }
+  }
   const PfxUInt32 workBytes = pfxGetWorkBytesOfSolveConstraints(
       param.numRigidBodies, param.numContactPairs, param.numJointPairs);
   if (workBytes > 0 && (!param.workBuff || param.workBytes < workBytes)) {
@@ -294,12 +307,22 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
 
   forEachContact([](PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
   forEachJoint([](PfxJoint& j, const PairBodies& p, bool) { warmStartJoint(j, p); });
+  for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+    const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+    pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
+                                 param.offsetSolverBodies, &PfxSolverBody::m_deltaLinearVelocity,
+                                 &PfxSolverBody::m_deltaAngularVelocity);
+  }
   // Joints last in each iteration, and their locked axes exactly: whatever the contacts
   // did, every iteration ends with the joints' velocities consistent. Their positions are
   // corrected after the bodies have moved, by pfxCorrectJointPositions.
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
     forEachContact([](PfxContactManifold& m, const PairBodies& p) { solveContacts(m, p); });
     forEachJoint([](PfxJoint& j, const PairBodies& p, bool direct) { solveJoint(j, p, direct); });
+    for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+      pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
+                                 param.offsetSolverBodies, false);
+    }
     tree.solveVelocities();
   }
   forEachContact([&](PfxContactManifold& m, const PairBodies& p) {

@@ -8,6 +8,7 @@
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
@@ -20,6 +21,8 @@ struct PfxCorrectJointPositionsParam {
   PfxUInt32 numJointPairs = 0;
   PfxJoint* offsetJoints = nullptr;
   PfxUInt32 numJoints = 0;
+  PfxJointCoupling* offsetJointCouplings = nullptr;  // their errors are removed too
+  PfxUInt32 numJointCouplings = 0;
   PfxRigidState* offsetRigidStates = nullptr;
   const PfxRigidBody* offsetRigidBodies = nullptr;
   PfxSolverBody* offsetSolverBodies = nullptr;  // scratch, overwritten

@@ -3,6 +3,7 @@
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
@@ -13,6 +14,9 @@ struct PfxSetupJointConstraintsParam {
   PfxUInt32 numJointPairs = 0;
   PfxJoint* offsetJoints = nullptr;  // indexed by pfxGetConstraintId(pair)
   PfxUInt32 numJoints = 0;
+  // Couplings between the joints' coordinates, set up after the joints.
+  PfxJointCoupling* offsetJointCouplings = nullptr;
+  PfxUInt32 numJointCouplings = 0;
   const PfxRigidState* offsetRigidStates = nullptr;
   const PfxRigidBody* offsetRigidBodies = nullptr;
   PfxSolverBody* offsetSolverBodies = nullptr;
@@ -25,7 +29,10 @@ struct PfxSetupJointConstraintsParam {
 // Measures each joint's coordinates and sets up its rows: locked axes hold at zero (or at
 // the value of equal limits), limited axes keep within their limits and may close the gap
 // to a limit within the step but not pass it, drives and friction push within their force
-// limits, damping removes its fraction of the velocity.
+// limits, damping removes its fraction of the velocity. A coupling holds its follower at
+// multiplier * leader + offset; one whose joints are inactive, or that is inactive itself,
+// acts on no body. Rejects couplings naming joints or axes out of range
+// (PFX_ERR_OUT_OF_RANGE) before changing anything.
 PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param);
 
 }  // namespace pfx

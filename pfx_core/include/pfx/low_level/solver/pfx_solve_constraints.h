@@ -7,6 +7,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
@@ -23,6 +24,8 @@ struct PfxSolveConstraintsParam {
   PfxUInt32 numJointPairs = 0;
   PfxJoint* offsetJoints = nullptr;  // set up by pfxSetupJointConstraints
   PfxUInt32 numJoints = 0;
+  PfxJointCoupling* offsetJointCouplings = nullptr;  // set up by pfxSetupJointConstraints
+  PfxUInt32 numJointCouplings = 0;
   PfxRigidState* offsetRigidStates = nullptr;
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
