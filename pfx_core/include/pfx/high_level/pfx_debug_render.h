@@ -1,6 +1,11 @@
 // Debug rendering (seed chapter 8): the world's shapes and debug information handed to the
 // application's drawing callbacks, so that the core depends on no rendering API. The
 // picture of pfx_sim (cairo) and the node's rviz markers are both drawn through it.
+//
+// Every method draws only through the callbacks that are set; one that would need a callback
+// that is not set falls back to lines where it can (boxes, AABBs and arcs become line
+// segments, shapes become their edges), and otherwise draws nothing. Colours are RGB in
+// [0, 1]. Nothing here changes the world.
 #pragma once
 
 #include <functional>
@@ -14,6 +19,9 @@ namespace pfx {
 using PfxDebugRenderPointFunc = std::function<void(const PfxVector3& position, const PfxVector3& color)>;
 using PfxDebugRenderLineFunc = std::function<void(const PfxVector3& position1, const PfxVector3& position2,
                                                   const PfxVector3& color)>;
+// The arc of the circle of `radius` about `axis` through `position`, from angle startRad to
+// endRad, where angle a is the point position + radius * (cos a * dir + sin a * axis x dir);
+// `axis` and `dir` are unit vectors and perpendicular.
 using PfxDebugRenderArcFunc =
     std::function<void(const PfxVector3& position, const PfxVector3& axis, const PfxVector3& dir,
                        PfxFloat radius, PfxFloat startRad, PfxFloat endRad, const PfxVector3& color)>;
@@ -28,11 +36,11 @@ using PfxDebugRenderTriangleFunc =
                        const PfxVector3& color, PfxUInt32 rigidBodyId)>;
 
 // Flags of renderLargeMeshByFlag (seed's SCE_PFX_DRENDER_MESH_FLG_*).
-constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_ISLAND = 1u << 0;
-constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_EDGE = 1u << 1;
-constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_FACET_AABB = 1u << 2;
-constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_NORMAL = 1u << 3;
-constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_THICKNESS = 1u << 4;
+constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_ISLAND = 1u << 0;       // the island's bounds and edges
+constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_EDGE = 1u << 1;         // the triangle's edges
+constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_FACET_AABB = 1u << 2;   // the triangle's bounds
+constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_NORMAL = 1u << 3;       // its normal, from the centroid
+constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_THICKNESS = 1u << 4;    // its prism below the face
 constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_ALL = 0x1f;
 
 class PfxDebugRender {
@@ -44,29 +52,75 @@ class PfxDebugRender {
   void setDebugRenderBoxFunc(PfxDebugRenderBoxFunc f) { m_box = std::move(f); }
   void setDebugRenderTriangleFunc(PfxDebugRenderTriangleFunc f) { m_triangle = std::move(f); }
 
-  // Bodies whose visibility flag is off are skipped by every render method.
+  // Bodies whose visibility flag is off are skipped by every render method. Bodies start
+  // visible; resetVisible makes the first numRigidBodies visible again, and setVisible
+  // grows the flags as needed.
   void resetVisible(PfxUInt32 numRigidBodies);
   void setVisible(PfxUInt32 rigidBodyId, bool visible);
   bool isVisible(PfxUInt32 rigidBodyId) const;
 
-  // The methods of seed chapter 8, plus renderShapes (every collision shape, as triangles
-  // through the triangle callback, or as edges through the line callback without one).
+  // Sizes of what is drawn. Each rejects a value that is not finite and positive
+  // (PFX_ERR_INVALID_VALUE) and keeps the old one.
+  // Segments around a circle of spheres, capsules and cylinders (3..256; default 16).
+  PfxInt32 setCircleSegments(PfxUInt32 segments);
+  // Length of contact normals and of joint axes and limit arcs (m; default 0.1).
+  PfxInt32 setDrawLength(PfxFloat length);
+  // Length per newton of the line showing a contact's force (m/N; default 0.01).
+  PfxInt32 setForceScale(PfxFloat metresPerNewton);
+
+  // The methods of seed chapter 8, plus renderShapes.
+  // Every collision shape of the visible bodies: boxes, spheres, capsules and cylinders (along
+  // X), convex meshes and large meshes, compounds at their offsets; as triangles through
+  // the triangle callback, or, when none is set, as edges through the line callback.
   void renderShapes(const PfxWorld& world);
+  // The world's bounds (PfxWorldParam::worldCenter, worldExtent).
   void renderWorld(const PfxWorld& world);
+  // The world bounds of each visible body.
   void renderAabb(const PfxWorld& world);
-  void renderLocalAxis(const PfxWorld& world, PfxFloat scale = PfxFloat(0.1));
+  // Each visible body's frame: its X, Y and Z axes as red, green and blue lines of `scale`
+  // metres. Rejects a scale that is not finite and positive (PFX_ERR_INVALID_VALUE).
+  PfxInt32 renderLocalAxis(const PfxWorld& world, PfxFloat scale = PfxFloat(0.1));
+  // Simulation islands: the bounds of each group of bodies that forces move and that the
+  // last step's contacts (pairs with at least one point) and the joints connect; a fixed or
+  // keyframe body joins no group, as it passes no motion on. One colour per island.
   void renderIsland(const PfxWorld& world);
+  // Every contact point of the last step between visible bodies: a point on each surface
+  // (the manifold's points on A and on B), the normal from A's point, and a line along the
+  // normal as long as the point's force (last impulse / time step) times the force scale.
   void renderContact(const PfxWorld& world);
+  // Every joint with a visible body: both anchors and the line between them (the joint's
+  // gap), the axes of its frame in body A, a line along each limited translation from its
+  // lower to its upper limit, and an arc for each limited rotation (twist about X, swings
+  // about Y and Z; a swing-twist joint's cone as two arcs), through the arc callback.
   void renderJoint(const PfxWorld& world);
+  // Large meshes of the visible bodies: the bounds of each island (box callback) and every
+  // triangle's edges.
   void renderLargeMesh(const PfxWorld& world);
   // Only the islands of large meshes whose bounds meet the frustum given by its six planes
-  // (inward normal xyz, distance w: inside when dot(n, p) + w >= 0).
-  void renderLargeMeshInFrustum(const PfxWorld& world, const PfxVector4 planes[6]);
-  void setLargeMeshFlag(PfxUInt32 rigidBodyId, PfxUInt32 islandId, PfxUInt32 triangleId, PfxUInt32 flags);
+  // (inward normal xyz, distance w: inside when dot(n, p) + w >= 0). Rejects NaN planes
+  // (PFX_ERR_INVALID_VALUE) and a null array (PFX_ERR_NULL_POINTER) without drawing.
+  PfxInt32 renderLargeMeshInFrustum(const PfxWorld& world, const PfxVector4 planes[6]);
+  // Marks triangle `triangleId` of island `islandId` of the large mesh(es) of a body for
+  // renderLargeMeshByFlag; flags of the same triangle add up. Rejects unknown flags
+  // (PFX_ERR_INVALID_FLAG) and no flags (PFX_ERR_INVALID_VALUE). Ids are checked against the
+  // world when drawing: marks naming no triangle draw nothing.
+  PfxInt32 setLargeMeshFlag(PfxUInt32 rigidBodyId, PfxUInt32 islandId, PfxUInt32 triangleId, PfxUInt32 flags);
   void clearLargeMeshFlags();
   void renderLargeMeshByFlag(const PfxWorld& world);
 
  private:
+  struct LargeMeshFlag {
+    PfxUInt32 rigidBodyId, islandId, triangleId, flags;
+  };
+  void drawLine(const PfxVector3& a, const PfxVector3& b, const PfxVector3& color) const;
+  void drawBox(const PfxTransform3& transform, const PfxVector3& half, const PfxVector3& color) const;
+  void drawAabb(const PfxVector3& center, const PfxVector3& half, const PfxVector3& color) const;
+  void drawArc(const PfxVector3& position, const PfxVector3& axis, const PfxVector3& dir,
+               PfxFloat radius, PfxFloat start, PfxFloat end, const PfxVector3& color) const;
+  void drawShape(const PfxShape& shape, const PfxTransform3& transform, const PfxVector3& color,
+                 PfxUInt32 rigidBodyId) const;
+  void drawLargeMeshIslands(const PfxWorld& world, const PfxVector4* planes) const;
+
   PfxDebugRenderPointFunc m_point;
   PfxDebugRenderLineFunc m_line;
   PfxDebugRenderArcFunc m_arc;
@@ -74,10 +128,14 @@ class PfxDebugRender {
   PfxDebugRenderBoxFunc m_box;
   PfxDebugRenderTriangleFunc m_triangle;
   std::vector<PfxUInt8> m_visible;
-  struct LargeMeshFlag {
-    PfxUInt32 rigidBodyId, islandId, triangleId, flags;
-  };
   std::vector<LargeMeshFlag> m_largeMeshFlags;
+  // Scratch of renderIsland: union-find parents, bounds and whether a root has a body.
+  std::vector<PfxUInt32> m_islandParent;
+  std::vector<PfxVector3> m_islandBounds;
+  std::vector<PfxUInt8> m_islandHasBody;
+  PfxUInt32 m_circleSegments = 16;
+  PfxFloat m_drawLength = PfxFloat(0.1);
+  PfxFloat m_forceScale = PfxFloat(0.01);
 };
 
 }  // namespace pfx
