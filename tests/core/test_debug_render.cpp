@@ -301,6 +301,11 @@ TEST(DebugRender, ContactPointsAreTheManifoldsPoints) {
   // The four force lines add up to the box's weight (1 kg).
   EXPECT_NEAR(totalForce, 9.80665, 0.3);
 
+  ASSERT_EQ(render.setForceScale(0), PFX_OK);  // normals only
+  r.clear();
+  render.renderContact(world);
+  EXPECT_EQ(r.lines.size(), 4u);
+
   render.setVisible(box, false);
   r.clear();
   render.renderContact(world);

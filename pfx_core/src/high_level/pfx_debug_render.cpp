@@ -244,7 +244,7 @@ PfxInt32 PfxDebugRender::setDrawLength(PfxFloat length) {
 }
 
 PfxInt32 PfxDebugRender::setForceScale(PfxFloat metresPerNewton) {
-  if (!(metresPerNewton > 0) || !pfxIsFinite(metresPerNewton)) return PFX_ERR_INVALID_VALUE;
+  if (!(metresPerNewton >= 0) || !pfxIsFinite(metresPerNewton)) return PFX_ERR_INVALID_VALUE;
   m_forceScale = metresPerNewton;
   return PFX_OK;
 }
@@ -432,7 +432,7 @@ void PfxDebugRender::renderContact(const PfxWorld& world) {
       }
       drawLine(pointA, pointA + m_drawLength * cp.getNormal(), kYellow);
       const PfxFloat force = cp.m_constraintRow[0].m_accumImpulse / subTimeStep;
-      if (force > 0) drawLine(pointB, pointB + (force * m_forceScale) * cp.getNormal(), kOrange);
+      if (force > 0 && m_forceScale > 0) drawLine(pointB, pointB + (force * m_forceScale) * cp.getNormal(), kOrange);
     }
   }
 }

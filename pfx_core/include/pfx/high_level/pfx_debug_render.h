@@ -59,13 +59,14 @@ class PfxDebugRender {
   void setVisible(PfxUInt32 rigidBodyId, bool visible);
   bool isVisible(PfxUInt32 rigidBodyId) const;
 
-  // Sizes of what is drawn. Each rejects a value that is not finite and positive
-  // (PFX_ERR_INVALID_VALUE) and keeps the old one.
+  // Sizes of what is drawn. Each rejects a value that is not finite and positive (the force
+  // scale may be 0) with PFX_ERR_INVALID_VALUE and keeps the old one.
   // Segments around a circle of spheres, capsules and cylinders (3..256; default 16).
   PfxInt32 setCircleSegments(PfxUInt32 segments);
   // Length of contact normals and of joint axes and limit arcs (m; default 0.1).
   PfxInt32 setDrawLength(PfxFloat length);
-  // Length per newton of the line showing a contact's force (m/N; default 0.01).
+  // Length per newton of the line showing a contact's force (m/N; default 0.01; 0 draws
+  // no force lines).
   PfxInt32 setForceScale(PfxFloat metresPerNewton);
 
   // The methods of seed chapter 8, plus renderShapes.

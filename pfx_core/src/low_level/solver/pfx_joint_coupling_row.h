@@ -38,7 +38,10 @@ inline void addToBody(PfxJointCoupling& coupling, PfxUInt32 rigidBodyId,
 
 // Adds `scale` times the rate of change of one joint coordinate to the coupling's
 // Jacobian, and returns the coordinate. A translation is B's anchor along A's frame axis,
-// which turns with A: that turning is part of its rate, (w_A x e) . d = w_A . (e x d).
+// which turns with A: that turning is part of its rate, (w_A x e) . d = w_A . (e x d). A
+// rotation changes at the relative angular velocity along the direction the joint's own row
+// uses (set up just before), except a swing-twist joint's cone row, which bounds the
+// swing's size rather than swing1 itself.
 inline PfxFloat addJointAxis(PfxJointCoupling& coupling, const PfxJoint& joint, PfxUInt32 axis,
                              PfxFloat scale, const PfxRigidState& stateA,
                              const PfxRigidState& stateB) {
@@ -56,12 +59,8 @@ inline PfxFloat addJointAxis(PfxJointCoupling& coupling, const PfxJoint& joint, 
     angularA = direction.cross(offset) - armA.cross(direction);
     angularB = armB.cross(direction);
   } else {
-    PfxVector3 direction = frameA.col(axis - 3);
-    if (axis == kPfxJointAxisTwist) {
-      const PfxVector3 twist =
-          direction + stateB.getOrientation() * (joint.m_frameB.col(0));
-      if (twist.norm() > PFX_EPSILON) direction = twist.normalized();
-    }
+    const bool cone = joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1;
+    const PfxVector3 direction = cone ? PfxVector3(frameA.col(1)) : joint.m_axes[axis];
     angularA = -direction;
     angularB = direction;
   }

@@ -1,0 +1,262 @@
+// pfx_sim: loads a URDF robot (optionally onto a ground plane and an OctoMap), simulates it
+// headless under gravity along -Z, prints per-step statistics as TSV on standard output
+// and, on request, writes a picture of the final scene.
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "pfx/high_level/pfx_body_init.h"
+#include "pfx/loaders/pfx_octomap_loader.h"
+#include "pfx/loaders/pfx_urdf_loader.h"
+#include "pfx_scene_picture.h"
+
+using namespace pfx;
+
+namespace {
+
+const char* const kUsage =
+    "usage: pfx_sim URDF [options]\n"
+    "\n"
+    "Loads the robot, simulates it headless under gravity (-Z) and prints one TSV row of\n"
+    "statistics per step: step, time (s), step_s (wall seconds of the step), pairs,\n"
+    "contacts (points), max_penetration (m), max_joint_gap (m), energy_change (J),\n"
+    "momentum_change (kg m/s), angular_momentum_change (kg m^2/s).\n"
+    "\n"
+    "options:\n"
+    "  --seconds S        simulated time (default 5)\n"
+    "  --dt DT            time step in seconds (default 1/240)\n"
+    "  --substeps N       solver sub-steps per step (default 1)\n"
+    "  --iterations N     solver iterations per sub-step (default 10)\n"
+    "  --ground           a ground plane at z = 0\n"
+    "  --octomap FILE     static geometry from an OctoMap (.bt or .ot)\n"
+    "  --fixed-base       bolt the robot's root link to the world\n"
+    "  --drop-height H    start with the robot's lowest point H m above z = 0 (default: as\n"
+    "                     the URDF places it, or 0.05 m above the ground with --ground)\n"
+    "  --png OUT.png      write a picture of the final scene\n"
+    "  --png-size WxH     size of the picture in pixels (default 1280x960)\n"
+    "  --every N          print every N-th step only (default 1)\n"
+    "  --quiet            print no statistics\n"
+    "  -h, --help         this text\n"
+    "\n"
+    "Exit status: 0 on success, 1 when loading, stepping or writing fails, 2 on bad\n"
+    "arguments.\n";
+
+struct Options {
+  std::string urdf;
+  double seconds = 5;
+  double dt = 1.0 / 240.0;
+  long substeps = 1;
+  long iterations = 10;
+  bool ground = false;
+  std::string octomap;
+  bool fixedBase = false;
+  bool hasDropHeight = false;
+  double dropHeight = 0;
+  std::string png;
+  long pngWidth = 1280;
+  long pngHeight = 960;
+  long every = 1;
+  bool quiet = false;
+};
+
+int usageError(const std::string& what) {
+  std::fprintf(stderr, "pfx_sim: %s\n(pfx_sim --help lists the options)\n", what.c_str());
+  return 2;
+}
+
+bool parseDouble(const char* text, double& value) {
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text, &end);
+  return end != text && *end == '\0' && errno == 0 && std::isfinite(value);
+}
+
+bool parseLong(const char* text, long& value) {
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtol(text, &end, 10);
+  return end != text && *end == '\0' && errno == 0;
+}
+
+// Returns -1 when the arguments are fine, else the exit status.
+int parseArguments(int argc, char** argv, Options& options) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](const char*& out) {
+      if (i + 1 >= argc) return false;
+      out = argv[++i];
+      return true;
+    };
+    const char* text = nullptr;
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (arg == "--ground") {
+      options.ground = true;
+    } else if (arg == "--fixed-base") {
+      options.fixedBase = true;
+    } else if (arg == "--quiet") {
+      options.quiet = true;
+    } else if (arg == "--seconds" || arg == "--dt" || arg == "--drop-height") {
+      double number = 0;
+      if (!value(text)) return usageError(arg + " needs a value");
+      if (!parseDouble(text, number)) return usageError(arg + ": not a number: " + text);
+      if (arg == "--seconds") {
+        if (number < 0) return usageError("--seconds must not be negative");
+        options.seconds = number;
+      } else if (arg == "--dt") {
+        if (!(number > 0) || number > 1) return usageError("--dt must be in (0, 1] s");
+        options.dt = number;
+      } else {
+        options.dropHeight = number;
+        options.hasDropHeight = true;
+      }
+    } else if (arg == "--substeps" || arg == "--iterations" || arg == "--every") {
+      long number = 0;
+      if (!value(text)) return usageError(arg + " needs a value");
+      if (!parseLong(text, number) || number < 1 || number > 1000) {
+        return usageError(arg + " must be a whole number from 1 to 1000: " + text);
+      }
+      (arg == "--substeps" ? options.substeps : arg == "--iterations" ? options.iterations
+                                                                       : options.every) = number;
+    } else if (arg == "--octomap" || arg == "--png") {
+      if (!value(text)) return usageError(arg + " needs a file name");
+      (arg == "--octomap" ? options.octomap : options.png) = text;
+    } else if (arg == "--png-size") {
+      if (!value(text)) return usageError("--png-size needs WxH");
+      const char* x = std::strchr(text, 'x');
+      const std::string w = x ? std::string(text, x) : std::string();
+      if (!x || !parseLong(w.c_str(), options.pngWidth) || !parseLong(x + 1, options.pngHeight) ||
+          options.pngWidth < 16 || options.pngHeight < 16 || options.pngWidth > 8192 ||
+          options.pngHeight > 8192) {
+        return usageError(std::string("--png-size must be WxH, 16 to 8192 pixels: ") + text);
+      }
+    } else if (!arg.empty() && arg[0] == '-') {
+      return usageError("unknown option " + arg);
+    } else if (options.urdf.empty()) {
+      options.urdf = arg;
+    } else {
+      return usageError("more than one URDF given: " + options.urdf + ", " + arg);
+    }
+  }
+  if (options.urdf.empty()) return usageError("no URDF given");
+  if (options.seconds / options.dt > 1e8) return usageError("--seconds / --dt is too many steps");
+  return -1;
+}
+
+// Lowest point (z) of the bodies from `first` on.
+PfxFloat lowestPoint(const PfxWorld& world, PfxUInt32 first) {
+  PfxFloat lowest = std::numeric_limits<PfxFloat>::max();
+  for (PfxUInt32 id = first; id < world.getNumRigidBodies(); ++id) {
+    PfxVector3 center, half;
+    world.getCollidable(id).getWorldAabb(world.getRigidState(id).getTransform(), center, half);
+    lowest = std::min(lowest, center.z() - half.z());
+  }
+  return lowest;
+}
+
+// Moves the bodies from `first` on up by `lift` (m): a rigid move keeps every joint as it is.
+PfxInt32 liftBodies(PfxWorld& world, PfxUInt32 first, PfxFloat lift) {
+  for (PfxUInt32 id = first; id < world.getNumRigidBodies(); ++id) {
+    PfxRigidState state = world.getRigidState(id);
+    state.setPosition(state.getPosition() + PfxVector3(0, 0, lift));
+    if (const PfxInt32 err = world.setRigidState(id, state); err != PFX_OK) return err;
+  }
+  return PFX_OK;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  if (const int status = parseArguments(argc, argv, options); status >= 0) return status;
+
+  PfxWorldParam param;
+  param.gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
+  param.timeStep = PfxFloat(options.dt);
+  param.subStep = PfxUInt32(options.substeps);
+  param.iteration = PfxUInt32(options.iterations);
+  param.measureConservation = true;
+  PfxWorld world;
+  if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
+    std::fprintf(stderr, "pfx_sim: world parameters rejected: %s\n", pfxErrorString(err));
+    return 1;
+  }
+
+  if (options.ground) {
+    PfxBodyInit ground;
+    ground.mass = 0;
+    ground.position = PfxVector3(0, 0, PfxFloat(-0.5));
+    if (const PfxInt32 err = pfxAddBody(world, pfxMakeShape(PfxBox(50, 50, PfxFloat(0.5))), ground);
+        err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: cannot add the ground: %s\n", pfxErrorString(err));
+      return 1;
+    }
+  }
+  std::unique_ptr<PfxOctomap> map;
+  if (!options.octomap.empty()) {
+    map = std::make_unique<PfxOctomap>();
+    std::string message;
+    if (const PfxInt32 err = pfxLoadOctomapFile(world, options.octomap, PfxOctomapLoadParam(), *map,
+                                                &message);
+        err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: %s\n", message.empty() ? pfxErrorString(err) : message.c_str());
+      return 1;
+    }
+  }
+
+  PfxUrdfLoadParam load;
+  load.fixedBase = options.fixedBase;
+  PfxUrdfModel model;
+  std::string message;
+  if (const PfxInt32 err = pfxLoadUrdfFile(world, options.urdf, load, model, &message);
+      err != PFX_OK) {
+    std::fprintf(stderr, "pfx_sim: %s\n", message.empty() ? pfxErrorString(err) : message.c_str());
+    return 1;
+  }
+  for (const std::string& warning : model.warnings) {
+    std::fprintf(stderr, "pfx_sim: warning: %s\n", warning.c_str());
+  }
+  if (options.hasDropHeight || (options.ground && !options.fixedBase)) {
+    const PfxFloat height = options.hasDropHeight ? PfxFloat(options.dropHeight) : PfxFloat(0.05);
+    const PfxFloat lift = height - lowestPoint(world, model.firstBodyId);
+    if (model.numBodies > 0 && liftBodies(world, model.firstBodyId, lift) != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: cannot place the robot at --drop-height %g\n", height);
+      return 1;
+    }
+  }
+
+  const long steps = std::lround(options.seconds / options.dt);
+  if (!options.quiet) {
+    std::printf("step\ttime\tstep_s\tpairs\tcontacts\tmax_penetration\tmax_joint_gap\t"
+                "energy_change\tmomentum_change\tangular_momentum_change\n");
+  }
+  for (long step = 1; step <= steps; ++step) {
+    if (const PfxInt32 err = world.step(); err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: step %ld failed: %s\n", step, pfxErrorString(err));
+      return 1;
+    }
+    if (options.quiet || (step % options.every != 0 && step != steps)) continue;
+    const PfxWorldStats& stats = world.getStats();
+    std::printf("%ld\t%.6f\t%.3e\t%u\t%u\t%.3e\t%.3e\t%.3e\t%.3e\t%.3e\n", step,
+                double(step) * options.dt, stats.stepSeconds, stats.numPairs,
+                stats.numContactPoints, double(stats.maxPenetration), double(stats.maxJointGap),
+                stats.energyChange, stats.linearMomentumChange, stats.angularMomentumChange);
+  }
+  std::fflush(stdout);
+
+  if (!options.png.empty()) {
+    PfxScenePicture picture(PfxUInt32(options.pngWidth), PfxUInt32(options.pngHeight));
+    if (picture.draw(world, options.png, &message) != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: %s\n", message.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,153 @@
+// pfx_sim as a user runs it: a robot dropped onto the ground simulates to the end, prints a
+// TSV row per step with sane figures, and writes a picture in which the robot shows; bad
+// arguments and files that cannot be loaded fail with a message and a non-zero status.
+#include <cairo.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct SimRun {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string scratch(const std::string& name) {
+  return std::string(PFX_TEST_SCRATCH_DIR) + "/pfx_sim_check_" + name;
+}
+
+SimRun runSim(const std::string& arguments, const std::string& name) {
+  const std::string out = scratch(name + ".tsv"), err = scratch(name + ".err");
+  const std::string command =
+      std::string("\"") + PFX_SIM + "\" " + arguments + " >\"" + out + "\" 2>\"" + err + "\"";
+  SimRun run;
+  const int raw = std::system(command.c_str());
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  run.out = readFile(out);
+  run.err = readFile(err);
+  return run;
+}
+
+std::vector<std::vector<std::string>> tsvRows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, '\t')) fields.push_back(cell);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+// Share of the picture's pixels in a saturated colour: bodies that move are drawn in
+// colours, the ground, the grid and the sky in greys and pale blue.
+double colouredShare(const std::string& png, int expectedWidth, int expectedHeight) {
+  cairo_surface_t* image = cairo_image_surface_create_from_png(png.c_str());
+  EXPECT_EQ(cairo_surface_status(image), CAIRO_STATUS_SUCCESS) << png;
+  if (cairo_surface_status(image) != CAIRO_STATUS_SUCCESS) {
+    cairo_surface_destroy(image);
+    return 0;
+  }
+  const int width = cairo_image_surface_get_width(image);
+  const int height = cairo_image_surface_get_height(image);
+  EXPECT_EQ(width, expectedWidth);
+  EXPECT_EQ(height, expectedHeight);
+  const int stride = cairo_image_surface_get_stride(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  long coloured = 0;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const unsigned char* px = data + y * stride + 4 * x;
+      const int hi = std::max({px[0], px[1], px[2]}), lo = std::min({px[0], px[1], px[2]});
+      if (hi - lo > 80) ++coloured;
+    }
+  }
+  cairo_surface_destroy(image);
+  return double(coloured) / (double(width) * height);
+}
+
+void checkDrop(const std::string& urdf, const std::string& name, double maxJointGap) {
+  const std::string png = scratch(name + ".png");
+  std::remove(png.c_str());
+  const SimRun run =
+      runSim("\"" + urdf + "\" --ground --seconds 1.5 --dt 0.004 --png \"" + png + "\" --png-size 640x480",
+             name);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto rows = tsvRows(run.out);
+  ASSERT_EQ(rows.size(), 376u);  // the header and 375 steps
+  ASSERT_EQ(rows[0].size(), 10u);
+  EXPECT_EQ(rows[0][0], "step");
+  EXPECT_EQ(rows[0][6], "max_joint_gap");
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 10u) << i;
+    EXPECT_EQ(std::stol(rows[i][0]), long(i));
+    for (const std::string& cell : rows[i]) ASSERT_TRUE(std::isfinite(std::stod(cell))) << i;
+  }
+  const auto& last = rows.back();
+  EXPECT_NEAR(std::stod(last[1]), 1.5, 1e-6);
+  EXPECT_GT(std::stol(last[4]), 0) << "the robot lies on the ground";
+  EXPECT_LT(std::stod(last[5]), 0.02) << "deepest overlap";
+  EXPECT_LT(std::stod(last[6]), maxJointGap);
+  EXPECT_GT(colouredShare(png, 640, 480), 0.005) << "the robot shows in " << png;
+}
+
+}  // namespace
+
+TEST(PfxSim, ArmDroppedOntoTheGround) {
+  checkDrop(std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf", "arm", 1e-3);
+}
+
+#ifdef PFX_RAGDOLL_URDF
+TEST(PfxSim, RagdollDroppedOntoTheGround) { checkDrop(PFX_RAGDOLL_URDF, "ragdoll", 1e-3); }
+#endif
+
+TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
+  const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
+  SimRun run = runSim("--help", "help");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("--drop-height"), std::string::npos);
+
+  for (const char* bad : {"", "--dt -1", "--dt abc", "--seconds", "--substeps 0",
+                          "--iterations 2.5", "--png-size 10x10", "--bogus", "extra.urdf"}) {
+    run = runSim((std::string(bad).empty() ? std::string() : "\"" + arm + "\" ") + bad, "bad");
+    EXPECT_EQ(run.status, 2) << bad;
+    EXPECT_NE(run.err.find("pfx_sim: "), std::string::npos) << bad;
+    EXPECT_TRUE(run.out.empty()) << bad;
+  }
+
+  run = runSim("\"" + scratch("missing.urdf") + "\"", "missing");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("missing.urdf"), std::string::npos) << run.err;
+
+  const std::string broken = scratch("broken.urdf");
+  std::ofstream(broken) << "<robot name=\"r\"><link name=\"a\"><inertial><mass value=\"-1\"/>"
+                           "<inertia ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>"
+                           "</inertial></link></robot>";
+  run = runSim("\"" + broken + "\"", "broken");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("broken.urdf"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("'a'"), std::string::npos) << run.err;
+
+  run = runSim("\"" + arm + "\" --seconds 0.01 --png /nonexistent-folder/picture.png", "nopng");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("/nonexistent-folder/picture.png"), std::string::npos) << run.err;
+}
