@@ -1,19 +1,21 @@
 #!/usr/bin/env bash
-# The test command: installs what is missing, builds everything, runs every test, then
-# builds the core again under AddressSanitizer + UndefinedBehaviorSanitizer and runs its
-# tests there too.
+# The test command: installs what is missing, builds everything (core, loaders, the ROS node
+# and its rostests), runs every test (labels core, loaders, ros, ...), then builds the core
+# again under AddressSanitizer + UndefinedBehaviorSanitizer and runs its tests there too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/install_deps.sh core
+bash scripts/install_deps.sh all
 jobs=$(nproc)
+# ROS's Python tools need Debian's python3, not a pyenv one first on PATH.
+export PYENV_VERSION=system
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 >/dev/null
 cmake --build build -j"$jobs"
 ctest --test-dir build --output-on-failure -j"$jobs"
 
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPFX_SANITIZE=address,undefined \
-  -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF >/dev/null
+  -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF >/dev/null
 cmake --build build-asan -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -L core -j"$jobs"

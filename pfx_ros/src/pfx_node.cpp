@@ -37,6 +37,7 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param<std::string>("octomap_file", p.simulation.octomapFile, "");
   nh.param("ground_plane", p.simulation.groundPlane, true);
   nh.param("fixed_base", p.simulation.fixedBase, false);
+  nh.param("allow_missing_meshes", p.simulation.allowMissingMeshes, false);
   nh.param<std::string>("fixed_frame", p.fixedFrame, "world");
   nh.param("paused", p.paused, false);
   double groundSize, dt, initialHeight;

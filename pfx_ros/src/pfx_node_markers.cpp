@@ -11,6 +11,9 @@ namespace {
 
 constexpr double kLineWidth = 0.005;  // m
 constexpr double kPointSize = 0.03;   // m
+// A resting robot's contact forces are hundreds of newtons: drawn at the debug render's
+// default of 1 cm per newton they would reach metres above it.
+constexpr PfxFloat kForceScale = PfxFloat(0.0005);  // m/N
 // Arcs (joint limits) become chords of at most this angle.
 constexpr PfxFloat kArcStep = PFX_PI / 16;
 
@@ -27,6 +30,7 @@ std_msgs::ColorRGBA toColor(const PfxVector3& rgb) {
 
 PfxNodeMarkers::PfxNodeMarkers(ros::NodeHandle& privateHandle, const std::string& fixedFrame)
     : m_fixedFrame(fixedFrame) {
+  m_render.setForceScale(kForceScale);
   // A new subscriber has none of the fixed bodies yet.
   m_publisher = privateHandle.advertise<visualization_msgs::MarkerArray>(
       "markers", 1,

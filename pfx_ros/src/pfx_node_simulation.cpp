@@ -106,6 +106,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   PfxUrdfLoadParam urdfParam;
   urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
   urdfParam.fixedBase = config.fixedBase;
+  urdfParam.allowMissingMeshes = config.allowMissingMeshes;
   std::string why;
   if (const PfxInt32 err =
           pfxLoadUrdfString(world, config.urdfXml,

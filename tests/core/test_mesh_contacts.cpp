@@ -224,6 +224,23 @@ TEST(MeshContacts, BoxOnAFlatGridRestsOnItsFaceWithTheTriangleAndWeights) {
   }
 }
 
+// A sphere against a mesh (as collidables, within `threshold`): every contact must point
+// up (+y) with the given distance.
+void expectSphereContactsUp(const PfxLargeTriMesh& meshData, PfxFloat radius,
+                            const PfxVector3& center, PfxFloat threshold, PfxFloat distance) {
+  const PfxCollidable mesh = collidableOf(meshShape(&meshData));
+  const PfxCollidable ball = collidableOf(pfxMakeShape(PfxSphere(radius)));
+  PfxContactCandidate c[PFX_MAX_CONTACT_CANDIDATES];
+  const PfxUInt32 n = pfxContactCollidables(mesh, PfxTransform3::Identity(), ball,
+                                            pfxMakeTransform(PfxQuat::Identity(), center),
+                                            threshold, c, PFX_MAX_CONTACT_CANDIDATES);
+  ASSERT_GE(n, 1u);
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    EXPECT_NEAR(c[i].m_normal.y(), 1, 1e-5);
+    EXPECT_NEAR(c[i].m_distance, distance, 1e-5);
+  }
+}
+
 TEST(MeshContacts, DeepOverlapIsPushedUpNotThrough) {
   // A sphere of radius 0.5 whose centre is 0.05 above the faces of a mesh 0.2 thick: it
   // reaches 0.45 below the face, deeper than the prism. The contact still points up, with
@@ -231,18 +248,28 @@ TEST(MeshContacts, DeepOverlapIsPushedUpNotThrough) {
   const MeshSource grid = makeFlatGrid(8, 1);
   MeshOwner owner;
   ASSERT_EQ(pfxCreateLargeTriMesh(owner.mesh, grid.param(0, PfxFloat(0.2))), PFX_OK);
-  const PfxCollidable mesh = collidableOf(meshShape(&owner.mesh));
-  const PfxCollidable ball = collidableOf(pfxMakeShape(PfxSphere(0.5f)));
-  PfxContactCandidate c[PFX_MAX_CONTACT_CANDIDATES];
-  const PfxUInt32 n = pfxContactCollidables(
-      mesh, PfxTransform3::Identity(), ball,
-      pfxMakeTransform(PfxQuat::Identity(), PfxVector3(0.3f, 0.05f, 0.2f)), PfxFloat(0.02), c,
-      PFX_MAX_CONTACT_CANDIDATES);
-  ASSERT_GE(n, 1u);
-  for (PfxUInt32 i = 0; i < n; ++i) {
-    EXPECT_NEAR(c[i].m_normal.y(), 1, 1e-5);
-    EXPECT_NEAR(c[i].m_distance, -0.45, 1e-5);
+  expectSphereContactsUp(owner.mesh, 0.5f, PfxVector3(0.3f, 0.05f, 0.2f), 0.02f, -0.45f);
+}
+
+TEST(MeshContacts, ShapeBeyondAPrismGetsNoContactFromItsFace) {
+  // A closed slab 0.05 thick: a grid facing up at y = 0 and one facing down at y = -0.05,
+  // prisms 0.01 deep. A sphere resting on the top lies 0.04 beyond the bottom faces'
+  // prisms, within the contact threshold: the bottom faces must not pull it down into the
+  // slab (their face contact would be 0.25 deep), only the top holds it.
+  const MeshSource top = makeFlatGrid(4, 1);
+  MeshSource slab = top;
+  for (PfxUInt32 v = 0; v < top.numVertices(); ++v) {
+    slab.vertices.insert(slab.vertices.end(),
+                         {top.vertices[3 * v], PfxFloat(-0.05), top.vertices[3 * v + 2]});
   }
+  for (PfxUInt32 t = 0; t < top.numTriangles(); ++t) {
+    const PfxUInt32* tri = &top.triangles[3 * t];
+    const PfxUInt32 n = top.numVertices();
+    slab.triangles.insert(slab.triangles.end(), {tri[0] + n, tri[2] + n, tri[1] + n});
+  }
+  MeshOwner owner;
+  ASSERT_EQ(pfxCreateLargeTriMesh(owner.mesh, slab.param(0, PfxFloat(0.01))), PFX_OK);
+  expectSphereContactsUp(owner.mesh, 0.1f, PfxVector3(0.3f, 0.1f, 0.2f), 0.06f, 0);
 }
 
 TEST(MeshContacts, BoxEdgeOnASeamGetsTheFaceNormal) {

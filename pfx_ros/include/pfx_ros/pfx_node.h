@@ -22,7 +22,8 @@ namespace pfx {
 struct PfxNodeParam {
   PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
                                        // ~octomap_file, ~ground_plane, ~ground_size, ~dt,
-                                       // ~substeps, ~iterations, ~fixed_base, ~initial_height
+                                       // ~substeps, ~iterations, ~fixed_base, ~initial_height,
+                                       // ~allow_missing_meshes
   std::string fixedFrame = "world";    // ~fixed_frame
   double realTimeFactor = 1;           // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,

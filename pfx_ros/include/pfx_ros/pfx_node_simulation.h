@@ -27,6 +27,9 @@ struct PfxNodeSimulationConfig {
   PfxUInt32 iterations = 10;
   bool fixedBase = false;
   PfxFloat initialHeight = 0;  // z of the root link's frame at the start (m)
+  // A collision mesh whose file is missing is left out (with a warning) instead of failing
+  // the load.
+  bool allowMissingMeshes = false;
 };
 
 // One point where two bodies touch (or pushed on each other during the last step).

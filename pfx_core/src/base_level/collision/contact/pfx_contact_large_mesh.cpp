@@ -4,7 +4,8 @@
 // both along the face normal:
 //   - one-sided: a prism never pushes a shape down through the mesh, so a result whose
 //     normal points below the face, or whose points lie inside the face (a shape sunk
-//     deeper than half the prism), is replaced by the face contact;
+//     deeper than half the prism), is replaced by the face contact; a shape separated
+//     from the prism on that side lies beneath the mesh and gets no contact from it;
 //   - internal edges: a contact found on an edge shared with a flat or concave neighbour
 //     (PFX_LARGE_MESH_EDGE_INTERNAL_*) would tilt its normal toward the neighbour and make
 //     a sliding body bump over the seam; it is replaced by the face contact too, which the
@@ -201,6 +202,15 @@ void contactTriangle(const Triangle& tri, PfxUInt32 triangleIndex, PfxFloat thic
 
   // The pair routines give one normal for all their points.
   const PfxFloat cosine = found[0].m_normal.dot(tri.normal);
+  // Separated from the prism with a normal pointing below the face: the shape lies beyond
+  // the prism's bottom, beneath the mesh. It is close only to the back of this triangle,
+  // e.g. to the far side of a thin closed solid it rests on, and the face contact would
+  // pull it through that solid.
+  if (cosine < 0) {
+    PfxFloat nearest = found[0].m_distance;
+    for (PfxUInt32 k = 1; k < numFound; ++k) nearest = std::min(nearest, found[k].m_distance);
+    if (nearest > 0) return;
+  }
   bool useFace = false;
   if (cosine < kFaceNormalCosine) {
     useFace = true;

@@ -1,0 +1,108 @@
+// What the rostest programs share: calling a node's services, following /clock, reading
+// TF, and the links and joints of a robot_description (parsed here with urdfdom, not with
+// pfx's loader, so that the node is checked against the URDF itself). Every wait is
+// bounded in wall time: a paused simulation must not hang a test.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pfx_test {
+
+// Calls a service and fails the test when the call itself fails (no such service, or the
+// node died); the response's success flag is for the caller to check.
+template <typename Service>
+Service call(const std::string& name, Service srv) {
+  EXPECT_TRUE(ros::service::call(name, srv)) << "call of " << name << " failed";
+  return srv;
+}
+
+inline bool waitForServices(const std::vector<std::string>& names, double wallSeconds) {
+  for (const std::string& name : names) {
+    if (!ros::service::waitForService(name, ros::Duration(wallSeconds))) return false;
+  }
+  return true;
+}
+
+// The latest /clock, in seconds (negative before the first).
+class ClockWatcher {
+ public:
+  explicit ClockWatcher(ros::NodeHandle& nh)
+      : m_sub(nh.subscribe("/clock", 100, &ClockWatcher::onClock, this)) {}
+  double now() const { return m_seconds.load(); }
+  // Waits until /clock reaches `seconds`; false if it does not within `wallSeconds`.
+  bool waitUntil(double seconds, double wallSeconds) const {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
+    while (now() < seconds) {
+      if (ros::WallTime::now() > deadline) return false;
+      ros::WallDuration(0.01).sleep();
+    }
+    return true;
+  }
+
+ private:
+  void onClock(const rosgraph_msgs::Clock& msg) { m_seconds.store(msg.clock.toSec()); }
+  ros::Subscriber m_sub;
+  std::atomic<double> m_seconds{-1.0};
+};
+
+// The newest transform of `frame` in `fixedFrame`, waiting up to `wallSeconds` for one.
+inline bool lookup(tf2_ros::Buffer& buffer, const std::string& fixedFrame,
+                   const std::string& frame, geometry_msgs::TransformStamped& out,
+                   double wallSeconds = 10) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
+  for (;;) {
+    try {
+      out = buffer.lookupTransform(fixedFrame, frame, ros::Time(0));
+      return true;
+    } catch (const tf2::TransformException&) {
+      if (ros::WallTime::now() > deadline) return false;
+      ros::WallDuration(0.02).sleep();
+    }
+  }
+}
+
+inline bool samePose(const geometry_msgs::TransformStamped& a,
+                     const geometry_msgs::TransformStamped& b) {
+  const auto& ta = a.transform;
+  const auto& tb = b.transform;
+  return ta.translation.x == tb.translation.x && ta.translation.y == tb.translation.y &&
+         ta.translation.z == tb.translation.z && ta.rotation.x == tb.rotation.x &&
+         ta.rotation.y == tb.rotation.y && ta.rotation.z == tb.rotation.z &&
+         ta.rotation.w == tb.rotation.w;
+}
+
+// Links and joints of a URDF, as the file names them.
+struct UrdfRobot {
+  std::string root;
+  int massiveLinks = 0;  // links with an inertial of positive mass
+  std::vector<std::string> links;
+  std::map<std::string, urdf::JointConstSharedPtr> joints;
+};
+
+inline bool readRobot(const std::string& param, UrdfRobot& robot) {
+  std::string xml;
+  if (!ros::param::get(param, xml)) return false;
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(xml);
+  if (!model) return false;
+  robot.root = model->getRoot()->name;
+  for (const auto& link : model->links_) {
+    robot.links.push_back(link.first);
+    if (link.second->inertial && link.second->inertial->mass > 0) ++robot.massiveLinks;
+  }
+  for (const auto& joint : model->joints_) robot.joints[joint.first] = joint.second;
+  return true;
+}
+
+}  // namespace pfx_test
