@@ -96,16 +96,17 @@ bool PfxNode::initialize() {
   m_boundGeneration = m_simulation.getGeneration();
   m_diagnostics = std::make_unique<PfxNodeDiagnostics>(m_handle, m_param.realTimeFactor);
   m_markers = std::make_unique<PfxNodeMarkers>(m_privateHandle, m_param.fixedFrame);
-  m_services = std::make_unique<PfxNodeServices>(
-      m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused);
+  m_services = std::make_unique<PfxNodeServices>(m_privateHandle, m_simulation,
+                                                 PfxUInt32(m_param.maxBatchRays), m_param.paused);
 
   const PfxUrdfModel& model = m_simulation.getModel();
-  ROS_INFO("pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
-           "%u sub-steps, %u iterations, real-time factor %g%s",
-           model.name.c_str(), model.links.size(), model.joints.size(),
-           m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
-           m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
-           m_param.paused ? " (paused)" : "");
+  ROS_INFO(
+      "pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
+      "%u sub-steps, %u iterations, real-time factor %g%s",
+      model.name.c_str(), model.links.size(), model.joints.size(),
+      m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
+      m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
+      m_param.paused ? " (paused)" : "");
   return true;
 }
 

@@ -33,18 +33,16 @@ PfxNodeMarkers::PfxNodeMarkers(ros::NodeHandle& privateHandle, const std::string
   m_render.setForceScale(kForceScale);
   // A new subscriber has none of the fixed bodies yet.
   m_publisher = privateHandle.advertise<visualization_msgs::MarkerArray>(
-      "markers", 1,
-      ros::SubscriberStatusCallback(
-          [this](const ros::SingleSubscriberPublisher&) { m_sendStatic = true; }));
+      "markers", 1, ros::SubscriberStatusCallback([this](const ros::SingleSubscriberPublisher&) {
+        m_sendStatic = true;
+      }));
 
   m_render.setDebugRenderPointFunc([this](const PfxVector3& p, const PfxVector3& color) {
     m_drawing.points.push_back(pfxToPointMsg(p));
     m_drawing.pointColors.push_back(toColor(color));
   });
-  m_render.setDebugRenderLineFunc(
-      [this](const PfxVector3& a, const PfxVector3& b, const PfxVector3& color) {
-        addLine(a, b, color);
-      });
+  m_render.setDebugRenderLineFunc([this](const PfxVector3& a, const PfxVector3& b,
+                                         const PfxVector3& color) { addLine(a, b, color); });
   m_render.setDebugRenderArcFunc([this](const PfxVector3& center, const PfxVector3& axis,
                                         const PfxVector3& dir, PfxFloat radius, PfxFloat start,
                                         PfxFloat end, const PfxVector3& color) {
@@ -146,7 +144,8 @@ void PfxNodeMarkers::addShapes(const PfxWorld& world, bool fixedBodies, const ch
 }
 
 void PfxNodeMarkers::addDrawing(const char* ns, const ros::Time& stamp) {
-  visualization_msgs::Marker lines = makeMarker(ns, 0, visualization_msgs::Marker::LINE_LIST, stamp);
+  visualization_msgs::Marker lines =
+      makeMarker(ns, 0, visualization_msgs::Marker::LINE_LIST, stamp);
   lines.scale.x = kLineWidth;
   if (m_drawing.linePoints.empty()) {
     lines.action = visualization_msgs::Marker::DELETE;

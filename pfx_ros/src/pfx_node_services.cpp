@@ -47,9 +47,7 @@ std::string unknownLink(const std::string& name) {
   return name.empty() ? "no link named" : "unknown link '" + name + "'";
 }
 
-bool isFinite(const geometry_msgs::Vector3& v) {
-  return pfxIsFinite(pfxFromMsg(v));
-}
+bool isFinite(const geometry_msgs::Vector3& v) { return pfxIsFinite(pfxFromMsg(v)); }
 
 }  // namespace
 
@@ -198,9 +196,8 @@ bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Res
     return reject(res, "set_body_state", "twist is not finite");
   }
   const PfxTransform3 pose = pfxMakeTransform(orientation.normalized(), position);
-  if (const PfxInt32 err = m_simulation.setLinkState(PfxUInt32(link), pose,
-                                                     pfxFromMsg(req.twist.linear),
-                                                     pfxFromMsg(req.twist.angular));
+  if (const PfxInt32 err = m_simulation.setLinkState(
+          PfxUInt32(link), pose, pfxFromMsg(req.twist.linear), pfxFromMsg(req.twist.angular));
       err != PFX_OK) {
     return reject(res, "set_body_state", pfxErrorString(err));
   }
@@ -229,13 +226,14 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
   }
   const bool needTargets = drive != kPfxJointDriveNone;
   if (req.targets.size() != n && (needTargets || !req.targets.empty())) {
-    return reject(res, service, std::to_string(n) + " joints but " +
-                                    std::to_string(req.targets.size()) + " targets");
+    return reject(
+        res, service,
+        std::to_string(n) + " joints but " + std::to_string(req.targets.size()) + " targets");
   }
   if (!req.max_forces.empty() && req.max_forces.size() != n) {
-    return reject(res, service, std::to_string(n) + " joints but " +
-                                    std::to_string(req.max_forces.size()) +
-                                    " max_forces (empty, or one per joint)");
+    return reject(res, service,
+                  std::to_string(n) + " joints but " + std::to_string(req.max_forces.size()) +
+                      " max_forces (empty, or one per joint)");
   }
   const PfxUrdfModel& model = m_simulation.getModel();
   std::vector<PfxUInt32> joints(n);
@@ -252,9 +250,9 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
       return reject(res, service, "joint '" + name + "' has no coordinate to drive");
     }
     if (joint.mimicLeader >= 0) {
-      return reject(res, service, "joint '" + name + "' mimics '" +
-                                      model.joints[joint.mimicLeader].name +
-                                      "': command the leader");
+      return reject(res, service,
+                    "joint '" + name + "' mimics '" + model.joints[joint.mimicLeader].name +
+                        "': command the leader");
     }
     if (needTargets) {
       targets[i] = PfxFloat(req.targets[i]);

@@ -50,8 +50,7 @@ PfxNodeSimulation::PfxNodeSimulation() = default;
 PfxNodeSimulation::~PfxNodeSimulation() = default;
 
 PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
-                                       std::unique_ptr<Scene>& scene,
-                                       std::string* message) const {
+                                       std::unique_ptr<Scene>& scene, std::string* message) const {
   auto built = std::make_unique<Scene>();
   built->world = std::make_unique<PfxWorld>();
   PfxWorld& world = *built->world;
@@ -108,10 +107,9 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   urdfParam.fixedBase = config.fixedBase;
   urdfParam.allowMissingMeshes = config.allowMissingMeshes;
   std::string why;
-  if (const PfxInt32 err =
-          pfxLoadUrdfString(world, config.urdfXml,
-                            config.urdfPath.empty() ? "." : folderOf(config.urdfPath),
-                            urdfParam, built->model, &why);
+  if (const PfxInt32 err = pfxLoadUrdfString(
+          world, config.urdfXml, config.urdfPath.empty() ? "." : folderOf(config.urdfPath),
+          urdfParam, built->model, &why);
       err != PFX_OK) {
     if (message) *message = why;
     return err;
@@ -156,8 +154,8 @@ PfxInt32 PfxNodeSimulation::step() {
   PfxWorld& world = *m_scene->world;
   for (Wrench& wrench : m_wrenches) {
     const PfxUrdfLink& link = m_scene->model.links[wrench.linkIndex];
-    const PfxVector3 arm =
-        getLinkPose(wrench.linkIndex).translation() - world.getRigidState(link.bodyId).getPosition();
+    const PfxVector3 arm = getLinkPose(wrench.linkIndex).translation() -
+                           world.getRigidState(link.bodyId).getPosition();
     world.applyForce(link.bodyId, wrench.force, wrench.torque + arm.cross(wrench.force));
     wrench.remainingSteps -= 1;
   }

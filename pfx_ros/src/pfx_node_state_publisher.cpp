@@ -8,8 +8,8 @@
 
 namespace pfx {
 
-PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle,
-                                             const std::string& fixedFrame, bool publishClock)
+PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
+                                             bool publishClock)
     : m_fixedFrame(fixedFrame), m_publishClock(publishClock) {
   m_jointStates = handle.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (m_publishClock) m_clock = handle.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -53,10 +53,10 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
     m_linkPoses[i] = simulation.getLinkPose(PfxUInt32(i));
   }
   for (std::size_t i = 0; i < m_transforms.size(); ++i) {
-    const PfxTransform3 pose = m_parentLink[i] < 0
-                                   ? m_linkPoses[i]
-                                   : PfxTransform3(m_linkPoses[m_parentLink[i]].inverse() *
-                                                   m_linkPoses[i]);
+    const PfxTransform3 pose =
+        m_parentLink[i] < 0
+            ? m_linkPoses[i]
+            : PfxTransform3(m_linkPoses[m_parentLink[i]].inverse() * m_linkPoses[i]);
     m_transforms[i].header.stamp = stamp;
     m_transforms[i].transform = pfxToTransformMsg(pose);
   }

@@ -18,7 +18,19 @@
 #include <string>
 #include <vector>
 
+#include "pfx/Raycast.h"
+
 namespace pfx_test {
+
+// What every rostest program holds once ros::init has run: a node handle, callbacks served
+// on a thread of their own, and a TF listener.
+struct RosClient {
+  RosClient() { spinner.start(); }
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner{1};
+  tf2_ros::Buffer tfBuffer;
+  tf2_ros::TransformListener tfListener{tfBuffer};
+};
 
 // Calls a service and fails the test when the call itself fails (no such service, or the
 // node died); the response's success flag is for the caller to check.
@@ -26,6 +38,18 @@ template <typename Service>
 Service call(const std::string& name, Service srv) {
   EXPECT_TRUE(ros::service::call(name, srv)) << "call of " << name << " failed";
   return srv;
+}
+
+inline pfx::Raycast::Response raycast(const std::string& service, double x, double y, double z,
+                                      double dx, double dy, double dz) {
+  pfx::Raycast srv;
+  srv.request.origin.x = x;
+  srv.request.origin.y = y;
+  srv.request.origin.z = z;
+  srv.request.direction.x = dx;
+  srv.request.direction.y = dy;
+  srv.request.direction.z = dz;
+  return call(service, srv).response;
 }
 
 inline bool waitForServices(const std::vector<std::string>& names, double wallSeconds) {
@@ -58,9 +82,8 @@ class ClockWatcher {
 };
 
 // The newest transform of `frame` in `fixedFrame`, waiting up to `wallSeconds` for one.
-inline bool lookup(tf2_ros::Buffer& buffer, const std::string& fixedFrame,
-                   const std::string& frame, geometry_msgs::TransformStamped& out,
-                   double wallSeconds = 10) {
+inline bool lookup(tf2_ros::Buffer& buffer, const std::string& fixedFrame, const std::string& frame,
+                   geometry_msgs::TransformStamped& out, double wallSeconds = 10) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
   for (;;) {
     try {
@@ -90,6 +113,13 @@ struct UrdfRobot {
   std::vector<std::string> links;
   std::map<std::string, urdf::JointConstSharedPtr> joints;
 };
+
+inline bool hasLink(const UrdfRobot& robot, const std::string& name) {
+  for (const std::string& link : robot.links) {
+    if (link == name) return true;
+  }
+  return false;
+}
 
 inline bool readRobot(const std::string& param, UrdfRobot& robot) {
   std::string xml;

@@ -29,24 +29,15 @@ const double kFreeX = 5.0;
 const double kFreeY = -4.0;
 
 struct Shared {
-  std::unique_ptr<ros::NodeHandle> nh;
+  std::unique_ptr<pfx_test::RosClient> ros;
   std::unique_ptr<pfx_test::ClockWatcher> clock;
-  std::unique_ptr<tf2_ros::Buffer> tfBuffer;
-  std::unique_ptr<tf2_ros::TransformListener> tfListener;
   pfx_test::UrdfRobot robot;
   double initialHeight = 0;
 };
 Shared* shared = nullptr;
 
 pfx::Raycast::Response raycast(double x, double y, double z, double dx, double dy, double dz) {
-  pfx::Raycast srv;
-  srv.request.origin.x = x;
-  srv.request.origin.y = y;
-  srv.request.origin.z = z;
-  srv.request.direction.x = dx;
-  srv.request.direction.y = dy;
-  srv.request.direction.z = dz;
-  return call(kNode + "raycast", srv).response;
+  return pfx_test::raycast(kNode + "raycast", x, y, z, dx, dy, dz);
 }
 
 bool trigger(const std::string& name) {
@@ -57,29 +48,24 @@ bool trigger(const std::string& name) {
 std::map<std::string, geometry_msgs::TransformStamped> allLinkPoses() {
   std::map<std::string, geometry_msgs::TransformStamped> poses;
   for (const std::string& link : shared->robot.links) {
-    EXPECT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, link, poses[link])) << link;
+    EXPECT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, link, poses[link])) << link;
   }
   return poses;
 }
 
 geometry_msgs::TransformStamped rootPose() {
   geometry_msgs::TransformStamped pose;
-  EXPECT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, shared->robot.root, pose));
+  EXPECT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, shared->robot.root, pose));
   return pose;
 }
 
-bool isRagdollLink(const std::string& name) {
-  for (const std::string& link : shared->robot.links) {
-    if (link == name) return true;
-  }
-  return false;
-}
+bool isRagdollLink(const std::string& name) { return pfx_test::hasLink(shared->robot, name); }
 
 TEST(Ragdoll, TfForEveryLink) {
   ASSERT_FALSE(shared->robot.links.empty());
   for (const std::string& link : shared->robot.links) {
     geometry_msgs::TransformStamped pose;
-    EXPECT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, link, pose))
+    EXPECT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, link, pose))
         << "no transform from " << kFixedFrame << " to " << link;
   }
 }
@@ -89,7 +75,8 @@ TEST(Ragdoll, FallsOntoTheGroundAndTouchesIt) {
   // Give the TF of the last step time to arrive.
   ros::WallDuration(0.2).sleep();
   const geometry_msgs::TransformStamped root = rootPose();
-  EXPECT_LT(root.transform.translation.z, shared->initialHeight - 0.5) << "the ragdoll did not fall";
+  EXPECT_LT(root.transform.translation.z, shared->initialHeight - 0.5)
+      << "the ragdoll did not fall";
   for (const auto& [link, pose] : allLinkPoses()) {
     EXPECT_GT(pose.transform.translation.z, -0.02) << link << " is below the ground";
     EXPECT_LT(pose.transform.translation.z, 0.8) << link << " is not down on the ground";
@@ -132,8 +119,8 @@ template <typename Message>
 typename Message::ConstPtr firstMessage(const std::string& topic, double wallSeconds) {
   typename Message::ConstPtr received;
   std::mutex mutex;
-  ros::Subscriber sub = shared->nh->subscribe<Message>(
-      topic, 1, [&](const typename Message::ConstPtr& msg) {
+  ros::Subscriber sub =
+      shared->ros->nh.subscribe<Message>(topic, 1, [&](const typename Message::ConstPtr& msg) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!received) received = msg;
       });
@@ -508,13 +495,9 @@ TEST(Ragdoll, SetBodyStateMovesTheLinkAndResetPutsItBack) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_ragdoll");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
   Shared state;
-  state.nh = std::make_unique<ros::NodeHandle>();
-  state.clock = std::make_unique<pfx_test::ClockWatcher>(*state.nh);
-  state.tfBuffer = std::make_unique<tf2_ros::Buffer>();
-  state.tfListener = std::make_unique<tf2_ros::TransformListener>(*state.tfBuffer);
+  state.ros = std::make_unique<pfx_test::RosClient>();
+  state.clock = std::make_unique<pfx_test::ClockWatcher>(state.ros->nh);
   shared = &state;
   if (!pfx_test::waitForServices({kNode + "raycast", kNode + "reset"}, 30.0)) {
     ROS_FATAL("pfx_node's services did not appear");

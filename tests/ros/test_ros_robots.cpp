@@ -40,9 +40,7 @@ class JointStateWatcher {
 };
 
 struct Shared {
-  std::unique_ptr<ros::NodeHandle> nh;
-  std::unique_ptr<tf2_ros::Buffer> tfBuffer;
-  std::unique_ptr<tf2_ros::TransformListener> tfListener;
+  std::unique_ptr<pfx_test::RosClient> ros;
   std::unique_ptr<JointStateWatcher> kukaJoints;
   pfx_test::UrdfRobot kuka;
   pfx_test::UrdfRobot r2d2;
@@ -51,28 +49,14 @@ Shared* shared = nullptr;
 
 pfx::Raycast::Response raycast(const std::string& ns, double x, double y, double z, double dx,
                                double dy, double dz) {
-  pfx::Raycast srv;
-  srv.request.origin.x = x;
-  srv.request.origin.y = y;
-  srv.request.origin.z = z;
-  srv.request.direction.x = dx;
-  srv.request.direction.y = dy;
-  srv.request.direction.z = dz;
-  return call("/" + ns + "/pfx_node/raycast", srv).response;
-}
-
-bool hasLink(const pfx_test::UrdfRobot& robot, const std::string& name) {
-  for (const std::string& link : robot.links) {
-    if (link == name) return true;
-  }
-  return false;
+  return pfx_test::raycast("/" + ns + "/pfx_node/raycast", x, y, z, dx, dy, dz);
 }
 
 TEST(Kuka, TfForEveryLink) {
   ASSERT_EQ(shared->kuka.links.size(), 8u);  // lbr_iiwa_link_0 .. 7
   for (const std::string& link : shared->kuka.links) {
     geometry_msgs::TransformStamped pose;
-    EXPECT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, link, pose)) << link;
+    EXPECT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, link, pose)) << link;
   }
 }
 
@@ -89,7 +73,7 @@ TEST(Kuka, HangsWithinItsLimitsOnAFixedBase) {
   }
   EXPECT_EQ(checked, 7);
   geometry_msgs::TransformStamped base;
-  ASSERT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, shared->kuka.root, base));
+  ASSERT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, shared->kuka.root, base));
   EXPECT_NEAR(base.transform.translation.x, 0.0, 1e-6);
   EXPECT_NEAR(base.transform.translation.y, 0.0, 1e-6);
   EXPECT_NEAR(base.transform.translation.z, 0.0, 1e-6);
@@ -140,7 +124,7 @@ TEST(R2d2, TfForEveryLink) {
   ASSERT_EQ(shared->r2d2.links.size(), 16u);
   for (const std::string& link : shared->r2d2.links) {
     geometry_msgs::TransformStamped pose;
-    EXPECT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, link, pose)) << link;
+    EXPECT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, link, pose)) << link;
   }
 }
 
@@ -153,7 +137,7 @@ TEST(R2d2, StandsOnTheGround) {
   while (ros::WallTime::now() < deadline) {
     previous = base;
     ros::WallDuration(0.5).sleep();
-    ASSERT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, shared->r2d2.root, base));
+    ASSERT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, shared->r2d2.root, base));
     moved = std::abs(base.transform.translation.z - previous.transform.translation.z);
     if (moved < 1e-3 && base.transform.translation.z < 0.55) break;
   }
@@ -168,12 +152,12 @@ TEST(R2d2, StandsOnTheGround) {
 
 TEST(R2d2, RaycastDownHitsIt) {
   geometry_msgs::TransformStamped base;
-  ASSERT_TRUE(pfx_test::lookup(*shared->tfBuffer, kFixedFrame, shared->r2d2.root, base));
+  ASSERT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, kFixedFrame, shared->r2d2.root, base));
   const pfx::Raycast::Response hit =
       raycast("r2d2", base.transform.translation.x, base.transform.translation.y, 3.0, 0, 0, -4.0);
   ASSERT_TRUE(hit.success) << hit.message;
   ASSERT_TRUE(hit.hit);
-  EXPECT_TRUE(hasLink(shared->r2d2, hit.link)) << "hit '" << hit.link << "'";
+  EXPECT_TRUE(pfx_test::hasLink(shared->r2d2, hit.link)) << "hit '" << hit.link << "'";
   EXPECT_GT(hit.point.z, 0.6);  // the head, above the body
   EXPECT_NEAR(hit.normal.z, 1.0, 0.1);
 }
@@ -183,13 +167,9 @@ TEST(R2d2, RaycastDownHitsIt) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_robots");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
   Shared state;
-  state.nh = std::make_unique<ros::NodeHandle>();
-  state.tfBuffer = std::make_unique<tf2_ros::Buffer>();
-  state.tfListener = std::make_unique<tf2_ros::TransformListener>(*state.tfBuffer);
-  state.kukaJoints = std::make_unique<JointStateWatcher>(*state.nh, "/kuka/joint_states");
+  state.ros = std::make_unique<pfx_test::RosClient>();
+  state.kukaJoints = std::make_unique<JointStateWatcher>(state.ros->nh, "/kuka/joint_states");
   shared = &state;
   if (!pfx_test::waitForServices({"/kuka/pfx_node/raycast", "/r2d2/pfx_node/raycast"}, 30.0)) {
     ROS_FATAL("the pfx_node services did not appear");

@@ -34,8 +34,7 @@ class PfxNodeMarkers {
   void addLine(const PfxVector3& a, const PfxVector3& b, const PfxVector3& color);
   void addBoxEdges(const PfxTransform3& transform, const PfxVector3& halfExtent,
                    const PfxVector3& color);
-  void addShapes(const PfxWorld& world, bool fixedBodies, const char* ns,
-                 const ros::Time& stamp);
+  void addShapes(const PfxWorld& world, bool fixedBodies, const char* ns, const ros::Time& stamp);
   void addDrawing(const char* ns, const ros::Time& stamp);
   visualization_msgs::Marker makeMarker(const char* ns, PfxInt32 id, PfxInt32 type,
                                         const ros::Time& stamp) const;

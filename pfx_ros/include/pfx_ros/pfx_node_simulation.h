@@ -19,8 +19,8 @@ struct PfxNodeSimulationConfig {
   // The file the URDF text came from: relative mesh paths resolve against its folder.
   // Empty: against the working directory.
   std::string urdfPath;
-  std::string octomapFile;  // empty: no map
-  bool groundPlane = true;  // a fixed box whose top face is the plane z = 0
+  std::string octomapFile;   // empty: no map
+  bool groundPlane = true;   // a fixed box whose top face is the plane z = 0
   PfxFloat groundSize = 20;  // edge of the square ground (m)
   PfxFloat timeStep = PfxFloat(0.004);
   PfxUInt32 subSteps = 1;
@@ -82,8 +82,8 @@ class PfxNodeSimulation {
 
   // A force at the link's origin plus a torque (world frame), on the link's body for
   // `duration` seconds of simulated time (at least one step).
-  PfxInt32 applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force,
-                           const PfxVector3& torque, double duration);
+  PfxInt32 applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force, const PfxVector3& torque,
+                           double duration);
   // Moves the link's body so that the link's frame is at `pose`, with the link origin's
   // velocity and the angular velocity given (world frame).
   PfxInt32 setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,

@@ -16,8 +16,7 @@ namespace pfx {
 
 class PfxNodeStatePublisher {
  public:
-  PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
-                        bool publishClock);
+  PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame, bool publishClock);
 
   // Reads the link tree and joint list of the simulation's robot; call after every load
   // or reset.
