@@ -100,6 +100,14 @@ TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
   solve.offsetSolverBodies = s.solverBodies;
   solve.numRigidBodies = 2;
   solve.timeStep = 1.0f / 60;
+  // The contacts' direct solve needs work memory; without it the call is refused.
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_BUFFER);
+  std::vector<unsigned char> work(pfxGetWorkBytesOfSolveConstraints(2, 1));
+  ASSERT_GT(work.size(), 0u);
+  solve.workBuff = work.data();
+  solve.workBytes = static_cast<PfxUInt32>(work.size() - 1);
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_BUFFER);
+  solve.workBytes = static_cast<PfxUInt32>(work.size());
   ASSERT_EQ(pfxSolveConstraints(solve), PFX_OK);
   // The downward velocity is stopped (the overlap is pushed out by position, not velocity).
   EXPECT_NEAR(s.states[1].getLinearVelocity().y(), 0, 1e-4f);

@@ -260,8 +260,9 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
 }
 
 void PfxWorld::reserveSolverWork() {
+  // Room for as many contact pairs as bodies: the solver's forest of contacts has no more.
   const std::size_t workBytes =
-      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), 0, getNumJoints());
+      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), getNumRigidBodies(), getNumJoints());
   m_solverWork.resize((workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
 }
 

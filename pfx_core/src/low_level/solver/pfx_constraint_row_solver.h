@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/solver/pfx_constraint_row.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
@@ -42,6 +43,37 @@ inline void pfxApplyRowImpulse(
   a.*angularVelocity -= receivesA * (a.m_inertiaInv * rA.cross(linear));
   b.*linearVelocity += (receivesB * b.m_massInv) * linear;
   b.*angularVelocity += receivesB * (b.m_inertiaInv * rB.cross(linear));
+}
+
+// Relative normal velocity at a contact point, from the chosen velocities of the bodies
+// (the solved changes or the push velocities).
+inline PfxFloat pfxContactNormalVelocity(const PfxContactPoint& cp, const PfxSolverBody& a,
+                                         const PfxSolverBody& b,
+                                         PfxVector3 PfxSolverBody::*linear,
+                                         PfxVector3 PfxSolverBody::*angular) {
+  return cp.getNormal().dot(b.*linear + (b.*angular).cross(cp.m_armB) - a.*linear -
+                            (a.*angular).cross(cp.m_armA));
+}
+
+// Applies normal impulses `delta` at a manifold's points to the chosen velocities.
+inline void pfxApplyNormalImpulses(const PfxContactManifold& manifold, const PfxFloat* delta,
+                                   PfxSolverBody& a, PfxFloat receivesA, PfxSolverBody& b,
+                                   PfxFloat receivesB, PfxVector3 PfxSolverBody::*linear,
+                                   PfxVector3 PfxSolverBody::*angular) {
+  PfxVector3 force = PfxVector3::Zero();
+  PfxVector3 torqueA = PfxVector3::Zero();
+  PfxVector3 torqueB = PfxVector3::Zero();
+  for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    const PfxVector3 impulse = cp.getNormal() * delta[i];
+    force += impulse;
+    torqueA += cp.m_armA.cross(impulse);
+    torqueB += cp.m_armB.cross(impulse);
+  }
+  a.*linear -= (receivesA * a.m_massInv) * force;
+  a.*angular -= receivesA * (a.m_inertiaInv * torqueA);
+  b.*linear += (receivesB * b.m_massInv) * force;
+  b.*angular += receivesB * (b.m_inertiaInv * torqueB);
 }
 
 // One Gauss-Seidel update: the impulse that brings the row to its target velocity, with the

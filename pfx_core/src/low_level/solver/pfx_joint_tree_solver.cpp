@@ -1,18 +1,11 @@
 #include "low_level/solver/pfx_joint_tree_solver.h"
 
-#include <Eigen/LU>
-#include <cstdint>
-#include <new>
-
+#include "low_level/solver/pfx_block_tree.h"
 #include "low_level/solver/pfx_joint_row.h"
 
 namespace pfx {
 
 namespace {
-
-// Factoring in double keeps mass ratios of 1:1000 and more well inside the precision.
-using Block = Eigen::Matrix<double, 6, 6>;
-using Vector6 = Eigen::Matrix<double, 6, 1>;
 
 // Compliance added to each locked row, relative to its effective mass: small enough to
 // leave the answer unchanged, large enough to keep redundant rows (two joints holding the
@@ -26,62 +19,25 @@ bool isLockedRow(const PfxJointConstraint& c) {
   return c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
 }
 
-PfxInt32 findRoot(PfxInt32* parent, PfxInt32 i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-// Carves aligned arrays out of the caller's work buffer.
-class Carver {
- public:
-  Carver(void* buffer, std::size_t bytes)
-      : m_cursor(static_cast<unsigned char*>(buffer)), m_end(m_cursor + bytes) {}
-  template <typename T>
-  T* take(std::size_t count) {
-    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(m_cursor);
-    const std::uintptr_t aligned = (at + alignof(T) - 1) & ~(std::uintptr_t(alignof(T)) - 1);
-    unsigned char* begin = reinterpret_cast<unsigned char*>(aligned);
-    if (begin + count * sizeof(T) > m_end) return nullptr;
-    m_cursor = begin + count * sizeof(T);
-    return reinterpret_cast<T*>(begin);
-  }
-  static std::size_t bytesFor(std::size_t alignment, std::size_t bytes) {
-    return bytes + alignment;
-  }
-
- private:
-  unsigned char* m_cursor;
-  unsigned char* m_end;
-};
-
 }  // namespace
 
-// One node of the forest: a body (6 velocity unknowns) or a joint (up to 6 locked rows,
-// padded to 6 with rows that couple to nothing).
-struct PfxJointTreeSolver::Node {
-  Block diagonalInverse;  // D^-1 after elimination
-  Block toParent;         // L = D^-1 H(node, parent)
-  Block coupling;         // H(node, parent)
-  Vector6 value;          // right-hand side, then solution
-  PfxInt32 parent;        // node index, -1 at a root
-  PfxInt32 body;          // rigid body id, or -1 for a joint node
-  PfxInt32 jointPair;     // joint pair index, or -1 for a body node
-  PfxUInt8 axes[6];       // joint node: the joint axis of each row
+// One node of the forest: a body, or a joint with up to 6 locked rows.
+struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
+  PfxInt32 body;       // rigid body id, or -1 for a joint node
+  PfxInt32 jointPair;  // joint pair index, or -1 for a body node
+  PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
 };
 
 PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
   const std::size_t numNodes = std::size_t(numRigidBodies) + numJointPairs;
   const std::size_t bytes =
-      Carver::bytesFor(alignof(Node), sizeof(Node) * numNodes) +
-      Carver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) *
-                                              (numJointPairs +         // joint nodes
-                                               2 * numRigidBodies + 1 +  // body nodes, sets
-                                               numRigidBodies + 1 +    // adjacency offsets
-                                               2 * numJointPairs));    // adjacency
+      PfxWorkCarver::bytesFor(alignof(Node), sizeof(Node) * numNodes) +
+      PfxWorkCarver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) *
+                                                     (numJointPairs +           // joint nodes
+                                                      2 * numRigidBodies + 1 +  // nodes, sets
+                                                      numRigidBodies + 1 +      // adjacency offsets
+                                                      2 * numJointPairs));      // adjacency
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -93,7 +49,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   m_joints = joints;
   m_jointPairs = jointPairs;
   m_solverBodies = solverBodies;
-  Carver carver(workBuff, workBytes);
+  PfxWorkCarver carver(workBuff, workBytes);
   const std::size_t maxNodes = std::size_t(numRigidBodies) + numJointPairs;
   m_nodes = carver.take<Node>(maxNodes);
   m_jointNode = carver.take<PfxInt32>(numJointPairs);
@@ -134,8 +90,8 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
                         (!moveB && solverBodies[b].m_massInv > 0);
     if (!hasRows || oneWay || (!moveA && !moveB)) continue;
-    const PfxInt32 ra = findRoot(sets, moveA ? static_cast<PfxInt32>(a) : ground);
-    const PfxInt32 rb = findRoot(sets, moveB ? static_cast<PfxInt32>(b) : ground);
+    const PfxInt32 ra = pfxFindTreeRoot(sets, moveA ? static_cast<PfxInt32>(a) : ground);
+    const PfxInt32 rb = pfxFindTreeRoot(sets, moveB ? static_cast<PfxInt32>(b) : ground);
     if (ra == rb) continue;
     sets[ra] = rb;
     m_jointNode[i] = kChosen;
@@ -217,14 +173,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     Node& node = m_nodes[n];
     node.coupling.setZero();
     if (node.body >= 0) {
-      const PfxSolverBody& sb = solverBodies[node.body];
-      Block mass = Block::Zero();
-      mass.topLeftCorner<3, 3>().diagonal().setConstant(1.0 / double(sb.m_massInv));
-      mass.bottomRightCorner<3, 3>() = sb.m_inertiaInv.cast<double>().inverse();
-      node.diagonalInverse = mass;  // holds D until it is inverted
+      node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
     } else {
       PfxJoint& joint = joints[pfxGetConstraintId(jointPairs[node.jointPair])];
-      node.diagonalInverse = -Block::Identity();
+      node.diagonalInverse = -PfxTreeBlock::Identity();
       for (PfxUInt8 axis = 0; axis < 6; ++axis) {
         const PfxJointConstraint& c = joint.m_constraints[axis];
         if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
@@ -243,7 +195,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
     const PfxJoint& joint = joints[pfxGetConstraintId(pair)];
     const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
-    Block rows = Block::Zero();  // joint rows x body velocities
+    PfxTreeBlock rows = PfxTreeBlock::Zero();  // joint rows x body velocities
     for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
       const PfxUInt8 axis = jointNode.axes[row];
       const PfxJointRowJacobian j =
@@ -251,17 +203,9 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
-    node.coupling = node.body >= 0 ? Block(rows.transpose()) : rows;
+    node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  // Nodes were numbered breadth first, parents before children: eliminating in reverse
-  // order takes children first, D_parent -= H(p, n) D_n^-1 H(n, p).
-  for (std::size_t k = m_numNodes; k-- > 0;) {
-    Node& node = m_nodes[k];
-    node.diagonalInverse = node.diagonalInverse.inverse().eval();
-    if (node.parent < 0) continue;
-    node.toParent = node.diagonalInverse * node.coupling;
-    m_nodes[node.parent].diagonalInverse -= node.coupling.transpose() * node.toParent;
-  }
+  pfxFactorBlockTree(m_nodes, m_numNodes);
   return true;
 }
 
@@ -293,18 +237,7 @@ void PfxJointTreeSolver::solve(bool push) {
                                                                     b.*linear, b.*angular));
     }
   }
-  // Forward (children first), diagonal, then backward (parents first).
-  for (std::size_t k = m_numNodes; k-- > 0;) {
-    const Node& node = m_nodes[k];
-    if (node.parent >= 0) m_nodes[node.parent].value -= node.toParent.transpose() * node.value;
-  }
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
-    m_nodes[n].value = (m_nodes[n].diagonalInverse * m_nodes[n].value).eval();
-  }
-  for (std::size_t k = 0; k < m_numNodes; ++k) {
-    Node& node = m_nodes[k];
-    if (node.parent >= 0) node.value -= node.toParent * m_nodes[node.parent].value;
-  }
+  pfxSolveBlockTree(m_nodes, m_numNodes);
 
   // Bodies take their velocity change; rows take the impulse (the negated multiplier).
   for (std::size_t n = 0; n < m_numNodes; ++n) {

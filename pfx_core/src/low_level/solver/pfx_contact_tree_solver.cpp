@@ -1,0 +1,426 @@
+#include "low_level/solver/pfx_contact_tree_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "low_level/solver/pfx_block_tree.h"
+#include "low_level/solver/pfx_constraint_row_solver.h"
+
+namespace pfx {
+
+namespace {
+
+constexpr PfxUInt32 kMaxPoints = PFX_NUM_CONTACTS_PER_MANIFOLD;
+
+// Compliance added to each face row, relative to its effective mass: it leaves the answer
+// unchanged and keeps a row that the others nearly repeat from making the system singular.
+constexpr double kRelativeCompliance = 1e-9;
+
+// A moment row is kept only where the points spread along its axis by more than this
+// fraction of their spread along the other (squared): points on a line hold no moment
+// across it.
+constexpr PfxFloat kMinSpreadRatio = PfxFloat(1e-4);
+constexpr PfxFloat kMinSpread = PfxFloat(1e-12);  // m^2: points that all coincide
+
+// A face of the forest was picked but not yet given a node.
+constexpr PfxInt32 kChosen = -2;
+
+// The points that hold a face up: those that overlap, and those that pushed in the last
+// step (which carry their impulse into this one). A resting face's points hover around
+// zero distance, and choosing by distance alone would make the face flicker between one,
+// two and four points from step to step. A speculative point that has not pushed stays
+// free to close its gap and no more, which the iterations handle.
+bool touches(const PfxContactPoint& cp) {
+  return cp.m_distance <= 0 || cp.m_constraintRow[0].m_accumImpulse > 0;
+}
+
+bool hasTouchingPoint(const PfxContactManifold& manifold) {
+  for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+    if (touches(manifold.getContactPoint(i))) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// A body node, or a face node: up to three rows, each a weighted sum of the manifold's
+// touching points' normal rows.
+struct PfxContactTreeSolver::Node : PfxBlockTreeNode {
+  PfxInt32 body;       // rigid body id, or -1 for a face
+  PfxInt32 pairIndex;  // contact pair index, or -1 for a body
+  PfxUInt8 numRows;
+  PfxFloat weights[3][kMaxPoints];  // row k's weight of each point (0: point left out)
+};
+
+PfxUInt32 PfxContactTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies,
+                                             PfxUInt32 numContactPairs) {
+  // A forest over n bodies has fewer than n + 1 edges, however many pairs there are.
+  const std::size_t maxFaces = std::min(numRigidBodies, numContactPairs);
+  const std::size_t numNodes = std::size_t(numRigidBodies) + maxFaces;
+  const std::size_t bytes =
+      PfxWorkCarver::bytesFor(alignof(Node), sizeof(Node) * numNodes) +
+      PfxWorkCarver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) *
+                                                     (2 * maxFaces +            // pair, state
+                                                      3 * numRigidBodies +      // nodes, sets, loops
+                                                      numRigidBodies + 1 +      // adjacency offsets
+                                                      2 * maxFaces));           // adjacency
+  return static_cast<PfxUInt32>(bytes);
+}
+
+namespace {
+
+// The rows of a face: the total push of its touching points and their first moments along
+// the principal axes of the points in the contact plane, each of unit length.
+PfxUInt8 faceRowWeights(const PfxContactManifold& manifold, PfxFloat weights[3][kMaxPoints]) {
+  const PfxUInt32 n = manifold.getNumContacts();
+  PfxVector3 normal = PfxVector3::Zero();
+  PfxVector3 centre = PfxVector3::Zero();
+  PfxFloat count = 0;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    if (!touches(cp)) continue;
+    normal += cp.getNormal();
+    centre += cp.m_armB;
+    count += 1;
+  }
+  centre /= count;
+  normal = normal.norm() > 0 ? PfxVector3(normal.normalized())
+                             : manifold.getContactPoint(0).getNormal();
+  PfxVector3 t1, t2;
+  pfxGetPlaneSpace(normal, t1, t2);
+  PfxFloat x[kMaxPoints] = {}, y[kMaxPoints] = {};
+  PfxFloat xx = 0, xy = 0, yy = 0;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    if (!touches(cp)) continue;
+    const PfxVector3 d = cp.m_armB - centre;
+    x[i] = d.dot(t1);
+    y[i] = d.dot(t2);
+    xx += x[i] * x[i];
+    xy += x[i] * y[i];
+    yy += y[i] * y[i];
+  }
+  const PfxFloat angle = PfxFloat(0.5) * std::atan2(2 * xy, xx - yy);
+  const PfxFloat c = std::cos(angle), s = std::sin(angle);
+  PfxFloat major[kMaxPoints] = {}, minor[kMaxPoints] = {};
+  PfxFloat majorSpread = 0, minorSpread = 0;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    major[i] = c * x[i] + s * y[i];
+    minor[i] = -s * x[i] + c * y[i];
+    majorSpread += major[i] * major[i];
+    minorSpread += minor[i] * minor[i];
+  }
+  if (minorSpread > majorSpread) {
+    std::swap(major, minor);
+    std::swap(majorSpread, minorSpread);
+  }
+  PfxUInt8 rows = 0;
+  auto addRow = [&](const PfxFloat* w, PfxFloat lengthSq) {
+    const PfxFloat scale = PfxFloat(1) / std::sqrt(lengthSq);
+    for (PfxUInt32 i = 0; i < kMaxPoints; ++i) weights[rows][i] = i < n ? w[i] * scale : 0;
+    ++rows;
+  };
+  PfxFloat ones[kMaxPoints] = {};
+  for (PfxUInt32 i = 0; i < n; ++i) ones[i] = touches(manifold.getContactPoint(i)) ? 1 : 0;
+  addRow(ones, count);
+  if (majorSpread > kMinSpread) {
+    addRow(major, majorSpread);
+    if (minorSpread > kMinSpreadRatio * majorSpread) addRow(minor, minorSpread);
+  }
+  return rows;
+}
+
+// The face's rows against one of its bodies' velocities (linear, then angular), as the
+// points push that body: along the normal for B, against it for A.
+PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const PfxFloat (*weights)[kMaxPoints],
+                          PfxUInt8 numRows, bool bodyB) {
+  PfxTreeBlock rows = PfxTreeBlock::Zero();
+  for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    const PfxVector3 linear = bodyB ? cp.getNormal() : PfxVector3(-cp.getNormal());
+    const PfxVector3 angular = (bodyB ? cp.m_armB : cp.m_armA).cross(linear);
+    for (PfxUInt8 k = 0; k < numRows; ++k) {
+      const double w = weights[k][i];
+      if (w == 0) continue;
+      rows.block<1, 3>(k, 0) += w * linear.cast<double>().transpose();
+      rows.block<1, 3>(k, 3) += w * angular.cast<double>().transpose();
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
+                                 const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
+                                 PfxContactManifold* manifolds, PfxSolverBody* solverBodies,
+                                 PfxUInt32 numRigidBodies) {
+  m_numNodes = 0;
+  m_contactPairs = contactPairs;
+  m_manifolds = manifolds;
+  m_solverBodies = solverBodies;
+  PfxWorkCarver carver(workBuff, workBytes);
+  const std::size_t maxFaces = std::min(numRigidBodies, numContactPairs);
+  m_nodes = carver.take<Node>(std::size_t(numRigidBodies) + maxFaces);
+  PfxInt32* facePair = carver.take<PfxInt32>(maxFaces);
+  PfxInt32* faceState = carver.take<PfxInt32>(maxFaces);
+  PfxInt32* bodyNode = carver.take<PfxInt32>(numRigidBodies);
+  PfxInt32* sets = carver.take<PfxInt32>(numRigidBodies);
+  PfxInt32* unsolvedFaces = carver.take<PfxInt32>(numRigidBodies);  // per set
+  PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
+  PfxInt32* adjacency = carver.take<PfxInt32>(2 * maxFaces);
+  if (maxFaces == 0) return true;
+  if (!m_nodes || !facePair || !faceState || !bodyNode || !sets || !unsolvedFaces ||
+      !adjacencyStart || !adjacency) {
+    return false;
+  }
+
+  auto movable = [&](PfxUInt32 id, bool receives) {
+    return receives && solverBodies[id].m_massInv > 0;
+  };
+  // Faces that touch and act on a body that moves. A body that moves but takes nothing
+  // from the pair (one-way) cannot be both inside and outside the system: such a pair
+  // stays iterative.
+  auto eligible = [&](const PfxConstraintPair& pair, bool& moveA, bool& moveB) {
+    if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)])) return false;
+    const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+    moveA = movable(a, pfxGetReceivesA(pair));
+    moveB = movable(b, pfxGetReceivesB(pair));
+    const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
+                        (!moveB && solverBodies[b].m_massInv > 0);
+    return !oneWay && (moveA || moveB);
+  };
+  auto movingRoot = [&](const PfxConstraintPair& pair, bool moveA) {
+    return pfxFindTreeRoot(sets, static_cast<PfxInt32>(moveA ? pfxGetObjectIdA(pair)
+                                                             : pfxGetObjectIdB(pair)));
+  };
+  PfxInt32* grounded = bodyNode;  // per set, until the nodes are numbered
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) {
+    sets[b] = static_cast<PfxInt32>(b);
+    unsolvedFaces[b] = 0;
+    grounded[b] = 0;
+    adjacencyStart[b] = 0;
+  }
+  adjacencyStart[numRigidBodies] = 0;
+
+  // The forest: faces between moving bodies that join two trees, then one face per tree on
+  // what does not move.
+  PfxUInt32 numFaces = 0;
+  bool moveA = false, moveB = false;
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (!eligible(pair, moveA, moveB) || !moveA || !moveB || numFaces == maxFaces) continue;
+    const PfxInt32 ra = pfxFindTreeRoot(sets, static_cast<PfxInt32>(pfxGetObjectIdA(pair)));
+    const PfxInt32 rb = pfxFindTreeRoot(sets, static_cast<PfxInt32>(pfxGetObjectIdB(pair)));
+    if (ra == rb) continue;
+    sets[ra] = rb;
+    facePair[numFaces++] = static_cast<PfxInt32>(i);
+  }
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (!eligible(pair, moveA, moveB) || moveA == moveB || numFaces == maxFaces) continue;
+    const PfxInt32 root = movingRoot(pair, moveA);
+    if (grounded[root]) continue;
+    grounded[root] = 1;
+    facePair[numFaces++] = static_cast<PfxInt32>(i);
+  }
+  // Only trees whose every face is in the forest are solved directly. Where faces close a
+  // loop (a box on two others in a pyramid, a pile, a box against a wall and the floor),
+  // the load splits between faces in a way the forest cannot know: solved over the forest
+  // alone, a box on two supports is hung on one of them, its pressure clamped where the
+  // support ends, and a pyramid topples. Those are left to the iterations.
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (eligible(pair, moveA, moveB)) ++unsolvedFaces[movingRoot(pair, moveA)];
+  }
+  for (PfxUInt32 f = 0; f < numFaces; ++f) {
+    const PfxConstraintPair& pair = contactPairs[facePair[f]];
+    eligible(pair, moveA, moveB);
+    --unsolvedFaces[movingRoot(pair, moveA)];
+  }
+  PfxUInt32 kept = 0;
+  for (PfxUInt32 f = 0; f < numFaces; ++f) {
+    const PfxConstraintPair& pair = contactPairs[facePair[f]];
+    eligible(pair, moveA, moveB);
+    if (unsolvedFaces[movingRoot(pair, moveA)] != 0) continue;
+    facePair[kept] = facePair[f];
+    faceState[kept++] = kChosen;
+    if (moveA) ++adjacencyStart[pfxGetObjectIdA(pair)];
+    if (moveB) ++adjacencyStart[pfxGetObjectIdB(pair)];
+  }
+  numFaces = kept;
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) bodyNode[b] = -1;
+  PfxInt32 running = 0;
+  for (PfxUInt32 b = 0; b <= numRigidBodies; ++b) {
+    const PfxInt32 count = b < numRigidBodies ? adjacencyStart[b] : 0;
+    adjacencyStart[b] = running;
+    running += count;
+  }
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) sets[b] = adjacencyStart[b];  // fill cursors
+  for (PfxUInt32 f = 0; f < numFaces; ++f) {
+    const PfxConstraintPair& pair = contactPairs[facePair[f]];
+    const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+    if (movable(a, pfxGetReceivesA(pair))) adjacency[sets[a]++] = static_cast<PfxInt32>(f);
+    if (movable(b, pfxGetReceivesB(pair))) adjacency[sets[b]++] = static_cast<PfxInt32>(f);
+  }
+
+  // Breadth first from the roots. A tree that rests on the ground is rooted at a face that
+  // holds it, so that every leaf is a body: a face eliminated as a leaf would have a pivot
+  // of nearly zero (its compliance), and the factorization would lose its precision.
+  auto addNode = [&](PfxInt32 parent, PfxInt32 body, PfxInt32 face) {
+    Node& node = m_nodes[m_numNodes];
+    node.parent = parent;
+    node.body = body;
+    node.pairIndex = face >= 0 ? facePair[face] : -1;
+    node.numRows = 0;
+    return static_cast<PfxInt32>(m_numNodes++);
+  };
+  auto grow = [&](std::size_t head) {
+    while (head < m_numNodes) {
+      const Node& current = m_nodes[head];
+      const PfxInt32 self = static_cast<PfxInt32>(head++);
+      if (current.body >= 0) {
+        for (PfxInt32 k = adjacencyStart[current.body]; k < adjacencyStart[current.body + 1];
+             ++k) {
+          const PfxInt32 face = adjacency[k];
+          if (faceState[face] != kChosen) continue;  // already in the forest
+          faceState[face] = addNode(self, -1, face);
+        }
+        continue;
+      }
+      const PfxConstraintPair& pair = contactPairs[current.pairIndex];
+      for (const bool isA : {true, false}) {
+        const PfxUInt32 id = isA ? pfxGetObjectIdA(pair) : pfxGetObjectIdB(pair);
+        if (movable(id, isA ? pfxGetReceivesA(pair) : pfxGetReceivesB(pair)) &&
+            bodyNode[id] < 0) {
+          bodyNode[id] = addNode(self, static_cast<PfxInt32>(id), -1);
+        }
+      }
+    }
+  };
+  for (PfxUInt32 f = 0; f < numFaces; ++f) {
+    const PfxConstraintPair& pair = contactPairs[facePair[f]];
+    if (faceState[f] != kChosen || movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) ==
+                                       movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))) {
+      continue;
+    }
+    const std::size_t head = m_numNodes;
+    faceState[f] = addNode(-1, -1, static_cast<PfxInt32>(f));
+    grow(head);
+  }
+  for (PfxUInt32 f = 0; f < numFaces; ++f) {
+    if (faceState[f] != kChosen) continue;
+    const PfxUInt32 a = pfxGetObjectIdA(contactPairs[facePair[f]]);
+    const std::size_t head = m_numNodes;
+    bodyNode[a] = addNode(-1, static_cast<PfxInt32>(a), -1);
+    grow(head);
+  }
+
+  // Diagonal blocks and couplings to the parent. Nodes come parents first, so a face
+  // parent already has its rows.
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    Node& node = m_nodes[n];
+    node.coupling.setZero();
+    if (node.body >= 0) {
+      node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
+    } else {
+      const PfxConstraintPair& pair = contactPairs[node.pairIndex];
+      const PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
+      node.numRows = faceRowWeights(manifold, node.weights);
+      node.diagonalInverse = -PfxTreeBlock::Identity();
+      const PfxSolverBody* bodies[2] = {&solverBodies[pfxGetObjectIdA(pair)],
+                                        &solverBodies[pfxGetObjectIdB(pair)]};
+      const bool receives[2] = {movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)),
+                                movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))};
+      Eigen::Matrix<double, 6, 1> effectiveMass = Eigen::Matrix<double, 6, 1>::Zero();
+      for (int side = 0; side < 2; ++side) {
+        if (!receives[side]) continue;
+        const PfxTreeBlock rows = faceJacobian(manifold, node.weights, node.numRows, side == 1);
+        const Eigen::Matrix3d inertiaInv = bodies[side]->m_inertiaInv.cast<double>();
+        for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+          const Eigen::Vector3d linear = rows.block<1, 3>(k, 0).transpose();
+          const Eigen::Vector3d angular = rows.block<1, 3>(k, 3).transpose();
+          effectiveMass[k] += double(bodies[side]->m_massInv) * linear.squaredNorm() +
+                              angular.dot(inertiaInv * angular);
+        }
+      }
+      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+        node.diagonalInverse(k, k) = -kRelativeCompliance * effectiveMass[k];
+      }
+    }
+    if (node.parent < 0) continue;
+    const Node& parent = m_nodes[node.parent];
+    const Node& face = node.body >= 0 ? parent : node;
+    const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
+    const PfxConstraintPair& pair = contactPairs[face.pairIndex];
+    const PfxTreeBlock rows =
+        faceJacobian(manifolds[pfxGetContactId(pair)], face.weights, face.numRows,
+                     PfxUInt32(body) == pfxGetObjectIdB(pair));
+    node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
+  }
+  pfxFactorBlockTree(m_nodes, m_numNodes);
+  return true;
+}
+
+void PfxContactTreeSolver::solveVelocities() { solve(false); }
+void PfxContactTreeSolver::solvePush() { solve(true); }
+
+void PfxContactTreeSolver::solve(bool push) {
+  if (m_numNodes == 0) return;
+  PfxVector3 PfxSolverBody::*linear =
+      push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
+  PfxVector3 PfxSolverBody::*angular =
+      push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
+
+  // Right-hand side: zero for bodies; for each face row, the weighted sum of its points'
+  // target velocities minus their velocities.
+  bool anyResidual = false;
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    Node& node = m_nodes[n];
+    node.value.setZero();
+    if (node.body >= 0) continue;
+    const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+    const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
+    const PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
+    const PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      if (node.weights[0][i] == 0) continue;
+      const PfxContactPoint& cp = manifold.getContactPoint(i);
+      const PfxConstraintRow& row = cp.m_constraintRow[0];
+      const PfxFloat target =
+          row.m_jacDiagInv > 0 ? (push ? cp.m_pushRhs : row.m_rhs) / row.m_jacDiagInv : 0;
+      const double residual = target - pfxContactNormalVelocity(cp, a, b, linear, angular);
+      for (PfxUInt8 k = 0; k < node.numRows; ++k) node.value[k] += node.weights[k][i] * residual;
+    }
+    anyResidual = anyResidual || !node.value.isZero(0);
+  }
+  if (!anyResidual) return;
+  pfxSolveBlockTree(m_nodes, m_numNodes);
+
+  // Each face takes its impulses point by point, clamped to pushing only; the bodies take
+  // what the points apply, so that velocities and impulses stay consistent after a clamp.
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    const Node& node = m_nodes[n];
+    if (node.body >= 0) continue;
+    const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+    PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
+    PfxFloat delta[kMaxPoints] = {};
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      if (node.weights[0][i] == 0) continue;
+      double change = 0;  // the impulse is the negated multiplier
+      for (PfxUInt8 k = 0; k < node.numRows; ++k) change -= node.weights[k][i] * node.value[k];
+      PfxContactPoint& cp = manifold.getContactPoint(i);
+      PfxFloat& impulse = push ? cp.m_pushImpulse : cp.m_constraintRow[0].m_accumImpulse;
+      const PfxFloat updated = std::max(impulse + static_cast<PfxFloat>(change), PfxFloat(0));
+      delta[i] = updated - impulse;
+      impulse = updated;
+      if (!push) cp.m_maxImpulse = std::max(cp.m_maxImpulse, updated);
+    }
+    pfxApplyNormalImpulses(manifold, delta, m_solverBodies[pfxGetObjectIdA(pair)],
+                           pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
+                           m_solverBodies[pfxGetObjectIdB(pair)],
+                           pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0), linear, angular);
+  }
+}
+
+}  // namespace pfx

@@ -1,0 +1,53 @@
+// Direct solve of the normal impulses of contacts that link bodies into trees: stacks,
+// towers, a heavy load on a light part. Projected Gauss-Seidel passes the weight of a stack
+// down one body per sweep and, where a light body sits between heavy ones, corrects it by
+// only 1 / (1 + ratio) per sweep: a 30-box tower at 10 iterations leaves the lower boxes
+// sinking unevenly, which feeds back into a sway that grows until the tower falls, and a
+// 1 kg box under 1000 kg is squeezed out sideways. Treating each touching face as an
+// equality for one solve over the forest of such faces (the same linear-time factorization
+// as the joints' tree solve) gives every face of a stack its exact share at once, whatever
+// the masses; one-sidedness is restored by clamping each point's accumulated impulse at
+// zero, and whatever the clamp leaves over, the iterations take up. Bodies whose faces
+// close loops (a pyramid, a pile) are left to the iterations alone.
+//
+// A face is not given its points' rows, which are redundant (four coplanar points hold
+// three degrees of freedom), but up to three combinations of them: the total push and
+// its first moments along the principal axes of the points. The impulse that comes back
+// is an affine pressure over the face, which is what a rigid face carries.
+#pragma once
+
+#include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/base_level/solver/pfx_solver_body.h"
+
+namespace pfx {
+
+class PfxContactTreeSolver {
+ public:
+  static PfxUInt32 getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs);
+
+  // Picks the touching contact pairs that form a forest, orders and factors the system.
+  // False when the work buffer is too small.
+  bool build(void* workBuff, PfxUInt32 workBytes, const PfxConstraintPair* contactPairs,
+             PfxUInt32 numContactPairs, PfxContactManifold* manifolds,
+             PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies);
+
+  // Adds to the points' normal impulses, and to the bodies' velocity changes, what makes
+  // every face of the forest move at its points' target velocities (m_rhs), each point's
+  // accumulated impulse kept at zero or above.
+  void solveVelocities();
+  // The same for the split impulses and the push velocities (m_pushRhs).
+  void solvePush();
+
+ private:
+  struct Node;
+  void solve(bool push);
+
+  Node* m_nodes = nullptr;  // breadth first: parents before children
+  PfxUInt32 m_numNodes = 0;
+  const PfxConstraintPair* m_contactPairs = nullptr;
+  PfxContactManifold* m_manifolds = nullptr;
+  PfxSolverBody* m_solverBodies = nullptr;
+};
+
+}  // namespace pfx
