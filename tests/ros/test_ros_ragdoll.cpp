@@ -7,6 +7,7 @@
 #include <std_srvs/Trigger.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <cstdio>
 #include <mutex>
 #include <set>
 
@@ -256,6 +257,42 @@ TEST(Ragdoll, RaycastBatchAnswersAsSingleRays) {
   }
   EXPECT_GT(onRagdoll, 0);
   EXPECT_TRUE(trigger("unpause"));
+}
+
+TEST(Ragdoll, RaycastBatchOfTheLargestSizeIsAnswered) {
+  int maxRays = 0;
+  ros::param::param(kNode + "max_batch_rays", maxRays, 100000);
+  // A grid of rays straight down over a 4 m square around the origin.
+  pfx::RaycastBatch batch;
+  const int side = int(std::ceil(std::sqrt(double(maxRays))));
+  for (int k = 0; k < maxRays; ++k) {
+    geometry_msgs::Point origin;
+    origin.x = -2.0 + 4.0 * (k / side) / side;
+    origin.y = -2.0 + 4.0 * (k % side) / side;
+    origin.z = 3.0;
+    geometry_msgs::Vector3 direction;
+    direction.z = -4.0;
+    batch.request.origins.push_back(origin);
+    batch.request.directions.push_back(direction);
+  }
+  const ros::WallTime start = ros::WallTime::now();
+  batch = call(kNode + "raycast_batch", batch);
+  const double seconds = (ros::WallTime::now() - start).toSec();
+  ASSERT_TRUE(batch.response.success) << batch.response.message;
+  ASSERT_EQ(batch.response.hit.size(), std::size_t(maxRays));
+  int onRagdoll = 0;
+  for (int k = 0; k < maxRays; ++k) {
+    ASSERT_TRUE(batch.response.hit[k]) << "ray " << k << " hit neither ragdoll nor ground";
+    if (batch.response.links[k] == "ground") {
+      ASSERT_NEAR(batch.response.points[k].z, 0.0, 1e-4) << "ray " << k;
+    } else {
+      ASSERT_TRUE(isRagdollLink(batch.response.links[k])) << batch.response.links[k];
+      ++onRagdoll;
+    }
+  }
+  EXPECT_GT(onRagdoll, 0);
+  std::printf("%d rays in one call answered in %.3f s, %d of them on the ragdoll\n", maxRays,
+              seconds, onRagdoll);
 }
 
 TEST(Ragdoll, PauseStopsTheClockAndThePoses) {
