@@ -350,6 +350,58 @@ PfxInt32 PfxWorld::setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupli
   return PFX_OK;
 }
 
+PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
+                            PfxUInt32 numJointCouplings) {
+  if (numBodies > getNumRigidBodies() || numJoints > getNumJoints() ||
+      numJointCouplings > getNumJointCouplings()) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+  for (PfxUInt32 i = 0; i < numJoints; ++i) {
+    if (m_joints[i].m_rigidBodyIdA >= numBodies || m_joints[i].m_rigidBodyIdB >= numBodies) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  for (PfxUInt32 i = 0; i < numJointCouplings; ++i) {
+    const PfxJointCoupling& coupling = m_jointCouplings[i];
+    if (coupling.m_leaderJointId >= numJoints || coupling.m_followerJointId >= numJoints) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  m_jointCouplings.erase(m_jointCouplings.begin() + numJointCouplings, m_jointCouplings.end());
+  for (PfxUInt32 i = numJoints; i < getNumJoints(); ++i) {
+    const PfxJoint& joint = m_joints[i];
+    const PfxUInt64 key = pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
+                                           std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
+    m_jointedPairKeys.erase(
+        std::lower_bound(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key));
+  }
+  m_joints.erase(m_joints.begin() + numJoints, m_joints.end());
+  m_jointPairs.erase(m_jointPairs.begin() + numJoints, m_jointPairs.end());
+
+  // Pairs stay sorted by key when some are taken out; a stable pipeline reuses the
+  // manifolds of the removed ones.
+  PfxUInt32 kept = 0;
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    if (pfxGetObjectIdA(m_pairs[i]) < numBodies && pfxGetObjectIdB(m_pairs[i]) < numBodies) {
+      m_pairs[kept++] = m_pairs[i];
+    } else if (m_param.pipeline == kPfxPipelineStable) {
+      m_freeManifolds.push_back(pfxGetContactId(m_pairs[i]));
+    }
+  }
+  m_numPairs = kept;
+  m_states.erase(m_states.begin() + numBodies, m_states.end());
+  m_bodies.erase(m_bodies.begin() + numBodies, m_bodies.end());
+  m_collidables.erase(m_collidables.begin() + numBodies, m_collidables.end());
+  m_forces.erase(m_forces.begin() + numBodies, m_forces.end());
+  m_torques.erase(m_torques.begin() + numBodies, m_torques.end());
+  m_compoundShapes.erase(m_compoundShapes.begin() + numBodies, m_compoundShapes.end());
+  m_compoundShapeIds.erase(m_compoundShapeIds.begin() + numBodies, m_compoundShapeIds.end());
+  m_numProxies = 0;
+  m_rayProxiesStale = true;
+  reserveSolverWork();
+  return PFX_OK;
+}
+
 // Bodies held together by a joint would otherwise push each other apart where their shapes
 // meet at the joint.
 void PfxWorld::dropJointedPairs() {

@@ -164,6 +164,13 @@ class PfxWorld {
   // Replaces a coupling (same checks); its impulse starts afresh.
   PfxInt32 setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupling);
 
+  // Keeps the first numBodies bodies, numJoints joints and numJointCouplings couplings and
+  // removes the rest, as if they had never been added: their contact pairs go, bodies they
+  // held apart may collide again, and rays no longer see them (a loader undoing a load that
+  // failed half way). Rejects a count above the current one and a kept joint or coupling
+  // that names a removed body or joint (PFX_ERR_OUT_OF_RANGE); nothing changes then.
+  PfxInt32 truncate(PfxUInt32 numBodies, PfxUInt32 numJoints, PfxUInt32 numJointCouplings);
+
   // One step of param.timeStep.
   PfxInt32 step();
   const PfxWorldStats& getStats() const { return m_stats; }
