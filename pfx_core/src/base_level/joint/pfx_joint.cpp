@@ -1,5 +1,6 @@
 #include "pfx/base_level/joint/pfx_joint.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -58,7 +59,10 @@ bool isRotation(const PfxMatrix3& m) {
 
 PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
   if (joint.m_rigidBodyIdA == joint.m_rigidBodyIdB) return PFX_ERR_INVALID_VALUE;
-  if (joint.m_type >= kPfxJointTypeCount) return PFX_ERR_INVALID_FLAG;
+  if (joint.m_type >= kPfxJointTypeCount || joint.m_rotation >= kPfxJointRotationCount ||
+      (joint.m_type == kPfxJointSwingTwist && joint.m_rotation != kPfxJointRotationSwingTwist)) {
+    return PFX_ERR_INVALID_FLAG;
+  }
   if (!pfxIsFinite(joint.m_anchorA) || !pfxIsFinite(joint.m_anchorB) ||
       !isRotation(joint.m_frameA) || !isRotation(joint.m_frameB)) {
     return PFX_ERR_INVALID_VALUE;
@@ -98,8 +102,18 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
   const PfxVector3 linear = frameA.transpose() * offset;
   for (int i = 0; i < 3; ++i) coordinates[i] = linear[i];
 
+  const PfxMatrix3 relativeMatrix = frameA.transpose() * rotationB * joint.m_frameB;
+  if (joint.m_rotation == kPfxJointRotationEulerYZX) {
+    // relative = Ry(s1) Rz(s2) Rx(t): its X column is (c1 c2, s2, -s1 c2), and its Y row
+    // (s2, c2 ct, -c2 st).
+    coordinates[kPfxJointAxisSwing1] = std::atan2(-relativeMatrix(2, 0), relativeMatrix(0, 0));
+    coordinates[kPfxJointAxisSwing2] =
+        std::asin(std::clamp(relativeMatrix(1, 0), PfxFloat(-1), PfxFloat(1)));
+    coordinates[kPfxJointAxisTwist] = std::atan2(-relativeMatrix(1, 2), relativeMatrix(1, 1));
+    return;
+  }
   // Relative rotation of B's frame in A's frame, split as swing * twist about X.
-  PfxQuat relative(frameA.transpose() * rotationB * joint.m_frameB);
+  PfxQuat relative(relativeMatrix);
   if (relative.w() < 0) relative.coeffs() = -relative.coeffs();
   const PfxFloat twist = 2 * std::atan2(relative.x(), relative.w());
   const PfxQuat twistRotation(std::cos(twist / 2), std::sin(twist / 2), 0, 0);

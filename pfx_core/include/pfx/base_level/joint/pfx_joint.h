@@ -30,6 +30,19 @@ enum : PfxUInt32 {
   kPfxJointAxisSwing2,  // rotation of X about Z
 };
 
+// How the three rotation coordinates measure B's joint frame against A's.
+enum PfxJointRotation : PfxUInt8 {
+  // Twist about X, then the swing of X as one turn about an axis in the Y-Z plane, its
+  // components on Y (swing1) and Z (swing2).
+  kPfxJointRotationSwingTwist = 0,
+  // Euler angles: B's frame is A's turned by swing1 about Y, then by swing2 about the
+  // turned Z, then by twist about the twice-turned X. Each limit then bounds one turn of a
+  // chain of three revolute joints exactly (a URDF shoulder collapsed into one joint); the
+  // coordinates are singular where swing2 reaches +-pi/2.
+  kPfxJointRotationEulerYZX,
+  kPfxJointRotationCount
+};
+
 struct PfxJoint {
   PfxJointConstraint m_constraints[6];
   PfxMatrix3 m_frameA;   // joint frame in body A (columns: X, Y, Z axes)
@@ -40,7 +53,8 @@ struct PfxJoint {
   PfxUInt32 m_rigidBodyIdB;
   PfxUInt8 m_active;
   PfxUInt8 m_type;
-  PfxUInt8 m_padding[2];
+  PfxUInt8 m_rotation;  // PfxJointRotation: swing-twist unless set; a cone needs swing-twist
+  PfxUInt8 m_padding;
 
   // Set up each step: world offsets of the anchors from the bodies' centres, and the
   // world directions of the six rows.
@@ -62,7 +76,7 @@ struct PfxJoint {
 PfxInt32 pfxCheckJoint(const PfxJoint& joint);
 
 // The six coordinates of the joint for the given states of its bodies: B's anchor in A's
-// joint frame, then twist, swing1 and swing2 (radians).
+// joint frame, then twist, swing1 and swing2 (radians) as m_rotation measures them.
 void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
                              const PfxRigidState& stateB, PfxFloat coordinates[6]);
 
