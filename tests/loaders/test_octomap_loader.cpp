@@ -286,6 +286,48 @@ TEST(OctomapLoader, BinaryAndFullFormatsGiveTheSameSurface) {
   }
 }
 
+// Two bytes per node of a .bt file: two bits per child, 2 = occupied leaf, 3 = children.
+std::string binaryNode(unsigned child, unsigned code) {
+  const unsigned bits = code << (2 * child);
+  return std::string{static_cast<char>(bits & 0xff), static_cast<char>(bits >> 8)};
+}
+
+TEST(OctomapLoader, LargePrunedLeafBesideOneVoxel) {
+  // The root's first child is one occupied leaf of 32,768^3 cells; its +x face meets a
+  // single voxel at the bottom of the root's second child, sixteen levels down. The large
+  // face is left as squares of every size from 16,384 cells down to one around the voxel,
+  // too many cells to cut at one grain: the mesh stays small all the same.
+  std::string bytes = "# Octomap OcTree binary file\nid OcTree\nsize 18\nres 0.05\ndata\n";
+  bytes += std::string{static_cast<char>(0x02 | 0x03 << 2), 0};  // leaf, then children
+  for (int depth = 1; depth < 15; ++depth) bytes += binaryNode(0, 3);
+  bytes += binaryNode(0, 2);
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "pfx_octomap_test_large_leaf.bt";
+  std::ofstream(path, std::ios::binary) << bytes;
+
+  PfxWorld world;
+  PfxWorldParam param = zUpParam();
+  param.worldExtent = PfxVector3::Constant(4000);
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxOctomap map;
+  std::string message;
+  const PfxInt32 err =
+      pfxLoadOctomapFile(world, path.string(), PfxOctomapLoadParam(), map, &message);
+  std::filesystem::remove(path);
+  ASSERT_EQ(err, PFX_OK) << message;
+  EXPECT_EQ(map.numOccupiedVoxels, (PfxUInt64(1) << 45) + 1);
+  EXPECT_LT(map.mesh.m_numTriangles, 1000u);
+  // The large cube spans [-1638.4, 0) on every axis; the voxel sits at x in [0, 0.05) on
+  // its +x face's lowest corner.
+  PfxRayOutput out = castRay(world, PfxVector3(10, -800, -800), PfxVector3(-20, 0, 0));
+  ASSERT_TRUE(out.m_contactFlag);
+  EXPECT_NEAR(out.m_contactPoint.x(), 0, 1e-4);
+  EXPECT_NEAR(out.m_contactNormal.x(), 1, 1e-5);
+  out = castRay(world, PfxVector3(0.025f, -1638.375f, -1630), PfxVector3(0, 0, -20));
+  ASSERT_TRUE(out.m_contactFlag);
+  EXPECT_NEAR(out.m_contactPoint.z(), -1638.35, 1e-3);
+}
+
 // --- refused input -------------------------------------------------------------------------
 
 class OctomapRefused : public ::testing::Test {
@@ -394,6 +436,37 @@ TEST_F(OctomapRefused, BrokenHeadersAndCutOffData) {
   for (int level = 0; level < 17; ++level) deep += std::string("\x03\x00", 2);
   expectRefused(write("deep.bt", deep), PFX_ERR_INVALID_VALUE,
                 "node data is cut off or deeper than 16 levels");
+}
+
+TEST_F(OctomapRefused, CorruptedBytesAreRefusedOrRead) {
+  // Bytes of the room's node data changed at random, or the file cut anywhere: every load
+  // either succeeds or is refused with the world as it was, and none reads past the end.
+  const std::string room = readBytes(dataFile("room.bt"));
+  const std::size_t data = room.find("\ndata\n") + 6;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<std::size_t> position(data, room.size() - 1), cut(0, room.size());
+  std::uniform_int_distribution<int> byte(0, 255), count(1, 4);
+  int loaded = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    std::string bytes = room;
+    if (trial % 4 == 3) {
+      bytes.resize(cut(rng));
+    } else {
+      for (int k = count(rng); k > 0; --k) bytes[position(rng)] = static_cast<char>(byte(rng));
+    }
+    const std::string path = write("corrupt.bt", bytes);
+    PfxOctomap map;
+    std::string message;
+    if (pfxLoadOctomapFile(m_world, path, mapPose(), map, &message) == PFX_OK) {
+      ++loaded;
+      EXPECT_GT(map.numOccupiedVoxels, 0u);
+      ASSERT_EQ(m_world.initialize(zUpParam()), PFX_OK);  // drops the map's body
+      continue;
+    }
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+    EXPECT_LE(m_world.getNumRigidBodies(), 1u);
+  }
+  EXPECT_LT(loaded, 120);
 }
 
 TEST_F(OctomapRefused, TreesThatAreNotOcTreesOrHoldNoOccupiedVoxel) {

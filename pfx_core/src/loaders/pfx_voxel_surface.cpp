@@ -18,13 +18,12 @@ bool samePlane(const PfxVoxelFace& a, const PfxVoxelFace& b) {
   return a.axis == b.axis && a.positive == b.positive && a.plane == b.plane;
 }
 
-// Greedy meshing of one plane: the squares are cut into cells of the smallest square's
-// size, and each unclaimed cell in row order grows into the widest run of unclaimed cells,
-// then into as many following rows as the whole run fits. Rectangles never overlap and
-// cover exactly the squares.
-void mergePlane(const PfxVoxelFace* faces, std::size_t count, std::vector<Rect>& rects) {
-  PfxUInt32 grain = faces[0].size;
-  for (std::size_t i = 1; i < count; ++i) grain = std::min(grain, faces[i].size);
+// Greedy meshing of squares of one plane: they are cut into cells of `grain` (no larger
+// than any of them), and each unclaimed cell in row order grows into the widest run of
+// unclaimed cells, then into as many following rows as the whole run fits. Rectangles never
+// overlap and cover exactly the squares.
+void mergeSquares(const PfxVoxelFace* faces, std::size_t count, PfxUInt32 grain,
+                  std::vector<Rect>& rects) {
   std::vector<PfxUInt64> cells;  // row (v) in the high half, column (u) in the low half
   for (std::size_t i = 0; i < count; ++i) {
     const PfxVoxelFace& f = faces[i];
@@ -76,6 +75,31 @@ void mergePlane(const PfxVoxelFace* faces, std::size_t count, std::vector<Rect>&
     const PfxUInt32 v = static_cast<PfxUInt32>(cells[i] >> 32);
     rects.push_back({faces[0].axis, faces[0].positive, faces[0].plane, u * grain, v * grain,
                      (u + width) * grain, (v + height) * grain});
+  }
+}
+
+// Cells of the smallest square's size let squares of every size merge, but where a large
+// pruned leaf meets single voxels that would take (large / small)^2 cells; from this many
+// cells per square on, squares merge only with squares of their own size.
+constexpr PfxUInt64 kMaxCellsPerSquare = 256;
+
+// The squares of one plane, sorted by size, as rectangles.
+void mergePlane(const PfxVoxelFace* faces, std::size_t count, std::vector<Rect>& rects) {
+  const PfxUInt32 grain = faces[0].size;
+  PfxUInt64 cells = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const PfxUInt64 n = faces[i].size / grain;
+    cells += n * n;
+  }
+  if (cells <= kMaxCellsPerSquare * count) {
+    mergeSquares(faces, count, grain, rects);
+    return;
+  }
+  for (std::size_t first = 0; first < count;) {
+    std::size_t last = first + 1;
+    while (last < count && faces[last].size == faces[first].size) ++last;
+    mergeSquares(faces + first, last - first, faces[first].size, rects);
+    first = last;
   }
 }
 
@@ -196,7 +220,8 @@ void pfxMeshVoxelFaces(std::vector<PfxVoxelFace>& faces, PfxInt32 origin, double
   std::sort(faces.begin(), faces.end(), [](const PfxVoxelFace& a, const PfxVoxelFace& b) {
     if (a.axis != b.axis) return a.axis < b.axis;
     if (a.positive != b.positive) return a.positive < b.positive;
-    return a.plane < b.plane;
+    if (a.plane != b.plane) return a.plane < b.plane;
+    return a.size < b.size;
   });
   std::vector<Rect> rects;
   for (std::size_t first = 0; first < faces.size();) {
