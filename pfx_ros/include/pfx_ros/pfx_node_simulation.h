@@ -58,10 +58,8 @@ class PfxNodeSimulation {
   PfxInt32 step();
 
   double getTime() const { return static_cast<double>(m_stepCount) * m_config.timeStep; }
-  PfxUInt64 getStepCount() const { return m_stepCount; }
   // Counts load() and reset() calls: whoever draws the static bodies draws them again.
   PfxUInt32 getGeneration() const { return m_generation; }
-  const PfxNodeSimulationConfig& getConfig() const { return m_config; }
   const PfxWorld& getWorld() const;
   const PfxUrdfModel& getModel() const;
   // The link a body carries (the one nearest the URDF root when fixed joints lumped
