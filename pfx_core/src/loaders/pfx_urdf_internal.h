@@ -1,0 +1,65 @@
+// The URDF loader's stages, shared by its source files: checking the XML (so that every
+// error names its element), parsing with urdfdom, resolving mesh URIs, and building bodies
+// and joints into buffers outside the world.
+#pragma once
+
+#include <urdf_model/model.h>
+#include <urdf_world/types.h>
+
+#include <string>
+#include <vector>
+
+#include "pfx/loaders/pfx_urdf_loader.h"
+
+namespace pfx {
+
+// Why a load failed: an error code and a sentence naming the element ("link 'forearm':
+// inertia is not positive definite"); the loader puts the file name in front.
+struct PfxUrdfError {
+  PfxInt32 code = PFX_OK;
+  std::string text;
+};
+
+// The URDF's links and joints in the order the file gives them.
+struct PfxUrdfDocumentOrder {
+  std::vector<std::string> links;
+  std::vector<std::string> joints;
+};
+
+// Checks what urdfdom either accepts silently or rejects without naming the element:
+// XML syntax, names, joint types, dangling and duplicate references, cycles, mimic leaders,
+// and the numbers of masses, inertias, limits, axes and dynamics. PFX_OK or the error.
+PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, PfxUrdfError& error);
+
+// urdfdom's model of the text, or null with urdfdom's own words in `error`.
+urdf::ModelInterfaceSharedPtr pfxParseUrdfModel(const std::string& xml, PfxUrdfError& error);
+
+// The file a mesh URI names: package://name/rest through ROS_PACKAGE_PATH, then
+// `packageRoot`, then the URDF's folder and its parents; file:// and plain paths relative
+// to the URDF's folder. False when no candidate exists; `searched` then lists the places.
+bool pfxResolveUrdfMeshUri(const std::string& uri, const std::string& urdfFolder,
+                           const std::string& packageRoot, std::string& path,
+                           std::string& searched);
+
+// Everything a load adds, built outside the world. Body ids in the joints, joint ids in the
+// couplings and in the model, and body ids in the model's links count from zero here; the
+// loader shifts them by the world's counts when it adds them.
+struct PfxUrdfBuildBody {
+  PfxRigidState state;
+  PfxRigidBody body;
+  std::vector<PfxShape> shapes;
+};
+
+struct PfxUrdfBuild {
+  std::vector<PfxUrdfBuildBody> bodies;
+  std::vector<PfxJoint> joints;
+  std::vector<PfxJointCoupling> couplings;
+  PfxUrdfModel model;
+};
+
+// Builds the robot for a world with the given time step (damping depends on it).
+PfxInt32 pfxBuildUrdf(const urdf::ModelInterface& urdfModel, const PfxUrdfDocumentOrder& order,
+                      const std::string& urdfFolder, const PfxUrdfLoadParam& param,
+                      PfxFloat subStepTime, PfxUrdfBuild& build, PfxUrdfError& error);
+
+}  // namespace pfx

@@ -1,0 +1,130 @@
+// Loading a URDF: check the text, parse it with urdfdom, build everything outside the world,
+// then add it. Only the last step touches the world, and it undoes itself if an addition is
+// refused, so a failed load leaves the world and the model as they were.
+#include "pfx/loaders/pfx_urdf_loader.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "loaders/pfx_urdf_internal.h"
+
+namespace pfx {
+
+namespace {
+
+PfxInt32 report(PfxInt32 code, const std::string& file, const std::string& text,
+                std::string* message) {
+  if (message) *message = file + ": " + text;
+  return code;
+}
+
+PfxInt32 checkParam(const PfxUrdfLoadParam& param, PfxUrdfError& error) {
+  error.code = PFX_ERR_INVALID_VALUE;
+  if (!pfxIsFinite(param.rootPosition) || !pfxIsUnitQuat(param.rootOrientation)) {
+    error.text =
+        "load parameters: the root pose is not finite, or its orientation not a unit "
+        "quaternion";
+  } else if (!(param.friction >= 0) || !pfxIsFinite(param.friction) ||
+             !(param.restitution >= 0 && param.restitution <= 1)) {
+    error.text = "load parameters: friction must be finite and >= 0, restitution in [0, 1]";
+  } else if (param.disableSelfCollision && param.selfCollisionGroup == 0) {
+    error.text = "load parameters: disableSelfCollision needs a non-zero selfCollisionGroup";
+  } else {
+    error.code = PFX_OK;
+  }
+  return error.code;
+}
+
+// Adds what was built; on a refusal removes what it added and returns the refusal.
+PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, PfxUrdfError& error) {
+  const PfxUInt32 firstBody = world.getNumRigidBodies();
+  const PfxUInt32 firstJoint = world.getNumJoints();
+  const PfxUInt32 firstCoupling = world.getNumJointCouplings();
+  PfxInt32 err = PFX_OK;
+  for (std::size_t i = 0; err == PFX_OK && i < build.bodies.size(); ++i) {
+    const PfxUrdfBuildBody& body = build.bodies[i];
+    err = world.addRigidBody(body.state, body.body, body.shapes.data(),
+                             static_cast<PfxUInt32>(body.shapes.size()));
+  }
+  for (std::size_t i = 0; err == PFX_OK && i < build.joints.size(); ++i) {
+    PfxJoint joint = build.joints[i];
+    joint.m_rigidBodyIdA += firstBody;
+    joint.m_rigidBodyIdB += firstBody;
+    err = world.addJoint(joint);
+  }
+  for (std::size_t i = 0; err == PFX_OK && i < build.couplings.size(); ++i) {
+    PfxJointCoupling coupling = build.couplings[i];
+    coupling.m_leaderJointId += firstJoint;
+    coupling.m_followerJointId += firstJoint;
+    err = world.addJointCoupling(coupling);
+  }
+  if (err != PFX_OK) {
+    world.truncate(firstBody, firstJoint, firstCoupling);
+    error.code = err;
+    error.text = std::string("robot: the world refused a body, joint or coupling (") +
+                 pfxErrorString(err) + ")";
+    return err;
+  }
+  PfxUrdfModel& model = build.model;
+  for (PfxUrdfLink& link : model.links) {
+    link.bodyId += firstBody;
+    if (link.collapsedJointId != kPfxUrdfNoJoint) link.collapsedJointId += firstJoint;
+  }
+  for (PfxUrdfJoint& joint : model.joints) {
+    if (joint.jointId != kPfxUrdfNoJoint) joint.jointId += firstJoint;
+    if (joint.couplingId != kPfxUrdfNoJoint) joint.couplingId += firstCoupling;
+  }
+  model.firstBodyId = firstBody;
+  model.numBodies = static_cast<PfxUInt32>(build.bodies.size());
+  model.firstJointId = firstJoint;
+  model.numJoints = static_cast<PfxUInt32>(build.joints.size());
+  model.firstCouplingId = firstCoupling;
+  model.numCouplings = static_cast<PfxUInt32>(build.couplings.size());
+  return PFX_OK;
+}
+
+PfxInt32 load(PfxWorld& world, const std::string& xml, const std::string& file,
+              const std::string& folder, const PfxUrdfLoadParam& param, PfxUrdfModel& model,
+              std::string* message) {
+  PfxUrdfError error;
+  PfxUrdfDocumentOrder order;
+  if (checkParam(param, error) != PFX_OK || pfxCheckUrdfXml(xml, order, error) != PFX_OK) {
+    return report(error.code, file, error.text, message);
+  }
+  const urdf::ModelInterfaceSharedPtr parsed = pfxParseUrdfModel(xml, error);
+  if (!parsed) return report(error.code, file, error.text, message);
+  const PfxWorldParam& worldParam = world.getParam();
+  PfxUrdfBuild build;
+  if (pfxBuildUrdf(*parsed, order, folder, param,
+                   worldParam.timeStep / PfxFloat(worldParam.subStep), build, error) != PFX_OK ||
+      addToWorld(world, build, error) != PFX_OK) {
+    return report(error.code, file, error.text, message);
+  }
+  model = std::move(build.model);
+  if (message) message->clear();
+  return PFX_OK;
+}
+
+}  // namespace
+
+PfxInt32 pfxLoadUrdfFile(PfxWorld& world, const std::string& path, const PfxUrdfLoadParam& param,
+                         PfxUrdfModel& model, std::string* message) {
+  std::error_code error;
+  std::ifstream in(path, std::ios::binary);
+  if (!std::filesystem::is_regular_file(path, error) || !in) {
+    return report(PFX_ERR_INVALID_VALUE, path, "cannot be read (no such file)", message);
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load(world, text.str(), path, std::filesystem::path(path).parent_path().string(), param,
+              model, message);
+}
+
+PfxInt32 pfxLoadUrdfString(PfxWorld& world, const std::string& xml, const std::string& basePath,
+                           const PfxUrdfLoadParam& param, PfxUrdfModel& model,
+                           std::string* message) {
+  return load(world, xml, "<urdf string>", basePath, param, model, message);
+}
+
+}  // namespace pfx
