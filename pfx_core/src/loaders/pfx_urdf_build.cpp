@@ -180,9 +180,11 @@ class UrdfBuilder {
         m_error(error) {}
 
   PfxInt32 run() {
-    if (collect() != PFX_OK || place() != PFX_OK || group() != PFX_OK || assignRoles() != PFX_OK ||
-        makeBodies() != PFX_OK || makeShapes() != PFX_OK || makeJoints() != PFX_OK ||
-        makeCouplings() != PFX_OK) {
+    if (collect() != PFX_OK) return m_error.code;
+    place();
+    group();
+    if (assignRoles() != PFX_OK || makeBodies() != PFX_OK || makeShapes() != PFX_OK ||
+        makeJoints() != PFX_OK || makeCouplings() != PFX_OK) {
       return m_error.code;
     }
     describeModel();
@@ -247,7 +249,7 @@ class UrdfBuilder {
 
   // Link poses and joint axes in the world with every joint at zero, parents before
   // children (m_treeOrder).
-  PfxInt32 place() {
+  void place() {
     Pose root = Pose::Identity();
     root.linear() = m_param.rootOrientation.cast<double>().normalized().toRotationMatrix();
     root.translation() = m_param.rootPosition.cast<double>();
@@ -271,11 +273,10 @@ class UrdfBuilder {
         stack.push_back(joint.child);
       }
     }
-    return PFX_OK;
   }
 
   // Fixed joints join links into groups; a link without mass always joins its neighbour.
-  PfxInt32 group() {
+  void group() {
     for (const int link : m_treeOrder) {
       LinkNode& node = m_links[link];
       if (node.parentJoint < 0) {
@@ -301,7 +302,6 @@ class UrdfBuilder {
       }
       m_groups[node.group].mass += node.mass;
     }
-    return PFX_OK;
   }
 
   int newGroup(int link, int parentJoint, int parentGroup) {
