@@ -152,7 +152,7 @@ TEST(StiffExtreme, EverythingStaysBoundedAtDt1Over30) {
   ASSERT_TRUE(seen.finite);
   // The chain's 2.2 m swing reaches sqrt(2 g h) ~ 6.6 m/s; a whip's tip may outrun that.
   EXPECT_LT(seen.fastest, 30.0f);
-  // The deepest contact, 0.165 m, is a ragdoll's foot: the joints' position correction
+  // The deepest contact, 0.18 m, is a ragdoll's foot: the joints' position correction
   // closes the ankle's gap by moving the light foot, and it does not see the ground.
   EXPECT_LT(seen.deepest, 0.2f);
   EXPECT_LT(seen.widestGap, 0.01f);

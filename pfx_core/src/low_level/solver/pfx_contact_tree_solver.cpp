@@ -153,6 +153,7 @@ PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const PfxFloat (*w
 
 bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                                  const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
+                                 const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
                                  PfxContactManifold* manifolds, PfxSolverBody* solverBodies,
                                  PfxUInt32 numRigidBodies) {
   m_numNodes = 0;
@@ -232,6 +233,18 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
     const PfxConstraintPair& pair = contactPairs[i];
     if (eligible(pair, moveA, moveB)) ++unsolvedFaces[movingRoot(pair, moveA)];
+  }
+  // A body held by a joint does not answer a push with its own mass alone: solved as if it
+  // were free, a ragdoll's foot on the ground took thousands of newton-seconds in one step.
+  // Trees holding such bodies are left to the iterations, which see the joints.
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    const PfxConstraintPair& pair = jointPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    for (const PfxUInt32 id : {pfxGetObjectIdA(pair), pfxGetObjectIdB(pair)}) {
+      if (id < numRigidBodies && solverBodies[id].m_massInv > 0) {
+        ++unsolvedFaces[pfxFindTreeRoot(sets, static_cast<PfxInt32>(id))];
+      }
+    }
   }
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
     const PfxConstraintPair& pair = contactPairs[facePair[f]];

@@ -27,9 +27,11 @@ class PfxContactTreeSolver {
   static PfxUInt32 getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs);
 
   // Picks the touching contact pairs that form a forest, orders and factors the system.
-  // False when the work buffer is too small.
+  // Trees with a body held by one of the joints are left out. False when the work buffer
+  // is too small.
   bool build(void* workBuff, PfxUInt32 workBytes, const PfxConstraintPair* contactPairs,
-             PfxUInt32 numContactPairs, PfxContactManifold* manifolds,
+             PfxUInt32 numContactPairs, const PfxConstraintPair* jointPairs,
+             PfxUInt32 numJointPairs, PfxContactManifold* manifolds,
              PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies);
 
   // Adds to the points' normal impulses, and to the bodies' velocity changes, what makes

@@ -277,7 +277,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   PfxContactTreeSolver contactTree;
   contactTree.build(static_cast<unsigned char*>(param.workBuff) + jointBytes,
                     param.workBytes - jointBytes, param.contactPairs, param.numContactPairs,
-                    param.offsetContactManifolds, param.offsetSolverBodies, param.numRigidBodies);
+                    param.jointPairs, param.numJointPairs, param.offsetContactManifolds, param.offsetSolverBodies, param.numRigidBodies);
   auto forEachJoint = [&](auto&& work) {
     for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
       const PfxConstraintPair& pair = param.jointPairs[i];
