@@ -46,10 +46,13 @@ roscore -p "$port" >"$ROS_LOG_DIR/roscore.out" 2>&1 &
 master_pid=$!
 wait_for 30 rosparam get /rosdistro
 
-roslaunch pfx ragdoll.launch rviz:=true >"$ROS_LOG_DIR/ragdoll_launch.out" 2>&1 &
+roslaunch launch/ragdoll.launch rviz:=true >"$ROS_LOG_DIR/ragdoll_launch.out" 2>&1 &
 launch_pid=$!
-wait_for 60 rosservice call /pfx_node/raycast \
-  "{origin: {x: 5.0, y: 5.0, z: 1.0}, direction: {x: 0.0, y: 0.0, z: -2.0}}"
+if ! wait_for 60 rosservice call /pfx_node/raycast \
+  "{origin: {x: 5.0, y: 5.0, z: 1.0}, direction: {x: 0.0, y: 0.0, z: -2.0}}"; then
+  tail -n 30 "$ROS_LOG_DIR/ragdoll_launch.out" >&2
+  exit 1
+fi
 
 # Simulated seconds, from /clock.
 sim_time() {
