@@ -68,7 +68,9 @@ const char* usage() {
          "  10 iterations, 1 sub-step, 1 thread, each scene's own duration.\n"
          "  --out DIR also writes DIR/results.tsv and one plot per scene, DIR/<scene>.png.\n"
          "  The scene rays measures rays per second against a 524,288-triangle terrain\n"
-         "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h.\n";
+         "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h; the\n"
+         "  scene octomap loads a 97,784-voxel OctoMap and casts rays into it (pfx only),\n"
+         "  see bench_octomap.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

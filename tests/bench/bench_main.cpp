@@ -1,6 +1,7 @@
 // pfx_bench: error against run time for pfx and its peers, on the same scenes in the same
 // run. See bench_cli.cpp for the command line and bench_engine.h for what each engine is
 // set to.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 
 #include "bench_cli.h"
 #include "bench_engine.h"
+#include "bench_octomap.h"
 #include "bench_rays.h"
 #include "bench_report.h"
 #include "bench_run.h"
@@ -134,11 +136,21 @@ int main(int argc, char** argv) {
     std::printf("%s", usage());
     return 0;
   }
-  // The rays scene measures rays per second, not stepping, and runs apart (bench_rays.h).
+  // The octomap and rays scenes measure load times and rays per second, not stepping, and
+  // run apart (bench_octomap.h, bench_rays.h).
+  const bool fullSweep = options.scenes.empty();
+  const auto octomap = std::remove(options.scenes.begin(), options.scenes.end(),
+                                   std::string(kOctomapSceneName));
+  const bool octomapWanted = fullSweep || octomap != options.scenes.end();
+  options.scenes.erase(octomap, options.scenes.end());
   RaySceneRequest rays;
-  if (!takeRaySceneRequest(options.scenes, options.engines, rays, error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
-    return 2;
+  if (fullSweep || !options.scenes.empty()) {
+    if (!takeRaySceneRequest(options.scenes, options.engines, rays, error)) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      return 2;
+    }
+  } else {
+    rays.otherScenes = false;
   }
   std::vector<const EngineInfo*> engines;
   std::vector<Scene> scenes;
@@ -204,6 +216,15 @@ int main(int argc, char** argv) {
     std::vector<ResultRow> rayRows;
     failures += runRayScene(rays, rayRows);
     for (const ResultRow& row : rayRows) {
+      writeTsvRow(std::cout, row);
+      if (tsvFile) writeTsvRow(tsvFile, row);
+    }
+    std::cout.flush();
+  }
+  if (octomapWanted) {
+    std::vector<ResultRow> octomapRows;
+    failures += runOctomapScene(octomapRows);
+    for (const ResultRow& row : octomapRows) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
     }
