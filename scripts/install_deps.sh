@@ -20,6 +20,9 @@ if [ "$set_name" = all ]; then
   for msgs in geometry-msgs std-msgs visualization-msgs sensor-msgs std-srvs diagnostic-msgs; do
     packages+=("lib${msgs}-dev" "ros-${msgs}")
   done
+  # Python message classes, so that rostopic echo reads the node's topics.
+  packages+=(python3-sensor-msgs python3-diagnostic-msgs python3-visualization-msgs
+    python3-geometry-msgs python3-std-msgs)
   packages+=(libros-rosgraph-msgs-dev ros-rosgraph-msgs)
   packages+=(rviz xvfb xauth imagemagick)
   packages+=(libbullet-dev libode-dev libmujoco-dev libembree-dev gnuplot-nox)
