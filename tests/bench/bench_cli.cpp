@@ -70,7 +70,8 @@ const char* usage() {
          "  The scene rays measures rays per second against a 524,288-triangle terrain\n"
          "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h; the\n"
          "  scene octomap loads a 97,784-voxel OctoMap and casts rays into it (pfx only),\n"
-         "  see bench_octomap.h.\n";
+         "  see bench_octomap.h. The scene urdf (built with the loaders) drives the joint\n"
+         "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

@@ -5,7 +5,8 @@
 // Settings matched in every engine: time step (dt / substeps per solver step), solver
 // iterations, gravity, mass and principal inertia (given explicitly, never recomputed by
 // the engine), shape sizes, initial pose and velocities, friction combined as sqrt(a b) and
-// restitution as max(a, b) as pfx does, no damping, no sleeping.
+// restitution as max(a, b) as pfx does, no damping, no sleeping, and the commands of
+// joint motors (bench_motors.h: one controller for all, fed by each engine's own states).
 //
 // Settings that could not be matched:
 // - Contact model. pfx, Bullet and ODE solve hard contacts with sequential impulses
@@ -57,13 +58,46 @@
 //   damping or armature. Hinge limits (the ragdoll's elbows and knees) are each engine's
 //   own: pfx's limit rows, Bullet's btHingeConstraint::setLimit with its default softness,
 //   bias and relaxation, ODE's hinge stops with the world's ERP and CFM, MuJoCo's
-//   limited range with its default solref and solimp. bullet_multibody runs only scenes whose joints form trees hanging
+//   limited range with its default solref and solimp; bullet_multibody's are
+//   btMultiBodyJointLimitConstraints. A hinge to the world is made in Bullet against its
+//   fixed body. bullet_multibody runs only scenes whose joints form trees hanging
 //   from the world and starting at rest (the chains); its links have no damping and no cap
 //   on joint speed (Bullet's defaults are 0.04 and 100 rad/s, which would mask a blow-up
 //   as a clamped speed), and its contact impulses are not capped either. MuJoCo runs
 //   every joint tree, but no closed loops and no jointed bodies that start moving. Bodies
 //   held by a joint never collide with each other in any engine; other bodies of the same
 //   chain do.
+// - Joint motors (the urdf scene). Before each step the benchmark computes every motor's
+//   target rate the same way for all engines (reference rate + 10/s x angle error, cut to
+//   the URDF velocity limit) and holds it through the step's sub-steps; the torque limit
+//   is the URDF effort. pfx: the hinge twist axis's velocity drive (m_drive, m_driveTarget,
+//   m_driveMaxForce). Its drive row is iterated with the other bounded rows against the
+//   two bodies' own inertia, and the tree's direct solve of the locked axes then spreads
+//   its impulse over the arm, so at 10 iterations the shoulder and wrist motors lag and the
+//   tracking loop rings at dt >= 1/60 (20-40 iterations track closely). Bullet:
+//   btHingeConstraint::enableAngularMotor, bullet_multibody: btMultiBodyJointMotor, both
+//   with a velocity target and an impulse bound of effort x sub-step, rows of their
+//   iterative solvers (bullet_multibody's in joint space, with the articulation's own
+//   inertia). ODE: dParamVel within dParamFMax = effort, rows of QuickStep. MuJoCo has no
+//   motor constraint: a velocity actuator, a servo of gain kv = effort / (0.1 x velocity
+//   limit) clamped to +-effort, which MuJoCo's default Euler integrator cannot keep stable
+//   at these steps, so MuJoCo steps this scene with its implicit integrator (which also
+//   treats the velocity-dependent Coriolis terms implicitly). A stiffer servo is not
+//   closer: the implicit step linearises it as if it never clamped, and at kv 10 times
+//   higher it clamped at every change of command and the arm fell 1-2.5 rad behind. The
+//   URDF's joint damping and friction are left out in every engine: pfx's drive row takes
+//   their place on a driven axis.
+// - Robot geometry (the urdf scene). The shapes are spheres, boxes, capsules and cylinders
+//   only: each link gets the box about its centre of mass, along its principal axes, that
+//   bounds its collision mesh's vertices, rather than a convex hull that every adapter
+//   would have to learn. The arm's meshes are boxes (exact) and 8-sided prisms (the box is
+//   21 % larger in cross-section). The gripper's mimic fingers are lumped, closed, into
+//   the palm in every engine: Bullet's and ODE's sliders have no mimic coupling, and a
+//   finger pair held by pfx's coupling and MuJoCo's equality but free in the others would
+//   not be the same arm. The fixed base is the world the first hinge hangs from and has no
+//   shape: the shoulder stands on it and the engines cannot all keep a pair without a
+//   joint from colliding. Links collide with each other only where an engine has lost
+//   its track (Bullet and ODE at dt 1/30).
 // - Blow-ups. MuJoCo resets its state to the start when it meets a bad number; the
 //   benchmark stops such a run there instead of letting it carry on from the reset. A
 //   scene may set a speed limit (the chains: ten times the speed of a free fall from the
@@ -114,6 +148,10 @@ class Engine {
   }
   // Creates every body and joint of the scene; on failure says why in `error`.
   virtual bool build(const Scene& scene, const EngineSettings& settings, std::string& error) = 0;
+  // Target rates (rad/s, JointDesc's sign) of the scene's motors, in the order of
+  // Scene::motors, held by each engine's own joint motor until the next call; the
+  // benchmark calls it before every step of a scene with motors.
+  virtual void setMotorRates(const std::vector<double>& rates) = 0;
   // Advances the world by settings.dt; false (with `error`) if the engine failed.
   virtual bool step(std::string& error) = 0;
   // The state of every body, in the scene's order, fixed bodies included.

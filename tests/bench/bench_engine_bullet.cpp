@@ -1,9 +1,11 @@
 // Bullet 3 behind the benchmark's interface: btDiscreteDynamicsWorld with the sequential
-// impulse solver; ball joints are btPoint2PointConstraints, hinges btHingeConstraints.
+// impulse solver; ball joints are btPoint2PointConstraints, hinges btHingeConstraints,
+// motors their angular motors.
 // Sub-steps are taken as separate variable-length steps of exactly dt / substeps:
 // Bullet's fixed-step accumulator (stepSimulation(dt, N, dt / N)) divides
 // single-precision time by the rounded sub-step, and when N is not a power of two it now
 // and then defers a sub-step to the next call.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -19,6 +21,9 @@ namespace {
 struct BtJoint {
   std::unique_ptr<btTypedConstraint> constraint;
   bool swapped = false;
+  // Bullet's hinge angle is its body A's turn relative to its body B (btHingeConstraint's
+  // default reference frame B): the scene's angle times this.
+  double angleSign() const { return swapped ? 1 : -1; }
 };
 
 class BulletEngine final : public Engine {
@@ -49,7 +54,20 @@ class BulletEngine final : public Engine {
       // Bodies held together by a joint do not collide, as in pfx.
       m_world->addConstraint(m_joints.back().constraint.get(), true);
     }
+    // A motor's impulse is bounded per solver step, which is one sub-step here.
+    for (const JointMotorDesc& motor : scene.motors) {
+      m_motors.push_back({motor.joint, btScalar(motor.maxTorque) * m_subTimeStep});
+    }
     return true;
+  }
+
+  void setMotorRates(const std::vector<double>& rates) override {
+    for (std::size_t i = 0; i < rates.size(); ++i) {
+      const BtJoint& joint = m_joints[m_motors[i].joint];
+      auto& hinge = static_cast<btHingeConstraint&>(*joint.constraint);
+      hinge.enableAngularMotor(true, btScalar(joint.angleSign() * rates[i]),
+                               m_motors[i].maxImpulse);
+    }
   }
 
   bool step(std::string&) override {
@@ -100,8 +118,13 @@ class BulletEngine final : public Engine {
       if (desc.type == JointType::Ball) {
         joint.constraint = std::make_unique<btPoint2PointConstraint>(b, pivotInB);
       } else {
-        auto hinge = std::make_unique<btHingeConstraint>(b, toB * hingeFrame(desc));
-        limitHinge(*hinge, desc);
+        // Against Bullet's fixed body, whose frame is the world's: the one-body constructor
+        // would place the frame's origin in the world but keep its axes in body B's frame,
+        // twisting any body that does not start unrotated.
+        const btTransform frame = hingeFrame(desc);
+        auto hinge = std::make_unique<btHingeConstraint>(b, btTypedConstraint::getFixedBody(),
+                                                         toB * frame, frame);
+        limitHinge(*hinge, desc, joint.angleSign());
         joint.constraint = std::move(hinge);
       }
       return joint;
@@ -114,7 +137,7 @@ class BulletEngine final : public Engine {
     } else {
       const btTransform frame = hingeFrame(desc);
       auto hinge = std::make_unique<btHingeConstraint>(a, b, toA * frame, toB * frame);
-      limitHinge(*hinge, desc);
+      limitHinge(*hinge, desc, joint.angleSign());
       joint.constraint = std::move(hinge);
     }
     return joint;
@@ -130,8 +153,10 @@ class BulletEngine final : public Engine {
                        toBt(desc.anchor));
   }
 
-  static void limitHinge(btHingeConstraint& hinge, const JointDesc& desc) {
-    if (std::isfinite(desc.limit)) hinge.setLimit(btScalar(-desc.limit), btScalar(desc.limit));
+  static void limitHinge(btHingeConstraint& hinge, const JointDesc& desc, double sign) {
+    if (!desc.limited()) return;
+    const double a = sign * desc.lowerLimit, b = sign * desc.upperLimit;
+    hinge.setLimit(btScalar(std::min(a, b)), btScalar(std::max(a, b)));
   }
 
   // Declared in the order of construction; the world goes first on destruction.
@@ -142,6 +167,11 @@ class BulletEngine final : public Engine {
   std::vector<std::unique_ptr<btCollisionShape>> m_shapes;
   std::vector<std::unique_ptr<btRigidBody>> m_bodies;
   std::vector<BtJoint> m_joints;
+  struct Motor {
+    int joint;
+    btScalar maxImpulse;
+  };
+  std::vector<Motor> m_motors;  // per motor of the scene
   std::unique_ptr<btDiscreteDynamicsWorld> m_world;
   btScalar m_subTimeStep = btScalar(1) / 60;
   int m_substeps = 1;

@@ -1,16 +1,21 @@
 // Bullet 3's Featherstone articulations behind the benchmark's interface: every joint tree
 // hanging from the world becomes one btMultiBody with a fixed base at the root joint's
 // anchor, its bodies links with spherical or revolute joints, stepped in a
-// btMultiBodyDynamicsWorld with the multibody constraint solver. Bodies outside the trees
-// are plain btRigidBodies of the same world. Scenes without joints are left to the engine
+// btMultiBodyDynamicsWorld with the multibody constraint solver. Hinge limits are
+// btMultiBodyJointLimitConstraints, motors btMultiBodyJointMotors (a velocity target held
+// as a constraint row within the motor's impulse). Bodies outside the trees are plain
+// btRigidBodies of the same world. Scenes without joints are left to the engine
 // `bullet`; jointed groups floating free, and jointed bodies that start moving, are not
 // built here (their root would need a floating base and its velocities mapped to joint
 // rates).
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
+#include <algorithm>
 #include <string>
 
 #include "bench_bullet_common.h"
@@ -42,6 +47,10 @@ struct TreeJoint {
   int tree = 0;
   LinkPoint onA;
   LinkPoint onB;
+  // A revolute link's coordinate is the child's turn relative to its parent: the scene's
+  // hinge angle times this (-1 where the scene names the child first).
+  int link = -1;
+  double angleSign = 1;
 };
 
 bool atRest(const BodyDesc& body) {
@@ -52,6 +61,7 @@ class BulletMultiBodyEngine final : public Engine {
  public:
   ~BulletMultiBodyEngine() override {
     if (!m_world) return;
+    for (auto& constraint : m_constraints) m_world->removeMultiBodyConstraint(constraint.get());
     for (auto& collider : m_colliders) m_world->removeCollisionObject(collider.get());
     for (auto& tree : m_trees) m_world->removeMultiBody(tree.get());
     for (auto& body : m_bodies) m_world->removeRigidBody(body.get());
@@ -116,7 +126,31 @@ class BulletMultiBodyEngine final : public Engine {
         buildTree(scene, forest, root);
       }
     }
+    for (std::size_t j = 0; j < scene.joints.size(); ++j) {
+      const JointDesc& desc = scene.joints[j];
+      if (desc.type != JointType::Hinge || !desc.limited()) continue;
+      const TreeJoint& joint = m_treeJoints[j];
+      const double a = joint.angleSign * desc.lowerLimit, b = joint.angleSign * desc.upperLimit;
+      addConstraint(std::make_unique<btMultiBodyJointLimitConstraint>(
+          m_trees[joint.tree].get(), joint.link, btScalar(std::min(a, b)),
+          btScalar(std::max(a, b))));
+    }
+    // A motor's impulse is bounded per solver step, which is one sub-step here.
+    for (const JointMotorDesc& desc : scene.motors) {
+      const TreeJoint& joint = m_treeJoints[desc.joint];
+      auto motor = std::make_unique<btMultiBodyJointMotor>(
+          m_trees[joint.tree].get(), joint.link, btScalar(0),
+          btScalar(desc.maxTorque) * m_subTimeStep);
+      m_motors.push_back({motor.get(), joint.angleSign});
+      addConstraint(std::move(motor));
+    }
     return true;
+  }
+
+  void setMotorRates(const std::vector<double>& rates) override {
+    for (std::size_t i = 0; i < rates.size(); ++i) {
+      m_motors[i].constraint->setVelocityTarget(btScalar(m_motors[i].angleSign * rates[i]));
+    }
   }
 
   bool step(std::string&) override {
@@ -220,7 +254,7 @@ class BulletMultiBodyEngine final : public Engine {
       const LinkPoint onThis{link, toBt(pivotInThis)};
       const bool childIsB = joint.bodyB == body;
       m_treeJoints[jointIndex] = {treeIndex, childIsB ? onParent : onThis,
-                                  childIsB ? onThis : onParent};
+                                  childIsB ? onThis : onParent, link, childIsB ? 1.0 : -1.0};
     }
     tree->finalizeMultiDof();
     tree->setLinearDamping(0);
@@ -249,6 +283,12 @@ class BulletMultiBodyEngine final : public Engine {
     m_linkVelocity.emplace_back(links.size() + 1);
   }
 
+  void addConstraint(std::unique_ptr<btMultiBodyConstraint> constraint) {
+    m_world->addMultiBodyConstraint(constraint.get());
+    constraint->finalizeMultiDof();
+    m_constraints.push_back(std::move(constraint));
+  }
+
   // Link poses and velocities from the joint coordinates as they are now. Only reads
   // derived from the state are refreshed; the next step recomputes them anyway.
   void updateLinkPoses() const {
@@ -273,6 +313,12 @@ class BulletMultiBodyEngine final : public Engine {
   std::vector<std::unique_ptr<btRigidBody>> m_bodies;
   std::vector<std::unique_ptr<btMultiBody>> m_trees;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> m_colliders;
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> m_constraints;  // limits and motors
+  struct Motor {
+    btMultiBodyJointMotor* constraint;
+    double angleSign;
+  };
+  std::vector<Motor> m_motors;  // per motor of the scene
   std::unique_ptr<btMultiBodyDynamicsWorld> m_world;
   std::vector<BodySlot> m_slots;        // indexed like the scene's bodies
   std::vector<TreeJoint> m_treeJoints;  // indexed like the scene's joints

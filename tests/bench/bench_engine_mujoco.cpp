@@ -4,7 +4,8 @@
 // bodies are nested in the body tree, each below its parent with a ball or hinge joint at
 // the anchor (the first body of a chain hanging from the world is a child of the world
 // body); every body without a parent gets a free joint. MuJoCo's capsules and cylinders
-// lie along Z; their geoms are turned onto X.
+// lie along Z; their geoms are turned onto X. Motors are velocity actuators (a velocity
+// servo clamped to the motor's torque), stepped with MuJoCo's implicit integrator.
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -87,6 +88,18 @@ struct MjcfFiles {
 
 constexpr int kMaxBodyDepthPerFile = 64;
 
+// A velocity actuator is a damper towards the target rate, not a constraint: its gain is
+// chosen so that it gives the motor's full torque at a rate error of this share of the
+// motor's top speed. Stiffer is not closer to the other engines' motors: the implicit
+// integrator linearises the servo as if it were never clamped, so a servo that clamps at
+// every change of its command (at 1 % the arm's did) hardly moves its joint, and the arm
+// fell 1-2.5 rad behind its reference at dt 1/60.
+constexpr double kServoSlip = 0.1;
+
+// A hinge's MuJoCo coordinate is the child body's turn relative to its parent: the scene's
+// angle, or its opposite where the scene names the child first.
+double hingeSign(const JointDesc& joint, int child) { return joint.bodyB == child ? 1 : -1; }
+
 std::ostringstream precisionStream() {
   std::ostringstream out;
   out.precision(17);
@@ -116,8 +129,10 @@ struct MjcfWriter {
       } else {
         out << " type=\"hinge\" axis=\"" << body.orientation.conjugate() * joint.axis.normalized()
             << '"';
-        if (std::isfinite(joint.limit)) {
-          out << " limited=\"true\" range=\"" << -joint.limit << ' ' << joint.limit << '"';
+        if (joint.limited()) {
+          const double sign = hingeSign(joint, index);
+          const double a = sign * joint.lowerLimit, b = sign * joint.upperLimit;
+          out << " limited=\"true\" range=\"" << std::min(a, b) << ' ' << std::max(a, b) << '"';
         }
         out << "/>\n";
       }
@@ -159,10 +174,14 @@ MjcfFiles writeMjcf(const Scene& scene, const JointForest& forest,
   // MuJoCo makes up to eight contacts per box pair (about 8.5 per box in the pyramid);
   // each takes four constraint rows with the pyramidal cone and condim 3.
   const int maxContacts = 100 + 10 * numDynamic;
+  // The velocity servos blow the arm up within 0.1 s in the default Euler integrator at dt
+  // 1/30 and 1/60.
+  const char* integrator = scene.motors.empty() ? "Euler" : "implicit";
   out << "<mujoco model=\"" << scene.name << "\">\n"
       << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
       << "<option timestep=\"" << settings.dt / settings.substeps << "\" iterations=\""
-      << settings.iterations << "\" gravity=\"" << scene.gravity << "\"/>\n"
+      << settings.iterations << "\" gravity=\"" << scene.gravity << "\" integrator=\""
+      << integrator << "\"/>\n"
       << "<size nconmax=\"" << maxContacts << "\" njmax=\"" << 4 * maxContacts << "\"/>\n"
       << "<worldbody>\n";
   for (const BodyDesc& body : scene.bodies) {
@@ -171,7 +190,18 @@ MjcfFiles writeMjcf(const Scene& scene, const JointForest& forest,
   for (int body : forest.order) {
     if (forest.parentBody[body] == kWorld) writer.writeBody(out, body, 0);
   }
-  out << "</worldbody>\n</mujoco>\n";
+  out << "</worldbody>\n";
+  if (!scene.motors.empty()) {
+    out << "<actuator>\n";
+    for (const JointMotorDesc& motor : scene.motors) {
+      out << "<velocity joint=\"j" << motor.joint << "\" kv=\""
+          << motor.maxTorque / (kServoSlip * motor.maxSpeed)
+          << "\" forcelimited=\"true\" forcerange=\"" << -motor.maxTorque << ' '
+          << motor.maxTorque << "\"/>\n";
+    }
+    out << "</actuator>\n";
+  }
+  out << "</mujoco>\n";
   writer.files.texts[0] = out.str();
   return writer.files;
 }
@@ -305,7 +335,17 @@ class MujocoEngine final : public Engine {
       }
       m_joints.push_back(joint);
     }
+    for (const JointMotorDesc& motor : scene.motors) {
+      const JointDesc& desc = scene.joints[motor.joint];
+      const int child = forest.parentJoint[desc.bodyB] == motor.joint ? desc.bodyB : desc.bodyA;
+      m_motorSigns.push_back(hingeSign(desc, child));
+    }
     return true;
+  }
+
+  // Actuator i is motor i; its control is the target rate of the MuJoCo coordinate.
+  void setMotorRates(const std::vector<double>& rates) override {
+    for (std::size_t i = 0; i < rates.size(); ++i) m_data->ctrl[i] = m_motorSigns[i] * rates[i];
   }
 
   // MuJoCo answers a diverging simulation (a bad number in qpos, qvel or qacc) with a
@@ -403,6 +443,7 @@ class MujocoEngine final : public Engine {
   std::vector<int> m_bodyIds;            // MuJoCo body of each scene body, -1 where fixed
   std::vector<BodyState> m_fixedStates;  // indexed like m_bodyIds, used where fixed
   std::vector<MjJoint> m_joints;         // indexed like the scene's joints
+  std::vector<double> m_motorSigns;      // per motor of the scene, see hingeSign
   mutable std::vector<mjtNum> m_savedQpos;
   int m_substeps = 1;
 };

@@ -1,6 +1,7 @@
 // ODE behind the benchmark's interface: dWorldQuickStep (projected Gauss-Seidel) with
 // contact joints made each sub-step from dCollide, at most kContactsPerPair per pair, and
-// the scene's joints as dJointCreateBall / dJointCreateHinge (body 0 for the world).
+// the scene's joints as dJointCreateBall / dJointCreateHinge (body 0 for the world), motors
+// as the hinges' own motors (dParamVel within dParamFMax).
 // ODE's capsules and cylinders lie along Z; their geoms are turned onto the body's X axis.
 #include <ode/ode.h>
 
@@ -15,6 +16,9 @@ namespace pfxbench {
 namespace {
 
 constexpr int kContactsPerPair = 4;  // as many as a pfx contact manifold holds
+// ODE's hinge angle is its first body's turn relative to its second. For a joint to the
+// world, attached as (0, B), ODE makes B its first body: the scene's angle as it is.
+double hingeAngleSign(const JointDesc& joint) { return joint.bodyA == kWorld ? 1 : -1; }
 
 struct Material {
   double friction;
@@ -116,7 +120,18 @@ class OdeEngine final : public Engine {
       m_bodies.push_back(body);
     }
     for (const JointDesc& desc : scene.joints) addJoint(desc);
+    for (const JointMotorDesc& motor : scene.motors) {
+      const dJointID hinge = m_joints[motor.joint];
+      dJointSetHingeParam(hinge, dParamFMax, motor.maxTorque);
+      m_motors.push_back({hinge, hingeAngleSign(scene.joints[motor.joint])});
+    }
     return true;
+  }
+
+  void setMotorRates(const std::vector<double>& rates) override {
+    for (std::size_t i = 0; i < rates.size(); ++i) {
+      dJointSetHingeParam(m_motors[i].hinge, dParamVel, m_motors[i].angleSign * rates[i]);
+    }
   }
 
   bool step(std::string&) override {
@@ -182,9 +197,11 @@ class OdeEngine final : public Engine {
       dJointAttach(joint, a, b);
       dJointSetHingeAnchor(joint, p.x(), p.y(), p.z());
       dJointSetHingeAxis(joint, axis.x(), axis.y(), axis.z());
-      if (std::isfinite(desc.limit)) {
-        dJointSetHingeParam(joint, dParamLoStop, -desc.limit);
-        dJointSetHingeParam(joint, dParamHiStop, desc.limit);
+      if (desc.limited()) {
+        const double sign = hingeAngleSign(desc);
+        const double one = sign * desc.lowerLimit, other = sign * desc.upperLimit;
+        dJointSetHingeParam(joint, dParamLoStop, std::min(one, other));
+        dJointSetHingeParam(joint, dParamHiStop, std::max(one, other));
       }
     }
     m_joints.push_back(joint);
@@ -221,6 +238,11 @@ class OdeEngine final : public Engine {
   std::vector<dBodyID> m_bodies;           // null where the body is fixed
   std::vector<BodyState> m_fixedStates;    // indexed like m_bodies, set where fixed
   std::vector<dJointID> m_joints;          // the scene's joints, destroyed with the world
+  struct Motor {
+    dJointID hinge;
+    double angleSign;
+  };
+  std::vector<Motor> m_motors;             // per motor of the scene
   double m_subTimeStep = 1.0 / 60;
   int m_substeps = 1;
 };

@@ -1,9 +1,11 @@
 // pfx behind the benchmark's interface: the stable pipeline (cached pairs and contacts,
 // warm-started solver), sub-steps by stepping the world several times at dt / substeps.
 // Joints are PfxJoints made by pfxInitializeBallJoint / pfxInitializeHingeJoint; joints to
-// the world hang from one extra fixed body that collides with nothing.
+// the world hang from one extra fixed body that collides with nothing. A motor is the
+// velocity drive of its hinge's twist axis, its force limit the motor's torque.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "bench_engine.h"
 #include "pfx/base_level/joint/pfx_joint_init.h"
@@ -66,7 +68,17 @@ class PfxEngine final : public Engine {
       }
     }
     m_numSceneBodies = m_world.getNumRigidBodies();
-    return addJoints(scene, error);
+    return addJoints(scene, error) && addMotors(scene, error);
+  }
+
+  // The hinge's twist axis (its angle, B's turn relative to A about the axis) is driven at
+  // the target rate; a hinge's joint has the scene joint's index.
+  void setMotorRates(const std::vector<double>& rates) override {
+    for (std::size_t i = 0; i < rates.size(); ++i) {
+      PfxJoint joint = m_world.getJoint(m_motorJoints[i]);
+      joint.m_constraints[kPfxJointAxisTwist].m_driveTarget = static_cast<PfxFloat>(rates[i]);
+      m_world.setJoint(m_motorJoints[i], joint);
+    }
   }
 
   bool step(std::string& error) override {
@@ -139,14 +151,13 @@ class PfxEngine final : public Engine {
         PfxHingeJointInitParam param;
         param.anchorPoint = toPfx(desc.anchor);
         param.axis = toPfx(desc.axis).normalized();
-        const bool limited = std::isfinite(desc.limit);
-        if (limited) {
-          param.lowerAngle = static_cast<PfxFloat>(-desc.limit);
-          param.upperAngle = static_cast<PfxFloat>(desc.limit);
+        if (desc.limited()) {
+          param.lowerAngle = static_cast<PfxFloat>(desc.lowerLimit);
+          param.upperAngle = static_cast<PfxFloat>(desc.upperLimit);
         }
         err = pfxInitializeHingeJoint(joint, stateA, stateB, param);
         // Without a limit the hinge turns freely; the init function would limit it to a turn.
-        if (err == PFX_OK && !limited) {
+        if (err == PFX_OK && !desc.limited()) {
           joint.m_constraints[kPfxJointAxisTwist].m_lock = kPfxJointLockFree;
         }
       }
@@ -159,7 +170,25 @@ class PfxEngine final : public Engine {
     return true;
   }
 
+  bool addMotors(const Scene& scene, std::string& error) {
+    for (const JointMotorDesc& motor : scene.motors) {
+      const auto id = static_cast<PfxUInt32>(motor.joint);
+      PfxJoint joint = m_world.getJoint(id);
+      PfxJointConstraint& twist = joint.m_constraints[kPfxJointAxisTwist];
+      twist.m_drive = kPfxJointDriveVelocity;
+      twist.m_driveTarget = 0;
+      twist.m_driveMaxForce = static_cast<PfxFloat>(motor.maxTorque);
+      if (const PfxInt32 err = m_world.setJoint(id, joint); err != PFX_OK) {
+        error = std::string("pfx: motor rejected: ") + pfxErrorString(err);
+        return false;
+      }
+      m_motorJoints.push_back(id);
+    }
+    return true;
+  }
+
   PfxWorld m_world;
+  std::vector<PfxUInt32> m_motorJoints;  // per motor of the scene
   PfxUInt32 m_numSceneBodies = 0;
   int m_substeps = 1;
 };

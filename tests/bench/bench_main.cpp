@@ -89,6 +89,10 @@ bool selectScenes(const Options& options, std::vector<Scene>& scenes) {
       std::fprintf(stderr, ")\n");
       return false;
     }
+    if (variants.empty()) {
+      std::fprintf(stderr, "scene '%s' could not be built\n", name.c_str());
+      return false;
+    }
     scenes.insert(scenes.end(), variants.begin(), variants.end());
   }
   return true;

@@ -20,6 +20,9 @@ const SceneEntry kScenes[] = {
     {"spinner", buildSpinnerScene}, {"rain", buildRainScene},
     {"bullet", buildBulletScene}, {"chain", buildChainScene},
     {"longchain", buildLongChainScene}, {"ragdoll", buildRagdollScene},
+#ifdef PFX_BENCH_HAVE_LOADERS
+    {"urdf", buildUrdfScene},
+#endif
 };
 
 int otherEnd(const JointDesc& joint, int body) {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -68,16 +69,36 @@ enum class JointType { Ball, Hinge };
 // anchor point is given in world coordinates for the bodies' initial poses; each body
 // carries it along rigidly from there. Joints to fixed bodies are not part of the
 // description: attach to the world instead.
+//
+// A hinge's angle is B's turn relative to A about the axis, right-handed, zero in the
+// initial poses; its rate is (B's angular velocity - A's) along the axis as A carries it.
+// Limits and motors use this sign in every engine.
 struct JointDesc {
   JointType type = JointType::Ball;
   int bodyA = kWorld;  // index of a dynamic body, or kWorld
   int bodyB = 0;       // index of a dynamic body
   Vec3 anchor = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();  // hinge: the free axis, world direction in the initial poses
-  // Hinge: the angle stays within +-limit of the initial pose (rad); infinity: free. The
-  // range is symmetric so that every engine's sign convention of the angle gives the same
-  // joint.
-  double limit = std::numeric_limits<double>::infinity();
+  // Hinge: the angle stays within [lowerLimit, upperLimit] (rad), both finite, or turns
+  // freely with both infinite.
+  double lowerLimit = -std::numeric_limits<double>::infinity();
+  double upperLimit = std::numeric_limits<double>::infinity();
+  bool limited() const { return std::isfinite(lowerLimit) && std::isfinite(upperLimit); }
+};
+
+// A motor on a hinge, given to each engine as its own joint motor: before every step the
+// benchmark commands a target rate of the hinge's angle, which the motor reaches with at
+// most maxTorque. The command follows a reference angle
+//   reference(t) = amplitude (1 - cos(angularFrequency t)),
+// at rest at zero when the scene starts, through a proportional term on the angle:
+//   rate = reference'(t) + Scene::motorGain (reference(t) - angle),
+// cut to +-maxSpeed. Every engine is commanded by the same code from its own body states.
+struct JointMotorDesc {
+  int joint = 0;          // index of a hinge in Scene::joints
+  double maxTorque = 0;   // N m
+  double maxSpeed = 0;    // rad/s
+  double amplitude = 0;   // rad
+  double angularFrequency = 0;  // rad/s
 };
 
 // The error figures a scene is judged by; each becomes one TSV row per run.
@@ -107,6 +128,8 @@ struct Scene {
   double duration = 5;        // simulated seconds unless the command line says otherwise
   std::vector<BodyDesc> bodies;
   std::vector<JointDesc> joints;
+  std::vector<JointMotorDesc> motors;
+  double motorGain = 0;  // 1/s, see JointMotorDesc
   std::vector<Metric> metrics;
   // Dynamic bodies whose paths position_error compares; empty: all of them.
   std::vector<int> trackedBodies;
@@ -147,5 +170,11 @@ void buildBulletScene(std::vector<Scene>& variants);
 void buildChainScene(std::vector<Scene>& variants);
 void buildLongChainScene(std::vector<Scene>& variants);
 void buildRagdollScene(std::vector<Scene>& variants);
+
+#ifdef PFX_BENCH_HAVE_LOADERS
+// The package's arm (urdf/arm.urdf) driven by its joint motors (bench_scenes_urdf.cpp).
+// Leaves `variants` empty, saying why on stderr, when the file cannot be read.
+void buildUrdfScene(std::vector<Scene>& variants);
+#endif
 
 }  // namespace pfxbench

@@ -130,7 +130,8 @@ void addRagdoll(Scene& scene, const Vec3& origin, const Quat& turn) {
     joint.anchor = origin + turn * j.anchor;
     if (j.type == JointType::Hinge) {
       joint.axis = turn * j.axis;
-      joint.limit = 1.2;
+      joint.lowerLimit = -1.2;
+      joint.upperLimit = 1.2;
     }
     scene.joints.push_back(joint);
   }
