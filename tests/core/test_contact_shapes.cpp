@@ -321,6 +321,48 @@ TEST(ContactBoxBox, ZeroSizeBoxOnAFace) {
                kExact);
 }
 
+TEST(ContactBoxBox, MatchesTheGeneralPolyhedraRoutine) {
+  // Boxes take their own closed-form routine; the same boxes as convex meshes take the
+  // general polyhedra routine. Over random sizes, turns and near-touching placements both
+  // must give the same contacts.
+  std::srand(11);
+  const auto uniform = [](PfxFloat lo, PfxFloat hi) {
+    return lo + (hi - lo) * PfxFloat(std::rand()) / PfxFloat(RAND_MAX);
+  };
+  int compared = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const PfxVector3 halfA(uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1));
+    const PfxVector3 halfB(uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1));
+    const PfxQuat qa = PfxQuat(PfxVector4::Random()).normalized();
+    const PfxQuat qb = PfxQuat(PfxVector4::Random()).normalized();
+    // Along a random direction, at a distance between deep overlap and just apart.
+    const PfxVector3 direction = PfxVector3::Random().normalized();
+    const PfxFloat reach = halfA.norm() + halfB.norm();
+    const PfxTransform3 ta = pose(PfxVector3::Random(), qa);
+    const PfxTransform3 tb = pose(ta.translation() + direction * uniform(0.3f, 1.0f) * reach, qb);
+    const PfxConvexMesh meshA = buildMesh(makeBoxTriangles(halfA.x(), halfA.y(), halfA.z()));
+    const PfxConvexMesh meshB = buildMesh(makeBoxTriangles(halfB.x(), halfB.y(), halfB.z()));
+    const Contacts boxes = collide(makeBox(halfA.x(), halfA.y(), halfA.z()), ta,
+                                   makeBox(halfB.x(), halfB.y(), halfB.z()), tb);
+    const Contacts meshes = collide(makeMeshShape(&meshA), ta, makeMeshShape(&meshB), tb);
+    SCOPED_TRACE(trial);
+    ASSERT_EQ(boxes.n, meshes.n);
+    if (boxes.n == 0) continue;
+    ++compared;
+    const PfxFloat tol = 2e-4f;
+    EXPECT_NEAR(boxes.deepest().m_distance, meshes.deepest().m_distance, tol);
+    for (PfxUInt32 i = 0; i < boxes.n; ++i) {
+      const PfxContactCandidate& twin = meshes.nearestA(boxes.c[i].m_pointA);
+      expectVecNear(twin.m_pointA, boxes.c[i].m_pointA, tol);
+      expectVecNear(twin.m_pointB, boxes.c[i].m_pointB, tol);
+      expectVecNear(twin.m_normal, boxes.c[i].m_normal, tol);
+      EXPECT_NEAR(twin.m_distance, boxes.c[i].m_distance, tol);
+    }
+  }
+  // Most placements touch, so the comparison is not empty.
+  EXPECT_GT(compared, 200);
+}
+
 // ---------------------------------------------------------------- convex meshes
 
 class ContactMesh : public ::testing::Test {

@@ -96,6 +96,11 @@ void contactPair(const PfxShape& shapeA, const PfxTransform3& transformA, const 
     contactPair(shapeB, transformB, shapeA, transformA, sink);
     sink.setSwapped(false);
   } else if (isSolidPolyhedron(shapeA) && isSolidPolyhedron(shapeB)) {
+    if (typeA == kPfxShapeBox && typeB == kPfxShapeBox) {
+      pfxContactBoxBox(shapeA.getBox().m_half, transformA, shapeB.getBox().m_half, transformB,
+                       sink);
+      return;
+    }
     pfxContactPolyhedra(shapeA, transformA, shapeB, transformB, sink);
   } else {
     pfxContactConvexGeneral(shapeA, transformA, shapeB, transformB, sink);

@@ -21,6 +21,12 @@ void pfxContactBoxSweptSphere(const PfxVector3& half, const PfxTransform3& boxTr
                               const PfxVector3& p0, const PfxVector3& p1, PfxFloat radius,
                               PfxContactSink& sink);
 
+// Two boxes (half extents, world poses): separating axes, then face clipping, as
+// pfxContactPolyhedra does for any two polyhedra.
+void pfxContactBoxBox(const PfxVector3& halfA, const PfxTransform3& transformA,
+                      const PfxVector3& halfB, const PfxTransform3& transformB,
+                      PfxContactSink& sink);
+
 // Two polyhedra (boxes or convex meshes): separating axes, then face clipping.
 void pfxContactPolyhedra(const PfxShape& shapeA, const PfxTransform3& transformA,
                          const PfxShape& shapeB, const PfxTransform3& transformB,
