@@ -48,17 +48,18 @@ void pfxFactorBlockTree(Node* nodes, std::size_t numNodes) {
 }
 
 // Solves the factored system for the right-hand sides in `value`, in place: forward
-// (children first), diagonal, then backward (parents first).
+// (children first), diagonal, then backward (parents first). Nodes [begin, end) must be
+// whole trees: every parent of a node in the range lies in it too.
 template <typename Node>
-void pfxSolveBlockTree(Node* nodes, std::size_t numNodes) {
-  for (std::size_t k = numNodes; k-- > 0;) {
+void pfxSolveBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
+  for (std::size_t k = end; k-- > begin;) {
     const Node& node = nodes[k];
     if (node.parent >= 0) nodes[node.parent].value -= node.toParent.transpose() * node.value;
   }
-  for (std::size_t n = 0; n < numNodes; ++n) {
+  for (std::size_t n = begin; n < end; ++n) {
     nodes[n].value = (nodes[n].diagonalInverse * nodes[n].value).eval();
   }
-  for (std::size_t k = 0; k < numNodes; ++k) {
+  for (std::size_t k = begin; k < end; ++k) {
     Node& node = nodes[k];
     if (node.parent >= 0) node.value -= node.toParent * nodes[node.parent].value;
   }

@@ -408,7 +408,7 @@ void PfxContactTreeSolver::solve(bool push) {
     anyResidual = anyResidual || !node.value.isZero(0);
   }
   if (!anyResidual) return;
-  pfxSolveBlockTree(m_nodes, m_numNodes);
+  pfxSolveBlockTree(m_nodes, 0, m_numNodes);
 
   // Each face takes its impulses point by point, clamped to pushing only; the bodies take
   // what the points apply, so that velocities and impulses stay consistent after a clamp.

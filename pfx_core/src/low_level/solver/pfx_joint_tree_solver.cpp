@@ -27,6 +27,8 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 jointPair;  // joint pair index, or -1 for a body node
   PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
+  PfxUInt32 treeBegin;  // the nodes of this node's tree
+  PfxUInt32 treeEnd;
 };
 
 PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
@@ -126,6 +128,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     return static_cast<PfxInt32>(m_numNodes++);
   };
   auto grow = [&](std::size_t head) {
+    const std::size_t root = head;
     while (head < m_numNodes) {
       const Node& current = m_nodes[head];
       const PfxInt32 self = static_cast<PfxInt32>(head++);
@@ -148,6 +151,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
               addNode(self, static_cast<PfxInt32>(pfxGetObjectIdB(pair)), -1);
         }
       }
+    }
+    for (std::size_t n = root; n < m_numNodes; ++n) {
+      m_nodes[n].treeBegin = static_cast<PfxUInt32>(root);
+      m_nodes[n].treeEnd = static_cast<PfxUInt32>(m_numNodes);
     }
   };
   for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
@@ -209,18 +216,23 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   return true;
 }
 
-void PfxJointTreeSolver::solveVelocities() { solve(false); }
-void PfxJointTreeSolver::solvePush() { solve(true); }
+void PfxJointTreeSolver::solveVelocities() { solve(false, 0, m_numNodes); }
+void PfxJointTreeSolver::solvePush() { solve(true, 0, m_numNodes); }
 
-void PfxJointTreeSolver::solve(bool push) {
-  if (m_numNodes == 0) return;
+void PfxJointTreeSolver::solveVelocitiesOfTree(PfxUInt32 jointPairIndex) {
+  const Node& node = m_nodes[m_jointNode[jointPairIndex]];
+  solve(false, node.treeBegin, node.treeEnd);
+}
+
+void PfxJointTreeSolver::solve(bool push, std::size_t begin, std::size_t end) {
+  if (begin == end) return;
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =
       push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
 
   // Right-hand side: zero for bodies; for each row, its target velocity minus its velocity.
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
+  for (std::size_t n = begin; n < end; ++n) {
     Node& node = m_nodes[n];
     node.value.setZero();
     if (node.body >= 0) continue;
@@ -237,10 +249,10 @@ void PfxJointTreeSolver::solve(bool push) {
                                                                     b.*linear, b.*angular));
     }
   }
-  pfxSolveBlockTree(m_nodes, m_numNodes);
+  pfxSolveBlockTree(m_nodes, begin, end);
 
   // Bodies take their velocity change; rows take the impulse (the negated multiplier).
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
+  for (std::size_t n = begin; n < end; ++n) {
     const Node& node = m_nodes[n];
     if (node.body >= 0) {
       PfxSolverBody& sb = m_solverBodies[node.body];

@@ -4,8 +4,9 @@
 // the tree, so eliminating leaves first factors it in time linear in the number of bodies,
 // with no fill-in. Solving it makes every locked axis hold exactly in one go, whatever the
 // mass ratios: a 1000:1 payload on a light chain stays put, which iterating one row at a
-// time cannot do in a few iterations. Joints that close a loop, and rows that are one-sided
-// (limits) or bounded (drives, friction), are left to the iterative solver.
+// time cannot do in a few iterations. Joints that close a loop are left to the iterative
+// solver; rows that are one-sided (limits) or bounded (drives, friction) are iterated, but
+// each update asks this solver how the whole tree answers it (solveVelocitiesOfTree).
 
 #pragma once
 
@@ -35,10 +36,13 @@ class PfxJointTreeSolver {
   void solveVelocities();
   // The same for the push velocities and the rows' position corrections (m_pushRhs).
   void solvePush();
+  // solveVelocities() for the one tree that holds the i-th joint pair (contained), after
+  // an impulse on that tree: its cost is the tree's size, not the forest's.
+  void solveVelocitiesOfTree(PfxUInt32 jointPairIndex);
 
  private:
   struct Node;
-  void solve(bool push);
+  void solve(bool push, std::size_t begin, std::size_t end);
 
   Node* m_nodes = nullptr;  // breadth first: parents before children
   PfxInt32* m_jointNode = nullptr;

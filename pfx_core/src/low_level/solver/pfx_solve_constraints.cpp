@@ -201,19 +201,84 @@ void warmStartJoint(const PfxJoint& joint, const PairBodies& p) {
   }
 }
 
+// A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
+// An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
+// effective mass is the tree's, not that of its two bodies: a motor at an arm's shoulder
+// carries the arm. The response is linear, so it is measured: the impulse the two bodies
+// alone would want is applied and the tree answers; then the impulse is made what the
+// measured response wants, and the tree answers the difference. So the update changes
+// the velocities of every body of the tree, not only the joint's two.
+// `treeHeld` says whether the tree's locked axes hold the current velocities: the response
+// is measured from such velocities, and contacts and other joints since the tree's last
+// direct solve may have upset them.
+void solveTreeJointRow(PfxConstraintRow& row, const PfxJointConstraint& c, bool dampingOnly,
+                       const PfxJoint& joint, PfxUInt32 axis, const PairBodies& p,
+                       PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex, bool& treeHeld) {
+  if (row.m_jacDiagInv <= 0) return;
+  const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
+  const auto velocity = [&] {
+    return pfxJointRowVelocity(j, p.a.m_deltaLinearVelocity, p.a.m_deltaAngularVelocity,
+                               p.b.m_deltaLinearVelocity, p.b.m_deltaAngularVelocity);
+  };
+  const auto apply = [&](PfxFloat impulse) {
+    pfxApplyJointRowImpulse(j, impulse, p.a, p.receivesA, p.b, p.receivesB,
+                            &PfxSolverBody::m_deltaLinearVelocity,
+                            &PfxSolverBody::m_deltaAngularVelocity);
+    tree.solveVelocitiesOfTree(jointPairIndex);
+  };
+  if (!treeHeld) tree.solveVelocitiesOfTree(jointPairIndex);
+  treeHeld = true;
+  const PfxFloat before = velocity();
+  const PfxFloat previous = row.m_accumImpulse;
+  // The accumulated impulse wanted, given the row velocity per unit impulse.
+  const auto wanted = [&](PfxFloat response) {
+    if (dampingOnly) {
+      // Implicit damping: the impulse takes the fraction c.m_damping of the velocity the
+      // joint would have without it. (Aiming at a fraction of the velocity before the
+      // solve, as the two-body row does, would hold a joint that starts from rest there,
+      // whatever pulls it.) The row's target, -m_damping times the velocity before the
+      // solve, gives that velocity back; `before` is what the solve has added to it.
+      const PfxFloat atSetup = -(row.m_rhs / row.m_jacDiagInv) / c.m_damping;
+      return -c.m_damping * (atSetup + before - previous * response) / response;
+    }
+    return std::clamp(previous + c.m_weight * (row.m_rhs / row.m_jacDiagInv - before) / response,
+                      row.m_lowerLimit, row.m_upperLimit);
+  };
+  const PfxFloat twoBodyResponse = c.m_weight / row.m_jacDiagInv;
+  const PfxFloat trial = wanted(twoBodyResponse) - previous;
+  if (trial == 0) return;
+  apply(trial);
+  row.m_accumImpulse = previous + trial;
+  const PfxFloat response = (velocity() - before) / trial;
+  // When the locked axes take nearly the whole impulse (the row is almost one of theirs),
+  // scaling it up would only amplify rounding: the trial stands.
+  if (!(response > PfxFloat(1e-4) * twoBodyResponse)) return;
+  const PfxFloat impulse = wanted(response);
+  if (impulse != row.m_accumImpulse) apply(impulse - row.m_accumImpulse);
+  row.m_accumImpulse = impulse;
+}
+
 // The rows of a joint that the direct solve leaves to iteration: limits, drives, friction,
 // and every row of a joint outside the forest. (Their position errors are corrected after
 // the bodies have moved, by pfxCorrectJointPositions.)
-void solveJoint(PfxJoint& joint, const PairBodies& p, bool lockedRowsSolvedDirectly) {
+void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
+                PfxUInt32 jointPairIndex) {
+  const bool inTree = tree.contains(jointPairIndex);
+  bool treeHeld = false;
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
-    const bool direct = lockedRowsSolvedDirectly && c.m_rowType == kPfxJointRowEquality &&
-                        c.m_weight == 1;
-    if (c.m_rowType != kPfxJointRowNone && !direct) {
-      pfxSolveJointRow(c.m_constraintRow, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
-    }
-    if (c.m_driveRowUsed) {
-      pfxSolveJointRow(c.m_driveRow, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
+    const bool direct = inTree && c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
+    for (PfxConstraintRow* row : {&c.m_constraintRow, &c.m_driveRow}) {
+      const bool used = row == &c.m_driveRow ? c.m_driveRowUsed != 0
+                                             : c.m_rowType != kPfxJointRowNone && !direct;
+      if (!used) continue;
+      if (inTree) {
+        const bool dampingOnly = row == &c.m_driveRow && c.m_drive == kPfxJointDriveNone &&
+                                 c.m_friction <= 0 && c.m_damping > 0;
+        solveTreeJointRow(*row, c, dampingOnly, joint, axis, p, tree, jointPairIndex, treeHeld);
+      } else {
+        pfxSolveJointRow(*row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
+      }
     }
   }
 }
@@ -283,7 +348,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
       const PfxConstraintPair& pair = param.jointPairs[i];
       if (!pfxGetActive(pair)) continue;
       work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
-           tree.contains(i));
+           i);
     }
   };
 
@@ -298,7 +363,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   };
 
   forEachContact([](PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
-  forEachJoint([](PfxJoint& j, const PairBodies& p, bool) { warmStartJoint(j, p); });
+  forEachJoint([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
     const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
     pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
@@ -310,7 +375,9 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
   // corrected after the bodies have moved, by pfxCorrectJointPositions.
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
     forEachContact([](PfxContactManifold& m, const PairBodies& p) { solveContacts(m, p); });
-    forEachJoint([](PfxJoint& j, const PairBodies& p, bool direct) { solveJoint(j, p, direct); });
+    forEachJoint([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
+      solveJoint(j, p, tree, index);
+    });
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
                                  param.offsetSolverBodies, false);
