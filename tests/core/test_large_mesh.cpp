@@ -17,22 +17,66 @@ namespace {
 using namespace pfx;
 using namespace pfx_test;
 
-// Every island holds 1..64 triangles, the islands tile the stored triangles in order, and
-// the maps between stored and caller's triangles are inverse to each other.
+// How the node links of a mesh are used, walking down from the root.
+struct TreeShape {
+  PfxUInt32 leaves = 0;
+  PfxUInt32 emptySlots = 0;
+  bool everyNodeReachedOnce = true;
+};
+
+template <class Node>
+TreeShape treeShape(const Node* nodes, PfxUInt32 numNodes) {
+  TreeShape shape;
+  std::vector<PfxUInt32> reached(numNodes, 0);
+  std::vector<PfxUInt32> pending = {0};
+  reached[0] = 1;
+  while (!pending.empty()) {
+    const Node& node = nodes[pending.back()];
+    pending.pop_back();
+    for (const PfxUInt32 link : node.m_links) {
+      if (link == 0xFFFFFFFFu) {
+        ++shape.emptySlots;
+        // An unused slot's box is inverted on every axis.
+        continue;
+      }
+      if (link & 0x80000000u) {
+        ++shape.leaves;
+      } else if (link >= numNodes || reached[link]++ > 0) {
+        shape.everyNodeReachedOnce = false;
+      } else {
+        pending.push_back(link);
+      }
+    }
+  }
+  for (const PfxUInt32 r : reached) shape.everyNodeReachedOnce &= r == 1;
+  return shape;
+}
+
+TreeShape treeShape(const PfxLargeTriMesh& mesh) {
+  return mesh.m_quantizedNodes ? treeShape(mesh.m_quantizedNodes, mesh.m_numNodes)
+                               : treeShape(mesh.m_nodes, mesh.m_numNodes);
+}
+
+// Every island holds 1..64 triangles, the islands tile the stored triangles in order, every
+// node hangs below the root once, and the maps between stored and caller's triangles are
+// inverse to each other.
 void expectWellFormed(const PfxLargeTriMesh& mesh, const MeshSource& src) {
+  ASSERT_GE(mesh.m_numNodes, 1u);
+  const TreeShape shape = treeShape(mesh);
+  EXPECT_TRUE(shape.everyNodeReachedOnce);
+  EXPECT_GE(shape.leaves, mesh.m_numIslands);
   PfxUInt32 next = 0;
   for (PfxUInt32 i = 0; i < mesh.m_numIslands; ++i) {
     const PfxLargeMeshIsland& island = mesh.m_islands[i];
     ASSERT_EQ(island.m_firstTriangle, next);
     ASSERT_GE(island.m_numTriangles, 1u);
     ASSERT_LE(island.m_numTriangles, PFX_LARGE_MESH_MAX_TRIANGLES_PER_ISLAND);
-    ASSERT_LT(island.m_rootNode, mesh.m_numNodes);
     next += island.m_numTriangles;
   }
   ASSERT_EQ(next, mesh.m_numTriangles);
   const PfxFloat tolerance = quantizationError(mesh) + PfxFloat(1e-6);
   for (PfxUInt32 t = 0; t < mesh.m_numTriangles; ++t) {
-    const PfxUInt32 source = mesh.m_triangleSourceIds[t];
+    const PfxUInt32 source = pfxGetLargeTriMeshSourceTriangle(mesh, t);
     ASSERT_LT(source, src.numTriangles());
     ASSERT_EQ(pfxFindLargeTriMeshTriangle(mesh, source), t);
     PfxVector3 v[3];
@@ -56,8 +100,11 @@ TEST(LargeTriMesh, BuildsInEveryStorageVariant) {
     // At most 64 per island: at least 18432 / 64 = 288 islands.
     EXPECT_GE(mesh.m_numIslands, 288u);
     EXPECT_EQ(mesh.m_quantizedVertices != nullptr, (flags & PFX_MESH_FLAG_USE_QUANTIZED) != 0);
-    // A row-major grid keeps each island's vertices within 16-bit offsets.
+    // A row-major grid keeps each island's vertices and caller's indices within 16-bit
+    // offsets.
     EXPECT_EQ(mesh.m_triangleOffsets != nullptr, (flags & PFX_MESH_FLAG_USE_QUANTIZED) != 0);
+    EXPECT_EQ(mesh.m_triangleSourceOffsets != nullptr, (flags & PFX_MESH_FLAG_USE_QUANTIZED) != 0);
+    EXPECT_NE(mesh.m_triangleSourceIds != nullptr, mesh.m_triangleSourceOffsets != nullptr);
     expectWellFormed(mesh, grid);
     // The grid spans x, z in [-24, 24] at y = 0.
     EXPECT_NEAR(mesh.m_aabbMin.x(), -24, 1e-4);
@@ -71,10 +118,18 @@ TEST(LargeTriMesh, BvhHasSmallLeavesAndArrayOneLeafPerIsland) {
   MeshOwner array, bvh;
   ASSERT_EQ(pfxCreateLargeTriMesh(array.mesh, grid.param(0)), PFX_OK);
   ASSERT_EQ(pfxCreateLargeTriMesh(bvh.mesh, grid.param(PFX_MESH_FLAG_USE_BVH)), PFX_OK);
-  // A binary tree has one more leaf than inner nodes: leaves = (nodes + 1) / 2.
-  EXPECT_EQ((array.mesh.m_numNodes + 1) / 2, array.mesh.m_numIslands);
+  const TreeShape arrayShape = treeShape(array.mesh);
+  const TreeShape bvhShape = treeShape(bvh.mesh);
+  EXPECT_EQ(arrayShape.leaves, array.mesh.m_numIslands);
   // Leaves of at most four triangles: at least 2048 / 4 = 512 of them.
-  EXPECT_GE((bvh.mesh.m_numNodes + 1) / 2, 512u);
+  EXPECT_GE(bvhShape.leaves, 512u);
+  // Four-wide nodes: a node per three more leaves, give or take the nodes left part full.
+  for (const PfxLargeTriMesh* mesh : {&array.mesh, &bvh.mesh}) {
+    const TreeShape shape = treeShape(*mesh);
+    EXPECT_EQ(4 * mesh->m_numNodes, shape.leaves + shape.emptySlots + mesh->m_numNodes - 1);
+    // Every node but a lone leaf's root holds at least two children.
+    EXPECT_LE(shape.emptySlots, 2 * mesh->m_numNodes);
+  }
 }
 
 TEST(LargeTriMesh, QuantizedTakesAboutHalfTheBytes) {
@@ -241,6 +296,35 @@ TEST(LargeTriMesh, ScrambledVertexOrderFallsBackToFullIndices) {
   expectWellFormed(owner.mesh, soup);
 }
 
+TEST(LargeTriMesh, ScrambledTriangleOrderFallsBackToFullSourceIndices) {
+  // A 200 x 200 grid (80,000 triangles) listed in random order: an island's neighbouring
+  // triangles sit up to the whole list apart, beyond 16-bit offsets, while their vertices
+  // stay close in the row-major vertex list.
+  MeshSource grid = makeFlatGrid(200, 1);
+  std::vector<PfxUInt32> order(grid.numTriangles());
+  for (PfxUInt32 t = 0; t < order.size(); ++t) order[t] = t;
+  std::shuffle(order.begin(), order.end(), std::mt19937(4));
+  std::vector<PfxUInt32> shuffled(grid.triangles.size());
+  for (PfxUInt32 t = 0; t < order.size(); ++t) {
+    std::copy_n(grid.triangles.begin() + 3 * order[t], 3, shuffled.begin() + 3 * t);
+  }
+  grid.triangles = shuffled;
+  MeshOwner owner;
+  ASSERT_EQ(pfxCreateLargeTriMesh(owner.mesh, grid.param(PFX_MESH_FLAG_USE_QUANTIZED)), PFX_OK);
+  EXPECT_EQ(owner.mesh.m_triangleSourceOffsets, nullptr);
+  EXPECT_NE(owner.mesh.m_triangleSourceIds, nullptr);
+  EXPECT_NE(owner.mesh.m_triangleOffsets, nullptr);
+  expectWellFormed(owner.mesh, grid);
+  // A ray still reports the caller's index: the cell under (0.3, 0.6) is 100 + 0, 100 + 0
+  // from the corner (-100, -100), first triangle (z' > x'), listed at order^-1.
+  PfxFloat fraction;
+  PfxVector3 normal;
+  PfxUInt32 triangle;
+  ASSERT_TRUE(pfxRayCastLargeTriMesh(owner.mesh, PfxVector3(0.3f, 5, 0.6f), PfxVector3(0, -10, 0),
+                                     fraction, normal, triangle));
+  EXPECT_EQ(order[triangle], 2u * (100 * 200 + 100));
+}
+
 // Closest hit over all stored triangles, in double (Moller-Trumbore), and how far inside
 // its triangle the hit lies (the smallest barycentric weight).
 struct ReferenceHit {
@@ -273,7 +357,7 @@ ReferenceHit bruteForceRay(const PfxLargeTriMesh& mesh, const PfxVector3& start,
     const double margin = std::min({u, v, w});
     if (margin < -1e-9 || f < 0 || f > 1) continue;
     if (f < best.fraction) {
-      best = {true, f, margin, mesh.m_triangleSourceIds[t]};
+      best = {true, f, margin, pfxGetLargeTriMeshSourceTriangle(mesh, t)};
     }
   }
   return best;

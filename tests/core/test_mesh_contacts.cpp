@@ -53,7 +53,7 @@ struct Deepest {
 void collect(const PfxContactCandidate* c, PfxUInt32 n, bool meshIsA, const PfxLargeTriMesh& mesh,
              Deepest& d) {
   for (PfxUInt32 i = 0; i < n; ++i) {
-    const PfxUInt32 source = mesh.m_triangleSourceIds[c[i].m_triangleIndex];
+    const PfxUInt32 source = pfxGetLargeTriMeshSourceTriangle(mesh, c[i].m_triangleIndex);
     const PfxVector3 normal = meshIsA ? c[i].m_normal : PfxVector3(-c[i].m_normal);
     if (!d.found || c[i].m_distance < d.distance) {
       if (d.found && source != d.sourceTriangle) d.runnerUp = std::min(d.runnerUp, d.distance);
@@ -89,7 +89,7 @@ class MeshContactReference : public ::testing::Test {
       one.triangles = {0, 1, 2};
       auto owner = std::make_unique<MeshOwner>();
       EXPECT_EQ(pfxCreateLargeTriMesh(owner->mesh, one.param(0, kThickness)), PFX_OK);
-      single[mesh.m_triangleSourceIds[t]] = std::move(owner);
+      single[pfxGetLargeTriMeshSourceTriangle(mesh, t)] = std::move(owner);
     }
     return single;
   }

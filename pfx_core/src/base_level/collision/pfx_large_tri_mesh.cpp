@@ -1,6 +1,7 @@
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -67,9 +68,28 @@ class Builder {
     return m_islands.size() <= PFX_LARGE_MESH_MAX_ISLANDS;
   }
 
+  // Merges the binary tree into nodes of up to four children. Which descendants (at most
+  // four, together covering the node) become a node's children is chosen bottom up for the
+  // fewest nodes in all, and among as few the smallest sum of node surface areas (the
+  // chance a ray enters each): a greedy merge from the top leaves a tree of odd depth with a
+  // bottom level of half-empty nodes. Nodes come before their children, as refitting
+  // expects, and children keep the binary tree's left-to-right order, so queries visit
+  // triangles in the same order.
+  void makeWide() {
+    m_wideLinks.clear();
+    if (pfxLargeMeshIsLeaf(m_nodes[0].link)) {
+      m_wideLinks.push_back({m_nodes[0].link, PFX_LARGE_MESH_EMPTY_LINK, PFX_LARGE_MESH_EMPTY_LINK,
+                             PFX_LARGE_MESH_EMPTY_LINK});
+      return;
+    }
+    chooseWideChildren();
+    makeWideNode(0);
+  }
+
   std::vector<PfxUInt32> m_order;  // kept-triangle index per stored triangle
   std::vector<BuildNode> m_nodes;
   std::vector<PfxLargeMeshIsland> m_islands;
+  std::vector<std::array<PfxUInt32, PFX_LARGE_MESH_NODE_WIDTH>> m_wideLinks;  // per wide node
 
  private:
   static constexpr PfxUInt32 kNoIsland = 0xFFFFFFFFu;
@@ -83,7 +103,7 @@ class Builder {
     const PfxUInt32 count = end - begin;
     if (island == kNoIsland && count <= m_islandSize) {
       island = static_cast<PfxUInt32>(m_islands.size());
-      m_islands.push_back({begin, 0, index, count});
+      m_islands.push_back({begin, 0, 0, count});
     }
     if (island != kNoIsland && count <= m_leafSize) {
       m_nodes[index].link =
@@ -170,6 +190,73 @@ class Builder {
     return static_cast<PfxUInt32>(it - m_order.begin());
   }
 
+  struct WideChoice {
+    PfxUInt32 numNodes = 0;  // wide nodes in the subtree, this one included
+    PfxFloat area = 0;       // their surface areas added up
+    PfxUInt32 slots[PFX_LARGE_MESH_NODE_WIDTH] = {};
+    PfxUInt32 count = 0;
+  };
+
+  bool isInner(PfxUInt32 binary) const { return !pfxLargeMeshIsLeaf(m_nodes[binary].link); }
+
+  // Children are allocated after their parent, so reverse order sees every subtree's
+  // choice before the node above it.
+  void chooseWideChildren() {
+    m_wideChoices.assign(m_nodes.size(), WideChoice());
+    for (PfxUInt32 b = static_cast<PfxUInt32>(m_nodes.size()); b-- > 0;) {
+      if (!isInner(b)) continue;
+      WideChoice& best = m_wideChoices[b];
+      best.numNodes = 0xFFFFFFFFu;
+      const PfxUInt32 first = m_nodes[b].link;
+      const PfxUInt32 start[2] = {first, first + 1};
+      tryCovers(b, start, 2, best);
+    }
+  }
+
+  // Scores the cover `slots` of node b and every cover it opens into, keeping the best.
+  void tryCovers(PfxUInt32 b, const PfxUInt32* slots, PfxUInt32 count, WideChoice& best) {
+    WideChoice choice;
+    choice.numNodes = 1;
+    choice.area = m_nodes[b].box.halfArea();
+    for (PfxUInt32 i = 0; i < count; ++i) {
+      if (!isInner(slots[i])) continue;
+      choice.numNodes += m_wideChoices[slots[i]].numNodes;
+      choice.area += m_wideChoices[slots[i]].area;
+    }
+    if (choice.numNodes < best.numNodes ||
+        (choice.numNodes == best.numNodes && choice.area < best.area)) {
+      best = choice;
+      std::copy(slots, slots + count, best.slots);
+      best.count = count;
+    }
+    if (count == PFX_LARGE_MESH_NODE_WIDTH) return;
+    for (PfxUInt32 open = 0; open < count; ++open) {
+      if (!isInner(slots[open])) continue;
+      PfxUInt32 opened[PFX_LARGE_MESH_NODE_WIDTH];
+      std::copy(slots, slots + open, opened);
+      opened[open] = m_nodes[slots[open]].link;
+      opened[open + 1] = opened[open] + 1;
+      std::copy(slots + open + 1, slots + count, opened + open + 2);
+      tryCovers(b, opened, count + 1, best);
+    }
+  }
+
+  // Wide node for binary inner node `binary`, from its chosen cover; returns its index.
+  PfxUInt32 makeWideNode(PfxUInt32 binary) {
+    const PfxUInt32 wide = static_cast<PfxUInt32>(m_wideLinks.size());
+    m_wideLinks.emplace_back();
+    const WideChoice& choice = m_wideChoices[binary];
+    for (PfxUInt32 i = 0; i < PFX_LARGE_MESH_NODE_WIDTH; ++i) {
+      PfxUInt32 link = PFX_LARGE_MESH_EMPTY_LINK;
+      if (i < choice.count) {
+        const PfxUInt32 slot = choice.slots[i];
+        link = isInner(slot) ? makeWideNode(slot) : m_nodes[slot].link;
+      }
+      m_wideLinks[wide][i] = link;
+    }
+    return wide;
+  }
+
   static int binOf(PfxFloat c, PfxFloat lo, PfxFloat scale) {
     const int b = static_cast<int>((c - lo) * scale);
     return std::min(std::max(b, 0), kSahBins - 1);
@@ -177,6 +264,7 @@ class Builder {
 
   const std::vector<Box>& m_boxes;
   const std::vector<PfxVector3>& m_centroids;
+  std::vector<WideChoice> m_wideChoices;  // per binary node
   PfxUInt32 m_islandSize;
   PfxUInt32 m_leafSize;
   bool m_highQuality;
@@ -268,81 +356,98 @@ PfxUInt16 quantize(PfxFloat x, PfxFloat origin, PfxFloat step) {
   return static_cast<PfxUInt16>(std::min(std::max(q, PfxFloat(0)), PfxFloat(65535)));
 }
 
-// Node bounds from the current vertices, children before parents (children are always
-// allocated after their parent, so reverse order will do), and the mesh bounds from the root.
-void refitNodes(PfxLargeTriMesh& mesh) {
-  const bool quantized = pfxLargeMeshIsQuantized(mesh);
+// Bounds of every slot from the current vertices, children before parents (a node is
+// always allocated before its children, so reverse order will do), and the mesh bounds
+// from the root. Works in the nodes' own units: floats, or quantization steps, where the
+// box of quantized vertices is exact.
+template <class Node, class Coordinate, class ReadCoordinate>
+void refitNodesOf(PfxLargeTriMesh& mesh, Node* nodes, Coordinate emptyMin, Coordinate emptyMax,
+                  ReadCoordinate&& coordinate) {
   for (PfxUInt32 i = mesh.m_numNodes; i-- > 0;) {
-    const PfxUInt32 link = quantized ? mesh.m_quantizedNodes[i].m_link : mesh.m_nodes[i].m_link;
-    if (quantized) {
-      PfxLargeMeshQuantizedNode& node = mesh.m_quantizedNodes[i];
-      PfxUInt16 lo[3] = {65535, 65535, 65535};
-      PfxUInt16 hi[3] = {0, 0, 0};
-      const auto growBy = [&](const PfxUInt16* a, const PfxUInt16* b) {
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], a[k]);
-          hi[k] = std::max(hi[k], b[k]);
-        }
-      };
-      if (pfxLargeMeshIsLeaf(link)) {
+    Node& node = nodes[i];
+    for (PfxUInt32 c = 0; c < PFX_LARGE_MESH_NODE_WIDTH; ++c) {
+      Coordinate lo[3] = {emptyMin, emptyMin, emptyMin};
+      Coordinate hi[3] = {emptyMax, emptyMax, emptyMax};
+      const PfxUInt32 link = node.m_links[c];
+      if (link == PFX_LARGE_MESH_EMPTY_LINK) {
+        // Left inverted, so that no box test passes it.
+      } else if (pfxLargeMeshIsLeaf(link)) {
         const PfxLargeMeshIsland& island = mesh.m_islands[pfxLargeMeshLeafIsland(link)];
         const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
         for (PfxUInt32 t = first; t < first + pfxLargeMeshLeafCount(link); ++t) {
           PfxUInt32 corners[3];
           pfxLargeMeshCorners(mesh, island, t, corners);
-          for (PfxUInt32 c : corners) {
-            const PfxUInt16* q = mesh.m_quantizedVertices + 3 * c;
-            growBy(q, q);
+          for (PfxUInt32 v : corners) {
+            for (int k = 0; k < 3; ++k) {
+              lo[k] = std::min(lo[k], coordinate(v, k));
+              hi[k] = std::max(hi[k], coordinate(v, k));
+            }
           }
         }
       } else {
-        const PfxLargeMeshQuantizedNode& left = mesh.m_quantizedNodes[pfxLargeMeshFirstChild(link)];
-        const PfxLargeMeshQuantizedNode& right = (&left)[1];
-        growBy(left.m_min, left.m_max);
-        growBy(right.m_min, right.m_max);
-      }
-      std::copy(lo, lo + 3, node.m_min);
-      std::copy(hi, hi + 3, node.m_max);
-    } else {
-      PfxLargeMeshNode& node = mesh.m_nodes[i];
-      Box box;
-      if (pfxLargeMeshIsLeaf(link)) {
-        const PfxLargeMeshIsland& island = mesh.m_islands[pfxLargeMeshLeafIsland(link)];
-        const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
-        for (PfxUInt32 t = first; t < first + pfxLargeMeshLeafCount(link); ++t) {
-          PfxUInt32 corners[3];
-          pfxLargeMeshCorners(mesh, island, t, corners);
-          for (PfxUInt32 c : corners) box.grow(readVertex(mesh.m_vertices, c));
+        const Node& child = nodes[link];
+        for (PfxUInt32 g = 0; g < PFX_LARGE_MESH_NODE_WIDTH; ++g) {
+          if (child.m_links[g] == PFX_LARGE_MESH_EMPTY_LINK) continue;
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], child.m_min[k][g]);
+            hi[k] = std::max(hi[k], child.m_max[k][g]);
+          }
         }
-      } else {
-        const PfxLargeMeshNode& left = mesh.m_nodes[pfxLargeMeshFirstChild(link)];
-        const PfxLargeMeshNode& right = (&left)[1];
-        box.grow(PfxVector3(left.m_min[0], left.m_min[1], left.m_min[2]));
-        box.grow(PfxVector3(left.m_max[0], left.m_max[1], left.m_max[2]));
-        box.grow(PfxVector3(right.m_min[0], right.m_min[1], right.m_min[2]));
-        box.grow(PfxVector3(right.m_max[0], right.m_max[1], right.m_max[2]));
       }
       for (int k = 0; k < 3; ++k) {
-        node.m_min[k] = box.lo[k];
-        node.m_max[k] = box.hi[k];
+        node.m_min[k][c] = lo[k];
+        node.m_max[k][c] = hi[k];
       }
     }
-  }
-  if (quantized) {
-    const PfxLargeMeshQuantizedNode& root = mesh.m_quantizedNodes[0];
-    for (int k = 0; k < 3; ++k) {
-      mesh.m_aabbMin[k] = mesh.m_quantOrigin[k] + PfxFloat(root.m_min[k]) * mesh.m_quantStep[k];
-      mesh.m_aabbMax[k] = mesh.m_quantOrigin[k] + PfxFloat(root.m_max[k]) * mesh.m_quantStep[k];
-    }
-  } else {
-    const PfxLargeMeshNode& root = mesh.m_nodes[0];
-    mesh.m_aabbMin = PfxVector3(root.m_min[0], root.m_min[1], root.m_min[2]);
-    mesh.m_aabbMax = PfxVector3(root.m_max[0], root.m_max[1], root.m_max[2]);
   }
 }
 
+// The union of the root's slots, in the mesh's frame.
+template <class Node, class ToFrame>
+void rootBounds(PfxLargeTriMesh& mesh, const Node& root, ToFrame&& toFrame) {
+  for (int k = 0; k < 3; ++k) {
+    PfxFloat lo = std::numeric_limits<PfxFloat>::max();
+    PfxFloat hi = -std::numeric_limits<PfxFloat>::max();
+    for (PfxUInt32 c = 0; c < PFX_LARGE_MESH_NODE_WIDTH; ++c) {
+      if (root.m_links[c] == PFX_LARGE_MESH_EMPTY_LINK) continue;
+      lo = std::min(lo, toFrame(k, root.m_min[k][c]));
+      hi = std::max(hi, toFrame(k, root.m_max[k][c]));
+    }
+    mesh.m_aabbMin[k] = lo;
+    mesh.m_aabbMax[k] = hi;
+  }
+}
+
+void refitNodes(PfxLargeTriMesh& mesh) {
+  if (pfxLargeMeshIsQuantized(mesh)) {
+    const PfxUInt16* q = mesh.m_quantizedVertices;
+    refitNodesOf(mesh, mesh.m_quantizedNodes, PfxUInt16(65535), PfxUInt16(0),
+                 [q](PfxUInt32 v, int k) { return q[3 * v + k]; });
+    rootBounds(mesh, mesh.m_quantizedNodes[0], [&mesh](int k, PfxUInt16 x) {
+      return mesh.m_quantOrigin[k] + PfxFloat(x) * mesh.m_quantStep[k];
+    });
+  } else {
+    const PfxFloat* p = mesh.m_vertices;
+    refitNodesOf(mesh, mesh.m_nodes, std::numeric_limits<PfxFloat>::max(),
+                 -std::numeric_limits<PfxFloat>::max(),
+                 [p](PfxUInt32 v, int k) { return p[3 * v + k]; });
+    rootBounds(mesh, mesh.m_nodes[0], [](int, PfxFloat x) { return x; });
+  }
+}
+
+// Where the block is aligned, and so the node array at its start: a quantized node is then
+// exactly one cache line.
+constexpr std::size_t kBlockAlignment = 64;
+
+// Which arrays a mesh keeps in 16 bits.
+struct Storage {
+  bool quantized;
+  bool cornerOffsets;
+  bool sourceOffsets;
+};
+
 // Carves the arrays out of one block, or only adds up its size when block is null.
-std::size_t layOut(PfxLargeTriMesh& mesh, bool quantized, bool offsets, char* block) {
+std::size_t layOut(PfxLargeTriMesh& mesh, const Storage& storage, char* block) {
   std::size_t bytes = 0;
   const auto take = [&](auto*& pointer, std::size_t count) {
     using T = std::remove_reference_t<decltype(*pointer)>;
@@ -353,24 +458,30 @@ std::size_t layOut(PfxLargeTriMesh& mesh, bool quantized, bool offsets, char* bl
   mesh.m_quantizedVertices = nullptr;
   mesh.m_triangleVertices = nullptr;
   mesh.m_triangleOffsets = nullptr;
+  mesh.m_triangleSourceIds = nullptr;
+  mesh.m_triangleSourceOffsets = nullptr;
   mesh.m_nodes = nullptr;
   mesh.m_quantizedNodes = nullptr;
-  if (quantized) {
-    take(mesh.m_quantizedVertices, 3 * std::size_t(mesh.m_numVertices));
+  if (storage.quantized) {
     take(mesh.m_quantizedNodes, mesh.m_numNodes);
+    take(mesh.m_quantizedVertices, 3 * std::size_t(mesh.m_numVertices));
   } else {
-    take(mesh.m_vertices, 3 * std::size_t(mesh.m_numVertices));
     take(mesh.m_nodes, mesh.m_numNodes);
+    take(mesh.m_vertices, 3 * std::size_t(mesh.m_numVertices));
   }
-  if (offsets) {
+  if (storage.cornerOffsets) {
     take(mesh.m_triangleOffsets, 3 * std::size_t(mesh.m_numTriangles));
   } else {
     take(mesh.m_triangleVertices, 3 * std::size_t(mesh.m_numTriangles));
   }
-  take(mesh.m_triangleSourceIds, mesh.m_numTriangles);
+  if (storage.sourceOffsets) {
+    take(mesh.m_triangleSourceOffsets, mesh.m_numTriangles);
+  } else {
+    take(mesh.m_triangleSourceIds, mesh.m_numTriangles);
+  }
   take(mesh.m_edgeFlags, mesh.m_numTriangles);
   take(mesh.m_islands, mesh.m_numIslands);
-  return bytes;
+  return (bytes + kBlockAlignment - 1) & ~(kBlockAlignment - 1);
 }
 
 PfxInt32 validateParam(const PfxCreateLargeTriMeshParam& param) {
@@ -428,20 +539,28 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
                   (param.m_flags & PFX_MESH_FLAG_HIGH_QUALITY) != 0);
   if (!builder.build()) return PFX_ERR_OUT_OF_RANGE;
 
-  // Corners in island order, and whether every island's corners fit 16-bit offsets.
+  builder.makeWide();
+
+  // Corners and caller's indices in island order, and whether every island's fit 16-bit
+  // offsets from the island's lowest.
   const PfxUInt32 numTriangles = static_cast<PfxUInt32>(kept.size());
   std::vector<PfxUInt32> corners(3 * std::size_t(numTriangles));
+  std::vector<PfxUInt32> sources(numTriangles);
   for (PfxUInt32 t = 0; t < numTriangles; ++t) {
-    const PfxUInt32* ids = param.m_triangles + 3 * kept[builder.m_order[t]];
+    sources[t] = kept[builder.m_order[t]];
+    const PfxUInt32* ids = param.m_triangles + 3 * std::size_t(sources[t]);
     std::copy(ids, ids + 3, corners.begin() + 3 * std::size_t(t));
   }
-  bool offsetsFit = quantized;
+  Storage storage{quantized, quantized, quantized};
   for (PfxLargeMeshIsland& island : builder.m_islands) {
     const auto first = corners.begin() + 3 * std::size_t(island.m_firstTriangle);
-    const auto last = first + 3 * std::size_t(island.m_numTriangles);
-    const auto range = std::minmax_element(first, last);
+    const auto range = std::minmax_element(first, first + 3 * std::size_t(island.m_numTriangles));
     island.m_baseVertex = *range.first;
-    if (*range.second - *range.first > 0xFFFFu) offsetsFit = false;
+    if (*range.second - *range.first > 0xFFFFu) storage.cornerOffsets = false;
+    const auto firstSource = sources.begin() + island.m_firstTriangle;
+    const auto sourceRange = std::minmax_element(firstSource, firstSource + island.m_numTriangles);
+    island.m_baseSource = *sourceRange.first;
+    if (*sourceRange.second - *sourceRange.first > 0xFFFFu) storage.sourceOffsets = false;
   }
 
   PfxLargeTriMesh built;
@@ -452,14 +571,14 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
   built.m_numSourceTriangles = param.m_numTriangles;
   built.m_numDroppedTriangles = param.m_numTriangles - numTriangles;
   built.m_numIslands = static_cast<PfxUInt32>(builder.m_islands.size());
-  built.m_numNodes = static_cast<PfxUInt32>(builder.m_nodes.size());
+  built.m_numNodes = static_cast<PfxUInt32>(builder.m_wideLinks.size());
   built.m_thickness = param.m_thickness;
 
-  const std::size_t bytes = layOut(built, quantized, offsetsFit, nullptr);
-  char* block = static_cast<char*>(std::malloc(bytes));
+  const std::size_t bytes = layOut(built, storage, nullptr);
+  char* block = static_cast<char*>(std::aligned_alloc(kBlockAlignment, bytes));
   if (!block) return PFX_ERR_OUT_OF_BUFFER;
   std::memset(block, 0, bytes);
-  layOut(built, quantized, offsetsFit, block);
+  layOut(built, storage, block);
   built.m_block = block;
   built.m_bytes = bytes;
 
@@ -483,26 +602,32 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
       }
     }
     for (PfxUInt32 i = 0; i < built.m_numNodes; ++i) {
-      built.m_quantizedNodes[i].m_link = builder.m_nodes[i].link;
+      std::copy(builder.m_wideLinks[i].begin(), builder.m_wideLinks[i].end(),
+                built.m_quantizedNodes[i].m_links);
     }
   } else {
     std::copy(param.m_vertices, param.m_vertices + 3 * std::size_t(param.m_numVertices),
               built.m_vertices);
-    for (PfxUInt32 i = 0; i < built.m_numNodes; ++i) built.m_nodes[i].m_link = builder.m_nodes[i].link;
+    for (PfxUInt32 i = 0; i < built.m_numNodes; ++i) {
+      std::copy(builder.m_wideLinks[i].begin(), builder.m_wideLinks[i].end(),
+                built.m_nodes[i].m_links);
+    }
   }
-  if (offsetsFit) {
-    for (const PfxLargeMeshIsland& island : builder.m_islands) {
-      const std::size_t first = 3 * std::size_t(island.m_firstTriangle);
-      for (std::size_t c = first; c < first + 3 * std::size_t(island.m_numTriangles); ++c) {
-        built.m_triangleOffsets[c] = static_cast<PfxUInt16>(corners[c] - island.m_baseVertex);
+  for (const PfxLargeMeshIsland& island : builder.m_islands) {
+    const std::size_t first = island.m_firstTriangle;
+    for (std::size_t t = first; t < first + island.m_numTriangles; ++t) {
+      if (storage.cornerOffsets) {
+        for (std::size_t c = 3 * t; c < 3 * t + 3; ++c) {
+          built.m_triangleOffsets[c] = static_cast<PfxUInt16>(corners[c] - island.m_baseVertex);
+        }
+      }
+      if (storage.sourceOffsets) {
+        built.m_triangleSourceOffsets[t] = static_cast<PfxUInt16>(sources[t] - island.m_baseSource);
       }
     }
-  } else {
-    std::copy(corners.begin(), corners.end(), built.m_triangleVertices);
   }
-  for (PfxUInt32 t = 0; t < numTriangles; ++t) {
-    built.m_triangleSourceIds[t] = kept[builder.m_order[t]];
-  }
+  if (!storage.cornerOffsets) std::copy(corners.begin(), corners.end(), built.m_triangleVertices);
+  if (!storage.sourceOffsets) std::copy(sources.begin(), sources.end(), built.m_triangleSourceIds);
   computeEdgeFlags(corners, param.m_vertices, param.m_flatEdgeAngle, built.m_edgeFlags);
   refitNodes(built);
   mesh = built;
@@ -541,10 +666,19 @@ PfxInt32 pfxUpdateLargeTriMeshVertices(PfxLargeTriMesh& mesh, const PfxFloat* ve
 }
 
 PfxUInt32 pfxFindLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 sourceIndex) {
-  for (PfxUInt32 t = 0; t < mesh.m_numTriangles; ++t) {
-    if (mesh.m_triangleSourceIds[t] == sourceIndex) return t;
+  for (PfxUInt32 i = 0; i < mesh.m_numIslands; ++i) {
+    const PfxLargeMeshIsland& island = mesh.m_islands[i];
+    const PfxUInt32 first = island.m_firstTriangle;
+    for (PfxUInt32 t = first; t < first + island.m_numTriangles; ++t) {
+      if (pfxLargeMeshSource(mesh, island, t) == sourceIndex) return t;
+    }
   }
   return PFX_LARGE_MESH_NO_TRIANGLE;
+}
+
+PfxUInt32 pfxGetLargeTriMeshSourceTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleIndex) {
+  return pfxLargeMeshSource(mesh, mesh.m_islands[pfxLargeMeshIslandOf(mesh, triangleIndex)],
+                            triangleIndex);
 }
 
 void pfxGetLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleIndex,

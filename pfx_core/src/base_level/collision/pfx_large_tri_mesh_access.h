@@ -10,17 +10,22 @@
 
 namespace pfx {
 
-// Node link: bit 31 marks a leaf. An inner node's two children sit side by side (one cache
-// line, as the ray tests both) at the index in the low 31 bits. A leaf packs (count - 1) in bits 0..5, the first
-// triangle's offset within its island in bits 6..11 and the island in bits 12..30.
+// Node link: bit 31 marks a leaf; an inner child's link is its node's index. A leaf packs
+// (count - 1) in bits 0..5, the first triangle's offset within its island in bits 6..11 and
+// the island in bits 12..30. An unused slot holds PFX_LARGE_MESH_EMPTY_LINK, which no leaf
+// can be (offset + count never exceeds 64).
 constexpr PfxUInt32 PFX_LARGE_MESH_LEAF_BIT = 1u << 31;
+constexpr PfxUInt32 PFX_LARGE_MESH_EMPTY_LINK = 0xFFFFFFFFu;
 constexpr PfxUInt32 PFX_LARGE_MESH_NO_TRIANGLE = 0xFFFFFFFFu;
 // Deepest possible descent: the builder falls back to median splits below depth 48, and
-// median splits of at most 2^25 triangles add at most 26 levels.
+// median splits of at most 2^25 triangles add at most 26 levels. Merging levels into
+// four-wide nodes only makes the tree shallower.
 constexpr PfxUInt32 PFX_LARGE_MESH_MAX_DEPTH = 80;
+// A depth-first search leaves at most three siblings waiting per level.
+constexpr PfxUInt32 PFX_LARGE_MESH_STACK_SIZE =
+    (PFX_LARGE_MESH_NODE_WIDTH - 1) * PFX_LARGE_MESH_MAX_DEPTH + 1;
 
 inline bool pfxLargeMeshIsLeaf(PfxUInt32 link) { return (link & PFX_LARGE_MESH_LEAF_BIT) != 0; }
-inline PfxUInt32 pfxLargeMeshFirstChild(PfxUInt32 link) { return link & ~PFX_LARGE_MESH_LEAF_BIT; }
 inline PfxUInt32 pfxLargeMeshLeafCount(PfxUInt32 link) { return (link & 63u) + 1; }
 inline PfxUInt32 pfxLargeMeshLeafOffset(PfxUInt32 link) { return (link >> 6) & 63u; }
 inline PfxUInt32 pfxLargeMeshLeafIsland(PfxUInt32 link) { return (link >> 12) & 0x7FFFFu; }
@@ -42,6 +47,13 @@ inline void pfxLargeMeshCorners(const PfxLargeTriMesh& mesh, const PfxLargeMeshI
     const PfxUInt32* ids = mesh.m_triangleVertices + 3 * triangle;
     for (int k = 0; k < 3; ++k) corners[k] = ids[k];
   }
+}
+
+// The caller's index of a triangle (island order) whose island is known.
+inline PfxUInt32 pfxLargeMeshSource(const PfxLargeTriMesh& mesh, const PfxLargeMeshIsland& island,
+                                    PfxUInt32 triangle) {
+  if (mesh.m_triangleSourceOffsets) return island.m_baseSource + mesh.m_triangleSourceOffsets[triangle];
+  return mesh.m_triangleSourceIds[triangle];
 }
 
 // A vertex in the mesh's frame.
@@ -78,33 +90,30 @@ template <class Visit>
 void pfxQueryLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& lo, const PfxVector3& hi,
                           Visit&& visit) {
   if (mesh.m_numNodes == 0) return;
-  PfxUInt32 stack[PFX_LARGE_MESH_MAX_DEPTH];
-  PfxUInt32 depth = 0;
-  PfxUInt32 node = 0;
-  const auto visitLeaf = [&](PfxUInt32 link) {
-    const PfxUInt32 islandId = pfxLargeMeshLeafIsland(link);
-    const PfxLargeMeshIsland& island = mesh.m_islands[islandId];
-    const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
-    const PfxUInt32 count = pfxLargeMeshLeafCount(link);
-    for (PfxUInt32 t = first; t < first + count; ++t) visit(island, t);
-  };
-  // Depth first over nodes of either storage, with the box in the nodes' own units.
+  // Depth first over nodes of either storage, with the box in the nodes' own units. The
+  // children wait on the stack in slot order, so triangles are visited left to right.
   const auto walk = [&](const auto* nodes, const auto& boxLo, const auto& boxHi) {
-    for (;;) {
-      const auto& n = nodes[node];
-      const bool overlap = n.m_min[0] <= boxHi[0] && n.m_max[0] >= boxLo[0] &&
-                           n.m_min[1] <= boxHi[1] && n.m_max[1] >= boxLo[1] &&
-                           n.m_min[2] <= boxHi[2] && n.m_max[2] >= boxLo[2];
-      if (overlap) {
-        if (!pfxLargeMeshIsLeaf(n.m_link)) {
-          node = pfxLargeMeshFirstChild(n.m_link);
-          stack[depth++] = node + 1;
-          continue;
-        }
-        visitLeaf(n.m_link);
+    PfxUInt32 stack[PFX_LARGE_MESH_STACK_SIZE + PFX_LARGE_MESH_NODE_WIDTH];
+    stack[0] = 0;  // the root node
+    PfxUInt32 depth = 1;
+    while (depth > 0) {
+      const PfxUInt32 link = stack[--depth];
+      if (pfxLargeMeshIsLeaf(link)) {
+        const PfxLargeMeshIsland& island = mesh.m_islands[pfxLargeMeshLeafIsland(link)];
+        const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
+        const PfxUInt32 count = pfxLargeMeshLeafCount(link);
+        for (PfxUInt32 t = first; t < first + count; ++t) visit(island, t);
+        continue;
       }
-      if (depth == 0) return;
-      node = stack[--depth];
+      const auto& n = nodes[link];
+      for (PfxUInt32 c = PFX_LARGE_MESH_NODE_WIDTH; c-- > 0;) {
+        if (n.m_links[c] == PFX_LARGE_MESH_EMPTY_LINK) continue;
+        if (n.m_min[0][c] <= boxHi[0] && n.m_max[0][c] >= boxLo[0] &&
+            n.m_min[1][c] <= boxHi[1] && n.m_max[1][c] >= boxLo[1] &&
+            n.m_min[2][c] <= boxHi[2] && n.m_max[2][c] >= boxLo[2]) {
+          stack[depth++] = n.m_links[c];
+        }
+      }
     }
   };
   if (pfxLargeMeshIsQuantized(mesh)) {

@@ -1,6 +1,13 @@
-// Closest hit of a ray against a large mesh: front-to-back descent of the node hierarchy
-// with the per-ray data computed once, and the watertight ray/triangle test of Woop,
-// Benthin and Wald (2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)).
+// Closest hit of a ray against a large mesh: front-to-back descent of the four-wide node
+// hierarchy with the per-ray data computed once, and the watertight ray/triangle test of
+// Woop, Benthin and Wald (2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)).
+//
+// A node's four boxes are tested in one pass over arrays of four, written as plain loops
+// that the compiler turns into vector instructions on any x86-64 (SSE2) or other target, so
+// the build needs no particular instruction set. The ray reads each axis's near plane
+// (the minimum for an axis it travels up, the maximum otherwise) and far plane through
+// offsets fixed once per ray, so the test takes no per-box minimum or maximum of the two
+// slab distances.
 //
 // A quantized mesh is searched in its own integer space, p' = (p - origin) / step: the map
 // is affine, so the ray's fraction is the same there, node bounds and vertices are exact
@@ -8,7 +15,9 @@
 // which is all the watertight test needs.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <type_traits>
 
 #include "base_level/collision/pfx_large_tri_mesh_access.h"
 
@@ -20,23 +29,31 @@ namespace {
 // "Robust BVH Ray Traversal") keeps a box whose face the ray grazes from being missed.
 constexpr PfxFloat kFarScale = PfxFloat(1) + PfxFloat(4) * std::numeric_limits<PfxFloat>::epsilon();
 
+constexpr PfxUInt32 kWidth = PFX_LARGE_MESH_NODE_WIDTH;
+
 struct Ray {
   PfxFloat org[3];
-  PfxFloat dir[3];
   PfxFloat inv[3];
+  // Byte offsets within a node of the near and far planes' coordinates along each axis.
+  std::size_t nearPlane[3];
+  std::size_t farPlane[3];
   // The shear that maps the ray onto +z (Woop et al.): kz is the largest direction axis.
   int kx, ky, kz;
   PfxFloat sx, sy, sz;
 };
 
+template <class Node>
 void setUpRay(const PfxVector3& start, const PfxVector3& direction, Ray& ray) {
   for (int i = 0; i < 3; ++i) {
     ray.org[i] = start[i];
-    ray.dir[i] = direction[i];
     // A zero component would give 0 * inf = NaN in the slab test; a tiny one gives huge
     // but ordered distances instead.
     const PfxFloat d = direction[i] != 0 ? direction[i] : std::numeric_limits<PfxFloat>::min();
     ray.inv[i] = PfxFloat(1) / d;
+    const std::size_t minimum = offsetof(Node, m_min) + i * sizeof(Node::m_min[0]);
+    const std::size_t maximum = offsetof(Node, m_max) + i * sizeof(Node::m_max[0]);
+    ray.nearPlane[i] = d > 0 ? minimum : maximum;
+    ray.farPlane[i] = d > 0 ? maximum : minimum;
   }
   int kz = 0;
   if (std::abs(direction[1]) > std::abs(direction[kz])) kz = 1;
@@ -53,34 +70,54 @@ void setUpRay(const PfxVector3& start, const PfxVector3& direction, Ray& ray) {
   ray.sz = PfxFloat(1) / direction[kz];
 }
 
-// Entry fraction of the ray into the box, or +inf when it misses it or enters beyond
-// `limit`.
-inline PfxFloat boxEntry(const Ray& ray, const PfxFloat lo[3], const PfxFloat hi[3],
-                         PfxFloat limit) {
-  PfxFloat tNear = 0;
-  PfxFloat tFar = limit;
-  for (int i = 0; i < 3; ++i) {
-    const PfxFloat t0 = (lo[i] - ray.org[i]) * ray.inv[i];
-    const PfxFloat t1 = (hi[i] - ray.org[i]) * ray.inv[i];
-    tNear = std::max(tNear, std::min(t0, t1));
-    tFar = std::min(tFar, std::max(t0, t1) * kFarScale);
-  }
-  return tNear <= tFar ? tNear : std::numeric_limits<PfxFloat>::infinity();
+template <class Node>
+const auto* planeOf(const Node& node, std::size_t offset) {
+  using Coordinate = std::remove_all_extents_t<decltype(Node::m_min)>;
+  return reinterpret_cast<const Coordinate*>(reinterpret_cast<const char*>(&node) + offset);
 }
 
-// The ray against triangle (a, b, c): on a hit at a fraction within [0, best], sets
-// best to it. Both faces hit.
-inline bool intersectTriangle(const Ray& ray, const PfxFloat a[3], const PfxFloat b[3],
-                        const PfxFloat c[3], PfxFloat& best) {
-  const PfxFloat az = a[ray.kz] - ray.org[ray.kz];
-  const PfxFloat bz = b[ray.kz] - ray.org[ray.kz];
-  const PfxFloat cz = c[ray.kz] - ray.org[ray.kz];
-  const PfxFloat ax = (a[ray.kx] - ray.org[ray.kx]) - ray.sx * az;
-  const PfxFloat ay = (a[ray.ky] - ray.org[ray.ky]) - ray.sy * az;
-  const PfxFloat bx = (b[ray.kx] - ray.org[ray.kx]) - ray.sx * bz;
-  const PfxFloat by = (b[ray.ky] - ray.org[ray.ky]) - ray.sy * bz;
-  const PfxFloat cx = (c[ray.kx] - ray.org[ray.kx]) - ray.sx * cz;
-  const PfxFloat cy = (c[ray.ky] - ray.org[ray.ky]) - ray.sy * cz;
+// Entry fractions of the ray into the node's boxes; bit c of the result is set when the
+// ray meets box c at a fraction within [0, limit].
+template <class Node>
+inline unsigned boxEntries(const Ray& ray, const Node& node, PfxFloat limit,
+                           PfxFloat entry[kWidth]) {
+  const auto* nearX = planeOf(node, ray.nearPlane[0]);
+  const auto* nearY = planeOf(node, ray.nearPlane[1]);
+  const auto* nearZ = planeOf(node, ray.nearPlane[2]);
+  const auto* farX = planeOf(node, ray.farPlane[0]);
+  const auto* farY = planeOf(node, ray.farPlane[1]);
+  const auto* farZ = planeOf(node, ray.farPlane[2]);
+  PfxFloat exit[kWidth];
+  for (PfxUInt32 c = 0; c < kWidth; ++c) {
+    const PfxFloat nx = (PfxFloat(nearX[c]) - ray.org[0]) * ray.inv[0];
+    const PfxFloat ny = (PfxFloat(nearY[c]) - ray.org[1]) * ray.inv[1];
+    const PfxFloat nz = (PfxFloat(nearZ[c]) - ray.org[2]) * ray.inv[2];
+    const PfxFloat fx = (PfxFloat(farX[c]) - ray.org[0]) * ray.inv[0];
+    const PfxFloat fy = (PfxFloat(farY[c]) - ray.org[1]) * ray.inv[1];
+    const PfxFloat fz = (PfxFloat(farZ[c]) - ray.org[2]) * ray.inv[2];
+    entry[c] = std::max(std::max(nx, ny), std::max(nz, PfxFloat(0)));
+    exit[c] = std::min(std::min(std::min(fx, fy), fz) * kFarScale, limit);
+  }
+  unsigned mask = 0;
+  for (PfxUInt32 c = 0; c < kWidth; ++c) mask |= unsigned(entry[c] <= exit[c]) << c;
+  return mask;
+}
+
+// The ray against triangle (a, b, c), given by coordinate(corner, axis): on a hit at a
+// fraction within [0, best], sets best to it. Both faces hit.
+template <class Coordinate>
+inline bool intersectTriangle(const Ray& ray, const PfxUInt32 corners[3],
+                              const Coordinate& coordinate, PfxFloat& best) {
+  const PfxFloat ox = ray.org[ray.kx], oy = ray.org[ray.ky], oz = ray.org[ray.kz];
+  const PfxFloat az = coordinate(corners[0], ray.kz) - oz;
+  const PfxFloat bz = coordinate(corners[1], ray.kz) - oz;
+  const PfxFloat cz = coordinate(corners[2], ray.kz) - oz;
+  const PfxFloat ax = (coordinate(corners[0], ray.kx) - ox) - ray.sx * az;
+  const PfxFloat ay = (coordinate(corners[0], ray.ky) - oy) - ray.sy * az;
+  const PfxFloat bx = (coordinate(corners[1], ray.kx) - ox) - ray.sx * bz;
+  const PfxFloat by = (coordinate(corners[1], ray.ky) - oy) - ray.sy * bz;
+  const PfxFloat cx = (coordinate(corners[2], ray.kx) - ox) - ray.sx * cz;
+  const PfxFloat cy = (coordinate(corners[2], ray.ky) - oy) - ray.sy * cz;
   PfxFloat u = cx * by - cy * bx;
   PfxFloat v = ax * cy - ay * cx;
   PfxFloat w = bx * ay - by * ax;
@@ -100,96 +137,78 @@ inline bool intersectTriangle(const Ray& ray, const PfxFloat a[3], const PfxFloa
   return true;
 }
 
-// Front-to-back search over one storage kind. Node::bounds(node, lo, hi) and
-// vertex(index, out) read the mesh in the space the ray was set up in.
-template <class Nodes, class Vertices>
-bool castRay(const PfxLargeTriMesh& mesh, const Ray& ray, const Nodes& nodes,
-             const Vertices& vertex, PfxFloat& fraction, PfxUInt32& hitIndex) {
+struct RayHit {
+  PfxFloat fraction;
+  PfxUInt32 triangle;  // island order
+  PfxUInt32 island;
+};
+
+// Front-to-back search over one storage kind: of the boxes a node's ray meets, the nearest
+// is entered at once and the others wait on a stack, nearest on top; a waiting box is
+// dropped when the closest hit so far comes before its entry. coordinate(vertex, axis)
+// reads the mesh in the space the ray was set up in.
+template <class Node, class Coordinate>
+bool castRay(const PfxLargeTriMesh& mesh, const Ray& ray, const Node* nodes,
+             const Coordinate& coordinate, RayHit& result) {
   PfxFloat best = 1;
   PfxUInt32 hit = PFX_LARGE_MESH_NO_TRIANGLE;
-  PfxFloat lo[3], hi[3];
-  nodes.bounds(0, lo, hi);
-  if (boxEntry(ray, lo, hi, best) > best) return false;
-
-  PfxUInt32 stackNode[PFX_LARGE_MESH_MAX_DEPTH];
-  PfxFloat stackEntry[PFX_LARGE_MESH_MAX_DEPTH];
+  PfxUInt32 hitIsland = 0;
+  PfxUInt32 stackLink[PFX_LARGE_MESH_STACK_SIZE];
+  PfxFloat stackEntry[PFX_LARGE_MESH_STACK_SIZE];
   PfxUInt32 depth = 0;
-  PfxUInt32 node = 0;
+  PfxUInt32 link = 0;  // the root node
   for (;;) {
-    const PfxUInt32 link = nodes.link(node);
-    if (pfxLargeMeshIsLeaf(link)) {
-      const PfxLargeMeshIsland& island = mesh.m_islands[pfxLargeMeshLeafIsland(link)];
+    if (!pfxLargeMeshIsLeaf(link)) {
+      const Node& node = nodes[link];
+      PfxFloat entry[kWidth];
+      const unsigned mask = boxEntries(ray, node, best, entry);
+      // The boxes met, nearest first.
+      PfxUInt32 order[kWidth];
+      PfxUInt32 count = 0;
+      for (PfxUInt32 c = 0; c < kWidth; ++c) {
+        if (!(mask & (1u << c)) || node.m_links[c] == PFX_LARGE_MESH_EMPTY_LINK) continue;
+        PfxUInt32 i = count++;
+        for (; i > 0 && entry[order[i - 1]] > entry[c]; --i) order[i] = order[i - 1];
+        order[i] = c;
+      }
+      if (count > 0) {
+        for (PfxUInt32 i = count; i-- > 1;) {
+          stackLink[depth] = node.m_links[order[i]];
+          stackEntry[depth] = entry[order[i]];
+          ++depth;
+        }
+        link = node.m_links[order[0]];
+        continue;
+      }
+    } else {
+      const PfxUInt32 islandId = pfxLargeMeshLeafIsland(link);
+      const PfxLargeMeshIsland& island = mesh.m_islands[islandId];
       const PfxUInt32 first = island.m_firstTriangle + pfxLargeMeshLeafOffset(link);
       const PfxUInt32 last = first + pfxLargeMeshLeafCount(link);
       for (PfxUInt32 t = first; t < last; ++t) {
         PfxUInt32 corners[3];
         pfxLargeMeshCorners(mesh, island, t, corners);
-        PfxFloat a[3], b[3], c[3];
-        vertex(corners[0], a);
-        vertex(corners[1], b);
-        vertex(corners[2], c);
-        if (intersectTriangle(ray, a, b, c, best)) hit = t;
-      }
-    } else {
-      const PfxUInt32 left = pfxLargeMeshFirstChild(link);
-      const PfxUInt32 right = left + 1;
-      nodes.bounds(left, lo, hi);
-      const PfxFloat tLeft = boxEntry(ray, lo, hi, best);
-      nodes.bounds(right, lo, hi);
-      const PfxFloat tRight = boxEntry(ray, lo, hi, best);
-      const bool hitLeft = tLeft <= best;
-      const bool hitRight = tRight <= best;
-      if (hitLeft && hitRight) {
-        const bool leftFirst = tLeft <= tRight;
-        stackNode[depth] = leftFirst ? right : left;
-        stackEntry[depth] = leftFirst ? tRight : tLeft;
-        ++depth;
-        node = leftFirst ? left : right;
-        continue;
-      }
-      if (hitLeft || hitRight) {
-        node = hitLeft ? left : right;
-        continue;
+        if (intersectTriangle(ray, corners, coordinate, best)) {
+          hit = t;
+          hitIsland = islandId;
+        }
       }
     }
-    // Next deferred node that the closest hit so far does not already rule out.
+    // Next waiting box that the closest hit so far does not already rule out.
     for (;;) {
       if (depth == 0) {
         if (hit == PFX_LARGE_MESH_NO_TRIANGLE) return false;
-        fraction = best;
-        hitIndex = hit;
+        result = {best, hit, hitIsland};
         return true;
       }
       --depth;
       if (stackEntry[depth] <= best) {
-        node = stackNode[depth];
+        link = stackLink[depth];
         break;
       }
     }
   }
 }
-
-struct FloatNodes {
-  const PfxLargeMeshNode* nodes;
-  PfxUInt32 link(PfxUInt32 i) const { return nodes[i].m_link; }
-  void bounds(PfxUInt32 i, PfxFloat lo[3], PfxFloat hi[3]) const {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = nodes[i].m_min[k];
-      hi[k] = nodes[i].m_max[k];
-    }
-  }
-};
-
-struct QuantizedNodes {
-  const PfxLargeMeshQuantizedNode* nodes;
-  PfxUInt32 link(PfxUInt32 i) const { return nodes[i].m_link; }
-  void bounds(PfxUInt32 i, PfxFloat lo[3], PfxFloat hi[3]) const {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = PfxFloat(nodes[i].m_min[k]);
-      hi[k] = PfxFloat(nodes[i].m_max[k]);
-    }
-  }
-};
 
 }  // namespace
 
@@ -201,38 +220,33 @@ bool pfxRayCastLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& start
     return false;
   }
   Ray ray;
-  PfxFloat hitFraction = 0;
-  PfxUInt32 hit = 0;
+  RayHit hit;
   bool found;
   if (pfxLargeMeshIsQuantized(mesh)) {
-    setUpRay((start - mesh.m_quantOrigin).cwiseQuotient(mesh.m_quantStep),
-             direction.cwiseQuotient(mesh.m_quantStep), ray);
+    setUpRay<PfxLargeMeshQuantizedNode>((start - mesh.m_quantOrigin).cwiseQuotient(mesh.m_quantStep),
+                                        direction.cwiseQuotient(mesh.m_quantStep), ray);
     const PfxUInt16* q = mesh.m_quantizedVertices;
-    found = castRay(mesh, ray, QuantizedNodes{mesh.m_quantizedNodes},
-                    [q](PfxUInt32 v, PfxFloat out[3]) {
-                      for (int k = 0; k < 3; ++k) out[k] = PfxFloat(q[3 * v + k]);
-                    },
-                    hitFraction, hit);
+    found = castRay(mesh, ray, mesh.m_quantizedNodes,
+                    [q](PfxUInt32 v, int axis) { return PfxFloat(q[3 * v + axis]); }, hit);
   } else {
-    setUpRay(start, direction, ray);
+    setUpRay<PfxLargeMeshNode>(start, direction, ray);
     const PfxFloat* p = mesh.m_vertices;
-    found = castRay(mesh, ray, FloatNodes{mesh.m_nodes},
-                    [p](PfxUInt32 v, PfxFloat out[3]) {
-                      for (int k = 0; k < 3; ++k) out[k] = p[3 * v + k];
-                    },
-                    hitFraction, hit);
+    found = castRay(mesh, ray, mesh.m_nodes, [p](PfxUInt32 v, int axis) { return p[3 * v + axis]; },
+                    hit);
   }
   if (!found) return false;
-  PfxVector3 v0, v1, v2;
-  pfxGetLargeTriMeshTriangle(mesh, hit, v0, v1, v2);
-  PfxVector3 n = (v1 - v0).cross(v2 - v0);
+  const PfxLargeMeshIsland& island = mesh.m_islands[hit.island];
+  PfxUInt32 corners[3];
+  pfxLargeMeshCorners(mesh, island, hit.triangle, corners);
+  const PfxVector3 v0 = pfxLargeMeshVertex(mesh, corners[0]);
+  PfxVector3 n = (pfxLargeMeshVertex(mesh, corners[1]) - v0).cross(pfxLargeMeshVertex(mesh, corners[2]) - v0);
   const PfxFloat length = n.norm();
   // A triangle flattened by quantization still stops the ray; it faces the ray then.
   n = length > 0 ? PfxVector3(n / length) : PfxVector3(-direction.normalized());
   if (n.dot(direction) > 0) n = -n;
-  fraction = hitFraction;
+  fraction = hit.fraction;
   normal = n;
-  triangleIndex = mesh.m_triangleSourceIds[hit];
+  triangleIndex = pfxLargeMeshSource(mesh, island, hit.triangle);
   return true;
 }
 

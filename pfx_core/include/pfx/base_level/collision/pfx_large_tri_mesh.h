@@ -9,20 +9,27 @@
 // seed's array/BVH choice applies inside an island:
 //   - array (default): a query that reaches an island tests all its triangles in turn;
 //   - PFX_MESH_FLAG_USE_BVH: the island continues the hierarchy down to leaves of at most
-//     four triangles, which costs about one node per two triangles and searches faster.
-// All nodes live in one array (the two children of a node side by side), so a query walks
-// mesh, island and triangle levels in one loop. PFX_MESH_FLAG_HIGH_QUALITY splits by
-// the surface area heuristic instead of at the median: slower to build, faster to search.
+//     four triangles, which searches faster for about 9 bytes more per triangle.
+// The hierarchy is four wide: each node holds the boxes of up to four children side by side,
+// axis by axis (structure of arrays), so that a ray tests all four in one pass that the
+// compiler turns into vector instructions, and a descent visits a third as many nodes as a
+// binary tree would. It is built as a binary tree (median splits, or with
+// PFX_MESH_FLAG_HIGH_QUALITY the surface area heuristic: slower to build, faster to search)
+// whose levels are then merged, each node opening the largest of its children until it
+// has four. All nodes live in one array, so a query walks mesh, island and triangle levels
+// in one loop.
 //
 // Storage. Vertices are kept in the caller's order (deformation passes them in that order
 // again); triangles are kept in island order, each remembering its index in the caller's
 // list. Rays report the caller's index; contact points record the stored (island-order)
-// index, which m_triangleSourceIds turns into the caller's. PFX_MESH_FLAG_USE_QUANTIZED stores
-// vertices and node bounds as 16-bit integers over the mesh's bounds (grown by
-// m_deformationMargin) and triangle corners as 16-bit offsets from their island's lowest
-// vertex: positions are then exact to half a step, (box extent) / 65535 / 2 per axis, and
-// the mesh takes a little over half the bytes. Corners stay 32-bit indices when some island
-// uses vertices more than 65,535 apart in the caller's order (a scrambled vertex list).
+// index, which pfxGetLargeTriMeshSourceTriangle() turns into the caller's.
+// PFX_MESH_FLAG_USE_QUANTIZED stores vertices and node bounds as 16-bit integers over the
+// mesh's bounds (grown by m_deformationMargin), and triangle corners and caller's indices as
+// 16-bit offsets from their island's lowest vertex and lowest caller's index: positions are
+// then exact to half a step, (box extent) / 65535 / 2 per axis, and the mesh takes about
+// half the bytes (a quantized node is 64 bytes, one cache line, against 112). Corners stay
+// 32-bit indices when some island uses vertices more than 65,535 apart in the caller's order
+// (a scrambled vertex list), and likewise the caller's indices.
 // Face normals are not stored: they follow from the vertices, which keeps them right after
 // a deformation.
 //
@@ -83,24 +90,28 @@ struct PfxCreateLargeTriMeshParam {
   PfxFloat m_deformationMargin = 0;
 };
 
-// Bounds of a BVH node. Leaves point at triangles of one island; see pfx_large_tri_mesh.cpp
-// for the packing of m_link.
+// Children per node of the hierarchy.
+constexpr PfxUInt32 PFX_LARGE_MESH_NODE_WIDTH = 4;
+
+// A node of the hierarchy: the boxes of its children, [axis][child], and a link per child
+// (see pfx_large_tri_mesh.cpp for the packing). A node may hold fewer than four children;
+// an unused slot has an inverted box (minimum above maximum) and an empty link.
 struct PfxLargeMeshNode {
-  PfxFloat m_min[3];
-  PfxFloat m_max[3];
-  PfxUInt32 m_link;
+  PfxFloat m_min[3][PFX_LARGE_MESH_NODE_WIDTH];
+  PfxFloat m_max[3][PFX_LARGE_MESH_NODE_WIDTH];
+  PfxUInt32 m_links[PFX_LARGE_MESH_NODE_WIDTH];
 };
 
 struct PfxLargeMeshQuantizedNode {
-  PfxUInt16 m_min[3];
-  PfxUInt16 m_max[3];
-  PfxUInt32 m_link;
+  PfxUInt16 m_min[3][PFX_LARGE_MESH_NODE_WIDTH];
+  PfxUInt16 m_max[3][PFX_LARGE_MESH_NODE_WIDTH];
+  PfxUInt32 m_links[PFX_LARGE_MESH_NODE_WIDTH];
 };
 
 struct PfxLargeMeshIsland {
   PfxUInt32 m_firstTriangle;  // into the island-ordered triangle arrays
   PfxUInt32 m_baseVertex;     // lowest vertex index of the island's triangles
-  PfxUInt32 m_rootNode;       // node whose subtree is this island
+  PfxUInt32 m_baseSource;     // lowest caller's triangle index of the island's triangles
   PfxUInt32 m_numTriangles;
 };
 
@@ -129,11 +140,14 @@ struct PfxLargeTriMesh {
   PfxLargeMeshNode* m_nodes;
   PfxLargeMeshQuantizedNode* m_quantizedNodes;
 
-  PfxUInt32* m_triangleSourceIds;  // index in the caller's triangle list, island order
+  // Index in the caller's triangle list, island order; exactly one is set, as for corners
+  // (read it with pfxGetLargeTriMeshSourceTriangle).
+  PfxUInt32* m_triangleSourceIds;
+  PfxUInt16* m_triangleSourceOffsets;  // from the island's m_baseSource
   PfxUInt8* m_edgeFlags;           // PFX_LARGE_MESH_EDGE_*, island order
   PfxLargeMeshIsland* m_islands;
 
-  void* m_block;        // the one allocation all arrays live in
+  void* m_block;        // the one allocation all arrays live in (64-byte aligned)
   std::size_t m_bytes;  // its size: the mesh's memory
 };
 
@@ -166,6 +180,9 @@ PfxInt32 pfxUpdateLargeTriMeshVertices(PfxLargeTriMesh& mesh, const PfxFloat* ve
 // mesh's frame, dequantized where the mesh is quantized.
 void pfxGetLargeTriMeshTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleIndex,
                                 PfxVector3& v0, PfxVector3& v1, PfxVector3& v2);
+
+// The caller's index of triangle `triangleIndex` (island order, 0 .. m_numTriangles - 1).
+PfxUInt32 pfxGetLargeTriMeshSourceTriangle(const PfxLargeTriMesh& mesh, PfxUInt32 triangleIndex);
 
 // The stored triangle (island order) that came from the caller's triangle `sourceIndex`, or
 // 0xFFFFFFFF when that triangle was dropped or is out of range. A linear search (the mesh
