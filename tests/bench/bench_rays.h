@@ -46,7 +46,8 @@
 //   included) and distance_error_max (m, over rays both hit). The ways:
 //   pfx        pfxRayCastLargeTriMesh, one ray at a time
 //   pfx_world  PfxWorld::castRay with the mesh as a fixed body, one at a time
-//   pfx_batch  PfxWorld::castRays, all rays in one call
+//   pfx_batch  PfxWorld::castRays, all rays in one call (cast in the Morton order of their
+//              start points, outputs in the callers' order)
 //   bullet     btCollisionWorld::rayTest with ClosestRayResultCallback
 //   bullet_shape  btBvhTriangleMeshShape::performRaycast with a closest-hit callback
 //   embree     rtcIntersect1

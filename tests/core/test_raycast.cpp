@@ -802,6 +802,77 @@ TEST(RayCastStage, BatchEqualsSingleRays) {
   }
 }
 
+TEST(RayCastStage, MortonOrderedBatchEqualsSingleRaysInTheCallersPlaces) {
+  RandomScene r;
+  fillRandomScene(r, 200, 12);
+  std::vector<PfxRayInput> rays = randomRays(3000, 31);
+  // Rays from one point, as a range sensor casts them: equal start cells, ordered by
+  // direction alone.
+  RandomSource rng(2);
+  for (int i = 0; i < 500; ++i) {
+    rays.push_back(makeRay(PfxVector3(1, 20, -3), (rng.unit() * 80).cast<PfxFloat>()));
+  }
+  const PfxUInt32 numRays = PfxUInt32(rays.size());
+  std::vector<PfxSortData16> work(pfxGetWorkBytesOfCastRays(numRays) / sizeof(PfxSortData16));
+  PfxUInt32 hits = 0;
+  for (PfxRayCastParam p : {r.scene->param(), r.scene->bvhParam()}) {
+    p.workBuff = work.data();
+    p.workBytes = pfxGetWorkBytesOfCastRays(numRays);
+    std::vector<PfxRayOutput> batch(rays.size());
+    ASSERT_EQ(pfxCastRays(rays.data(), batch.data(), numRays, p), PFX_OK);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      PfxRayOutput single;
+      ASSERT_EQ(pfxCastSingleRay(rays[i], single, p), PFX_OK);
+      expectSameOutput(batch[i], single, "ordered batch against single");
+      hits += single.m_contactFlag;
+    }
+  }
+  EXPECT_GT(hits, numRays / 5);
+}
+
+TEST(RayCastStageRejects, BadWorkBufferForTheOrderedBatch) {
+  Scene scene(100);
+  scene.add(makeSphere(1), PfxVector3::Zero());
+  scene.buildProxies();
+  PfxRayInput rays[4];
+  for (PfxRayInput& ray : rays) ray = makeRay(PfxVector3(0, 5, 0), PfxVector3(0, -10, 0));
+  alignas(16) PfxRayOutput out[4] = {poisonedOutput(), poisonedOutput(), poisonedOutput(),
+                                     poisonedOutput()};
+  const PfxUInt32 bytes = pfxGetWorkBytesOfCastRays(4);
+  EXPECT_EQ(bytes, 4 * 2 * sizeof(PfxSortData16));
+  std::vector<PfxSortData16> work(bytes / sizeof(PfxSortData16) + 1);
+  PfxRayCastParam param = scene.param();
+  param.workBuff = work.data();
+  param.workBytes = bytes - 1;
+  EXPECT_EQ(pfxCastRays(rays, out, 4, param), PFX_ERR_OUT_OF_BUFFER);
+  param.workBuff = reinterpret_cast<char*>(work.data()) + 4;
+  param.workBytes = bytes;
+  EXPECT_EQ(pfxCastRays(rays, out, 4, param), PFX_ERR_INVALID_ALIGNMENT);
+  // Scratch that is the output or the rays themselves.
+  ASSERT_GE(sizeof(out), bytes);
+  param.workBuff = out;
+  param.workBytes = sizeof(out);
+  EXPECT_EQ(pfxCastRays(rays, out, 4, param), PFX_ERR_INVALID_VALUE);
+  for (const PfxRayOutput& o : out) EXPECT_TRUE(isPoisoned(o));
+  alignas(16) PfxRayInput copies[4];
+  ASSERT_GE(sizeof(copies), bytes);
+  std::copy(rays, rays + 4, copies);
+  param.workBuff = copies;
+  param.workBytes = sizeof(copies);
+  EXPECT_EQ(pfxCastRays(copies, out, 4, param), PFX_ERR_INVALID_VALUE);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(std::memcmp(&copies[i], &rays[i], sizeof(PfxRayInput)), 0);
+  for (const PfxRayOutput& o : out) EXPECT_TRUE(isPoisoned(o));
+  // A bad ray is still found before anything is sorted or written.
+  param.workBuff = work.data();
+  param.workBytes = bytes;
+  rays[2].m_startPosition[0] = kNaN;
+  EXPECT_EQ(pfxCastRays(rays, out, 4, param), PFX_ERR_INVALID_VALUE);
+  for (const PfxRayOutput& o : out) EXPECT_TRUE(isPoisoned(o));
+  rays[2] = rays[0];
+  ASSERT_EQ(pfxCastRays(rays, out, 4, param), PFX_OK);
+  for (const PfxRayOutput& o : out) EXPECT_NEAR(o.m_variable, 0.4f, 1e-6f);
+}
+
 // Every node's box holds its children's, every proxy is in exactly one leaf with its own
 // box, and no path is longer than the median splits allow: ceil(log2 n) + 1 nodes.
 TEST(RayBvh, NodesBoundTheirChildrenAndLeavesCoverEveryProxyOnce) {

@@ -72,7 +72,16 @@ PfxInt32 PfxWorld::castRay(const PfxRayInput& in, PfxRayOutput& out) {
 
 PfxInt32 PfxWorld::castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays) {
   if (const PfxInt32 err = updateRayProxies(); err != PFX_OK) return err;
-  return pfxCastRays(in, out, numRays, rayCastParam());
+  PfxRayCastParam param = rayCastParam();
+  // Fewer rays share too little of their paths for the order to pay for the sort.
+  constexpr PfxUInt32 kMinOrderedRays = 64;
+  if (numRays >= kMinOrderedRays && numRays <= PFX_CAST_RAYS_MAX_ORDERED && in && out) {
+    const std::size_t records = pfxGetWorkBytesOfCastRays(numRays) / sizeof(PfxSortData16);
+    if (m_rayOrderWork.size() < records) m_rayOrderWork.resize(records);
+    param.workBuff = m_rayOrderWork.data();
+    param.workBytes = pfxGetWorkBytesOfCastRays(numRays);
+  }
+  return pfxCastRays(in, out, numRays, param);
 }
 
 }  // namespace pfx

@@ -184,7 +184,9 @@ class PfxWorld {
   // and all casts between two steps share one update. Rays see every body, also those
   // outside the world's bounds. Rejects what pfxCastSingleRay and pfxCastRays reject, and a
   // body whose state is no longer valid (PFX_ERR_INVALID_VALUE), with the output untouched.
-  // Allocates only after bodies were added.
+  // castRays casts a batch of 64 rays or more in the Morton order of their start points
+  // (PfxRayCastParam::workBuff), which finds the same hits faster on large meshes.
+  // Allocates only after bodies were added, and when a batch is larger than any before.
   PfxInt32 castRay(const PfxRayInput& in, PfxRayOutput& out);
   PfxInt32 castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays);
 
@@ -260,6 +262,7 @@ class PfxWorld {
   std::size_t m_rayProxyStride = 0;
   PfxUInt32 m_numRayProxies = 0;
   bool m_rayProxiesStale = true;
+  std::vector<PfxSortData16> m_rayOrderWork;  // castRays' Morton order
 };
 
 }  // namespace pfx

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "pfx/base_level/base/pfx_sort_data.h"
 #include "pfx/base_level/raycast/pfx_ray_shapes.h"
+#include "pfx/low_level/sort/pfx_parallel_sort.h"
 #include "low_level/pfx_buffer_checks.h"
 
 namespace pfx {
@@ -211,7 +213,50 @@ void castCheckedRay(const PfxRayInput& ray, PfxRayOutput& out, const PfxRayCastP
   out = closest;
 }
 
+// Spreads the low 16 bits of x to every third bit.
+PfxUInt64 spreadBits3(PfxUInt64 x) {
+  x &= 0xFFFF;
+  x = (x | (x << 16)) & 0x0000FF0000FFull;
+  x = (x | (x << 8)) & 0x00F00F00F00Full;
+  x = (x | (x << 4)) & 0x0C30C30C30C3ull;
+  x = (x | (x << 2)) & 0x249249249249ull;
+  return x;
+}
+
+PfxUInt64 interleave3(PfxUInt64 x, PfxUInt64 y, PfxUInt64 z) {
+  return spreadBits3(x) | (spreadBits3(y) << 1) | (spreadBits3(z) << 2);
+}
+
+// Bits of each direction cell in the key, below the 48 of the start point: rays from one
+// point (a range sensor) then go round it in order.
+constexpr int kDirectionBits = 5;
+
+// The sort key of a ray: its start point's cell of the range, 16 bits per axis, clamped at
+// the range's faces; then its direction in 2^5 cells per axis of [-1, 1].
+PfxUInt64 mortonKey(const PfxRayInput& ray, const PfxRayCastParam& param) {
+  const RayInCells cells = toCells(ray, param);
+  PfxUInt64 start[3], direction[3];
+  const double length = double(ray.m_direction.norm());
+  for (int a = 0; a < 3; ++a) {
+    start[a] = static_cast<PfxUInt64>(std::min(std::max(cells.start[a], 0.0), kQuantizedMax));
+    const double unit = length > 0 ? double(ray.m_direction[a]) / length : 0.0;
+    const double cell = (unit + 1) * 0.5 * ((1 << kDirectionBits) - 1) + 0.5;
+    direction[a] = static_cast<PfxUInt64>(std::min(std::max(cell, 0.0), double((1 << kDirectionBits) - 1)));
+  }
+  return (interleave3(start[0], start[1], start[2]) << (3 * kDirectionBits)) |
+         interleave3(direction[0], direction[1], direction[2]);
+}
+
+PfxUInt64 orderedWorkBytes(PfxUInt32 numRays) {
+  // The records, then the sort's scratch of as many.
+  return 2 * PfxUInt64(sizeof(PfxSortData16)) * numRays;
+}
+
 }  // namespace
+
+PfxUInt32 pfxGetWorkBytesOfCastRays(PfxUInt32 numRays) {
+  return static_cast<PfxUInt32>(orderedWorkBytes(std::min(numRays, PFX_CAST_RAYS_MAX_ORDERED)));
+}
 
 PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRayCastParam& param) {
   if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
@@ -225,14 +270,54 @@ PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays
   if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
   if (numRays == 0) return PFX_OK;
   if (!in || !out) return PFX_ERR_NULL_POINTER;
-  if (pfxRangesOverlap(in, PfxUInt64(sizeof(PfxRayInput)) * numRays, out,
-                       PfxUInt64(sizeof(PfxRayOutput)) * numRays)) {
-    return PFX_ERR_INVALID_VALUE;
+  const PfxUInt64 inBytes = PfxUInt64(sizeof(PfxRayInput)) * numRays;
+  const PfxUInt64 outBytes = PfxUInt64(sizeof(PfxRayOutput)) * numRays;
+  if (pfxRangesOverlap(in, inBytes, out, outBytes)) return PFX_ERR_INVALID_VALUE;
+  const bool ordered = param.workBuff != nullptr;
+  if (ordered) {
+    if (numRays > PFX_CAST_RAYS_MAX_ORDERED) return PFX_ERR_OUT_OF_RANGE;
+    const PfxUInt64 workBytes = orderedWorkBytes(numRays);
+    if (const PfxInt32 err = pfxCheckBuffer(param.workBuff, param.workBytes, workBytes);
+        err != PFX_OK) {
+      return err;
+    }
+    if (pfxRangesOverlap(param.workBuff, workBytes, out, outBytes) ||
+        pfxRangesOverlap(param.workBuff, workBytes, in, inBytes)) {
+      return PFX_ERR_INVALID_VALUE;
+    }
   }
   for (PfxUInt32 i = 0; i < numRays; ++i) {
     if (const PfxInt32 err = checkRay(in[i], param); err != PFX_OK) return err;
   }
-  for (PfxUInt32 i = 0; i < numRays; ++i) castCheckedRay(in[i], out[i], param);
+  if (!ordered) {
+    for (PfxUInt32 i = 0; i < numRays; ++i) castCheckedRay(in[i], out[i], param);
+    return PFX_OK;
+  }
+  PfxSortData16* order = static_cast<PfxSortData16*>(param.workBuff);
+  for (PfxUInt32 i = 0; i < numRays; ++i) {
+    pfxSetKey(order[i], mortonKey(in[i], param));
+    order[i].data[0] = i;
+    order[i].data[1] = 0;
+  }
+  const PfxUInt32 recordBytes = static_cast<PfxUInt32>(sizeof(PfxSortData16) * numRays);
+  if (const PfxInt32 err = pfxParallelSort(order, numRays, order + numRays, recordBytes);
+      err != PFX_OK) {
+    return err;
+  }
+  // In this order the rays and outputs are read and written all over their arrays; asking
+  // for them a few rays ahead hides the wait for memory behind the casts in between.
+  constexpr PfxUInt32 kLookAhead = 8;
+  for (PfxUInt32 k = 0; k < numRays; ++k) {
+#if defined(__GNUC__)
+    if (k + kLookAhead < numRays) {
+      const PfxUInt32 ahead = order[k + kLookAhead].data[0];
+      __builtin_prefetch(&in[ahead]);
+      __builtin_prefetch(&out[ahead], 1);
+    }
+#endif
+    const PfxUInt32 i = order[k].data[0];
+    castCheckedRay(in[i], out[i], param);
+  }
   return PFX_OK;
 }
 
