@@ -188,9 +188,11 @@ void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloa
   }
 }
 
-void warmStartJoint(const PfxJoint& joint, const PairBodies& p) {
+void warmStartJoint(PfxJoint& joint, const PairBodies& p) {
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
-    const PfxJointConstraint& c = joint.m_constraints[axis];
+    PfxJointConstraint& c = joint.m_constraints[axis];
+    // The tree is factored anew for every solve.
+    c.m_treeResponse[0] = c.m_treeResponse[1] = 0;
     for (const PfxConstraintRow* row : {&c.m_constraintRow, &c.m_driveRow}) {
       if (row->m_accumImpulse == 0) continue;
       pfxApplyJointRowImpulse(pfxJointRowJacobian(joint, axis, row->m_normal),
@@ -204,16 +206,18 @@ void warmStartJoint(const PfxJoint& joint, const PairBodies& p) {
 // A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
 // An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
 // effective mass is the tree's, not that of its two bodies: a motor at an arm's shoulder
-// carries the arm. The response is linear, so it is measured: the impulse the two bodies
-// alone would want is applied and the tree answers; then the impulse is made what the
-// measured response wants, and the tree answers the difference. So the update changes
-// the velocities of every body of the tree, not only the joint's two.
+// carries the arm. The response is linear, so it is measured once per solve: the impulse
+// the two bodies alone would want is applied and the tree answers; then the impulse is made
+// what the measured response wants, and the tree answers the difference. Later iterations
+// reuse the response (`response`, 0 until measured). Either way the update changes the
+// velocities of every body of the tree, not only the joint's two.
 // `treeHeld` says whether the tree's locked axes hold the current velocities: the response
 // is measured from such velocities, and contacts and other joints since the tree's last
 // direct solve may have upset them.
-void solveTreeJointRow(PfxConstraintRow& row, const PfxJointConstraint& c, bool dampingOnly,
-                       const PfxJoint& joint, PfxUInt32 axis, const PairBodies& p,
-                       PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex, bool& treeHeld) {
+void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJointConstraint& c,
+                       bool dampingOnly, const PfxJoint& joint, PfxUInt32 axis,
+                       const PairBodies& p, PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex,
+                       bool& treeHeld) {
   if (row.m_jacDiagInv <= 0) return;
   const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
   const auto velocity = [&] {
@@ -231,7 +235,7 @@ void solveTreeJointRow(PfxConstraintRow& row, const PfxJointConstraint& c, bool 
   const PfxFloat before = velocity();
   const PfxFloat previous = row.m_accumImpulse;
   // The accumulated impulse wanted, given the row velocity per unit impulse.
-  const auto wanted = [&](PfxFloat response) {
+  const auto wanted = [&](PfxFloat velocityPerImpulse) {
     if (dampingOnly) {
       // Implicit damping: the impulse takes the fraction c.m_damping of the velocity the
       // joint would have without it. (Aiming at a fraction of the velocity before the
@@ -239,20 +243,32 @@ void solveTreeJointRow(PfxConstraintRow& row, const PfxJointConstraint& c, bool 
       // whatever pulls it.) The row's target, -m_damping times the velocity before the
       // solve, gives that velocity back; `before` is what the solve has added to it.
       const PfxFloat atSetup = -(row.m_rhs / row.m_jacDiagInv) / c.m_damping;
-      return -c.m_damping * (atSetup + before - previous * response) / response;
+      return -c.m_damping * (atSetup + before - previous * velocityPerImpulse) /
+             velocityPerImpulse;
     }
-    return std::clamp(previous + c.m_weight * (row.m_rhs / row.m_jacDiagInv - before) / response,
-                      row.m_lowerLimit, row.m_upperLimit);
+    const PfxFloat missing = row.m_rhs / row.m_jacDiagInv - before;
+    return std::clamp(previous + c.m_weight * missing / velocityPerImpulse, row.m_lowerLimit,
+                      row.m_upperLimit);
   };
+  if (response > 0) {
+    const PfxFloat impulse = wanted(response);
+    if (impulse != previous) apply(impulse - previous);
+    row.m_accumImpulse = impulse;
+    return;
+  }
   const PfxFloat twoBodyResponse = c.m_weight / row.m_jacDiagInv;
   const PfxFloat trial = wanted(twoBodyResponse) - previous;
   if (trial == 0) return;
   apply(trial);
   row.m_accumImpulse = previous + trial;
-  const PfxFloat response = (velocity() - before) / trial;
+  const PfxFloat measured = (velocity() - before) / trial;
   // When the locked axes take nearly the whole impulse (the row is almost one of theirs),
-  // scaling it up would only amplify rounding: the trial stands.
-  if (!(response > PfxFloat(1e-4) * twoBodyResponse)) return;
+  // scaling it up would only amplify rounding: the row stays a two-body row.
+  if (!(measured > PfxFloat(1e-4) * twoBodyResponse)) {
+    response = twoBodyResponse;
+    return;
+  }
+  response = measured;
   const PfxFloat impulse = wanted(response);
   if (impulse != row.m_accumImpulse) apply(impulse - row.m_accumImpulse);
   row.m_accumImpulse = impulse;
@@ -268,16 +284,18 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
     const bool direct = inTree && c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
-    for (PfxConstraintRow* row : {&c.m_constraintRow, &c.m_driveRow}) {
-      const bool used = row == &c.m_driveRow ? c.m_driveRowUsed != 0
-                                             : c.m_rowType != kPfxJointRowNone && !direct;
+    for (int which = 0; which < 2; ++which) {
+      const bool drive = which == 1;
+      PfxConstraintRow& row = drive ? c.m_driveRow : c.m_constraintRow;
+      const bool used = drive ? c.m_driveRowUsed != 0 : c.m_rowType != kPfxJointRowNone && !direct;
       if (!used) continue;
       if (inTree) {
-        const bool dampingOnly = row == &c.m_driveRow && c.m_drive == kPfxJointDriveNone &&
+        const bool dampingOnly = drive && c.m_drive == kPfxJointDriveNone &&
                                  c.m_friction <= 0 && c.m_damping > 0;
-        solveTreeJointRow(*row, c, dampingOnly, joint, axis, p, tree, jointPairIndex, treeHeld);
+        solveTreeJointRow(row, c.m_treeResponse[which], c, dampingOnly, joint, axis, p, tree,
+                          jointPairIndex, treeHeld);
       } else {
-        pfxSolveJointRow(*row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
+        pfxSolveJointRow(row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
       }
     }
   }

@@ -52,6 +52,10 @@ struct PfxJointConstraint {
   PfxFloat m_pushRhs;      // split impulse that corrects the position error, from rest
   PfxFloat m_pushImpulse;  // accumulated over the step
   PfxFloat m_position;     // current coordinate along the axis (m or rad)
+  // Velocity of m_constraintRow and of m_driveRow per unit impulse once the joint's tree
+  // has answered it (joints in the solver's direct-solved forest); 0 until measured in the
+  // current solve.
+  PfxFloat m_treeResponse[2];
 
   void reset();
 
