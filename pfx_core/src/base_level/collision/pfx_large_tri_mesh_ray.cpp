@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <type_traits>
 
 #include "base_level/collision/pfx_large_tri_mesh_access.h"
 
@@ -34,15 +33,15 @@ constexpr PfxUInt32 kWidth = PFX_LARGE_MESH_NODE_WIDTH;
 struct Ray {
   PfxFloat org[3];
   PfxFloat inv[3];
-  // Byte offsets within a node of the near and far planes' coordinates along each axis.
-  std::size_t nearPlane[3];
-  std::size_t farPlane[3];
+  // Where the near and far planes' coordinates along each axis start among a node's 24
+  // bound coordinates (the minima axis by axis, then the maxima).
+  PfxUInt32 nearPlane[3];
+  PfxUInt32 farPlane[3];
   // The shear that maps the ray onto +z (Woop et al.): kz is the largest direction axis.
   int kx, ky, kz;
   PfxFloat sx, sy, sz;
 };
 
-template <class Node>
 void setUpRay(const PfxVector3& start, const PfxVector3& direction, Ray& ray) {
   for (int i = 0; i < 3; ++i) {
     ray.org[i] = start[i];
@@ -50,8 +49,8 @@ void setUpRay(const PfxVector3& start, const PfxVector3& direction, Ray& ray) {
     // but ordered distances instead.
     const PfxFloat d = direction[i] != 0 ? direction[i] : std::numeric_limits<PfxFloat>::min();
     ray.inv[i] = PfxFloat(1) / d;
-    const std::size_t minimum = offsetof(Node, m_min) + i * sizeof(Node::m_min[0]);
-    const std::size_t maximum = offsetof(Node, m_max) + i * sizeof(Node::m_max[0]);
+    const PfxUInt32 minimum = i * kWidth;
+    const PfxUInt32 maximum = (3 + i) * kWidth;
     ray.nearPlane[i] = d > 0 ? minimum : maximum;
     ray.farPlane[i] = d > 0 ? maximum : minimum;
   }
@@ -70,36 +69,48 @@ void setUpRay(const PfxVector3& start, const PfxVector3& direction, Ray& ray) {
   ray.sz = PfxFloat(1) / direction[kz];
 }
 
-template <class Node>
-const auto* planeOf(const Node& node, std::size_t offset) {
-  using Coordinate = std::remove_all_extents_t<decltype(Node::m_min)>;
-  return reinterpret_cast<const Coordinate*>(reinterpret_cast<const char*>(&node) + offset);
+// A node's 24 bound coordinates as floats: the node's own for a float node; for a
+// quantized one converted in a loop the compiler does eight at a time.
+using Bounds = PfxFloat[6 * kWidth];
+
+inline const PfxFloat* boundsOf(const PfxLargeMeshNode& node, Bounds&) {
+  static_assert(offsetof(PfxLargeMeshNode, m_max) == sizeof(PfxFloat) * 3 * kWidth,
+                "the maxima follow the minima");
+  return &node.m_min[0][0];
 }
+
+inline const PfxFloat* boundsOf(const PfxLargeMeshQuantizedNode& node, Bounds& converted) {
+  static_assert(offsetof(PfxLargeMeshQuantizedNode, m_max) == sizeof(PfxUInt16) * 3 * kWidth,
+                "the maxima follow the minima");
+  const PfxUInt16* q = &node.m_min[0][0];
+  for (PfxUInt32 i = 0; i < 6 * kWidth; ++i) converted[i] = PfxFloat(q[i]);
+  return converted;
+}
+
+// One coordinate of a node's four boxes as one packet: Eigen adds, multiplies and compares
+// the four at once with SSE2, which every x86-64 has (and with NEON on ARM).
+using Lanes = Eigen::Array<PfxFloat, kWidth, 1>;
 
 // Entry fractions of the ray into the node's boxes; bit c of the result is set when the
 // ray meets box c at a fraction within [0, limit].
 template <class Node>
-inline unsigned boxEntries(const Ray& ray, const Node& node, PfxFloat limit,
-                           PfxFloat entry[kWidth]) {
-  const auto* nearX = planeOf(node, ray.nearPlane[0]);
-  const auto* nearY = planeOf(node, ray.nearPlane[1]);
-  const auto* nearZ = planeOf(node, ray.nearPlane[2]);
-  const auto* farX = planeOf(node, ray.farPlane[0]);
-  const auto* farY = planeOf(node, ray.farPlane[1]);
-  const auto* farZ = planeOf(node, ray.farPlane[2]);
-  PfxFloat exit[kWidth];
-  for (PfxUInt32 c = 0; c < kWidth; ++c) {
-    const PfxFloat nx = (PfxFloat(nearX[c]) - ray.org[0]) * ray.inv[0];
-    const PfxFloat ny = (PfxFloat(nearY[c]) - ray.org[1]) * ray.inv[1];
-    const PfxFloat nz = (PfxFloat(nearZ[c]) - ray.org[2]) * ray.inv[2];
-    const PfxFloat fx = (PfxFloat(farX[c]) - ray.org[0]) * ray.inv[0];
-    const PfxFloat fy = (PfxFloat(farY[c]) - ray.org[1]) * ray.inv[1];
-    const PfxFloat fz = (PfxFloat(farZ[c]) - ray.org[2]) * ray.inv[2];
-    entry[c] = std::max(std::max(nx, ny), std::max(nz, PfxFloat(0)));
-    exit[c] = std::min(std::min(std::min(fx, fy), fz) * kFarScale, limit);
-  }
+inline unsigned boxEntries(const Ray& ray, const Node& node, PfxFloat limit, Lanes& entry) {
+  alignas(16) Bounds converted;
+  const PfxFloat* bounds = boundsOf(node, converted);
+  const auto plane = [&](PfxUInt32 first, int axis) -> Lanes {
+    return (Eigen::Map<const Lanes>(bounds + first) - ray.org[axis]) * ray.inv[axis];
+  };
+  const Lanes nx = plane(ray.nearPlane[0], 0);
+  const Lanes ny = plane(ray.nearPlane[1], 1);
+  const Lanes nz = plane(ray.nearPlane[2], 2);
+  const Lanes fx = plane(ray.farPlane[0], 0);
+  const Lanes fy = plane(ray.farPlane[1], 1);
+  const Lanes fz = plane(ray.farPlane[2], 2);
+  entry = nx.max(ny).max(nz.max(Lanes::Zero()));
+  const Lanes exit = (fx.min(fy).min(fz) * kFarScale).min(Lanes::Constant(limit));
+  const auto met = entry <= exit;
   unsigned mask = 0;
-  for (PfxUInt32 c = 0; c < kWidth; ++c) mask |= unsigned(entry[c] <= exit[c]) << c;
+  for (PfxUInt32 c = 0; c < kWidth; ++c) mask |= unsigned(met[c]) << c;
   return mask;
 }
 
@@ -160,7 +171,7 @@ bool castRay(const PfxLargeTriMesh& mesh, const Ray& ray, const Node* nodes,
   for (;;) {
     if (!pfxLargeMeshIsLeaf(link)) {
       const Node& node = nodes[link];
-      PfxFloat entry[kWidth];
+      Lanes entry;
       const unsigned mask = boxEntries(ray, node, best, entry);
       // The boxes met, nearest first.
       PfxUInt32 order[kWidth];
@@ -223,13 +234,13 @@ bool pfxRayCastLargeTriMesh(const PfxLargeTriMesh& mesh, const PfxVector3& start
   RayHit hit;
   bool found;
   if (pfxLargeMeshIsQuantized(mesh)) {
-    setUpRay<PfxLargeMeshQuantizedNode>((start - mesh.m_quantOrigin).cwiseQuotient(mesh.m_quantStep),
+    setUpRay((start - mesh.m_quantOrigin).cwiseQuotient(mesh.m_quantStep),
                                         direction.cwiseQuotient(mesh.m_quantStep), ray);
     const PfxUInt16* q = mesh.m_quantizedVertices;
     found = castRay(mesh, ray, mesh.m_quantizedNodes,
                     [q](PfxUInt32 v, int axis) { return PfxFloat(q[3 * v + axis]); }, hit);
   } else {
-    setUpRay<PfxLargeMeshNode>(start, direction, ray);
+    setUpRay(start, direction, ray);
     const PfxFloat* p = mesh.m_vertices;
     found = castRay(mesh, ray, mesh.m_nodes, [p](PfxUInt32 v, int axis) { return p[3 * v + axis]; },
                     hit);
