@@ -2,9 +2,9 @@
 // hierarchy with the per-ray data computed once, and the watertight ray/triangle test of
 // Woop, Benthin and Wald (2013, "Watertight Ray/Triangle Intersection", JCGT 2(1)).
 //
-// A node's four boxes are tested in one pass over arrays of four, written as plain loops
-// that the compiler turns into vector instructions on any x86-64 (SSE2) or other target, so
-// the build needs no particular instruction set. The ray reads each axis's near plane
+// A node's four boxes are tested at once as Eigen arrays of four, which Eigen computes with
+// SSE2 on any x86-64 (NEON on ARM, plain code elsewhere), so the build needs no particular
+// instruction set. The ray reads each axis's near plane
 // (the minimum for an axis it travels up, the maximum otherwise) and far plane through
 // offsets fixed once per ray, so the test takes no per-box minimum or maximum of the two
 // slab distances.

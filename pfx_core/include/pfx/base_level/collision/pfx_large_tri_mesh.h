@@ -11,9 +11,9 @@
 //   - PFX_MESH_FLAG_USE_BVH: the island continues the hierarchy down to leaves of at most
 //     four triangles, which searches faster for about 9 bytes more per triangle.
 // The hierarchy is four wide: each node holds the boxes of up to four children side by side,
-// axis by axis (structure of arrays), so that a ray tests all four in one pass that the
-// compiler turns into vector instructions, and a descent visits a third as many nodes as a
-// binary tree would. It is built as a binary tree (median splits, or with
+// axis by axis (structure of arrays), so that a ray tests all four at once as vectors of
+// four (Eigen's SSE2 packets), and a descent visits a third as many nodes as a binary tree
+// would. It is built as a binary tree (median splits, or with
 // PFX_MESH_FLAG_HIGH_QUALITY the surface area heuristic: slower to build, faster to search)
 // whose levels are then merged, each node opening the largest of its children until it
 // has four. All nodes live in one array, so a query walks mesh, island and triangle levels
