@@ -159,8 +159,15 @@ PfxInt32 pfxInitializeUniversalJoint(PfxJoint& joint, const PfxRigidState& state
 
 void pfxUpdateJointPairs(PfxConstraintPair& pair, PfxUInt32 jointId, const PfxJoint& joint,
                          const PfxRigidState& stateA, const PfxRigidState& stateB) {
+  // As pfxFindPairs does for contacts, a joint that no body of it can move (both asleep,
+  // or one asleep and the other fixed) costs the solver nothing.
+  const auto still = [](const PfxRigidState& s) {
+    return s.isAsleep() || s.getMotionType() == kPfxMotionTypeFixed;
+  };
+  const bool movable = !(still(stateA) && still(stateB));
   pfxInitializeOrderedPair(pair, joint.m_rigidBodyIdA, stateA.getMotionType(),
-                           joint.m_rigidBodyIdB, stateB.getMotionType(), joint.m_active != 0);
+                           joint.m_rigidBodyIdB, stateB.getMotionType(),
+                           joint.m_active != 0 && movable);
   pfxSetConstraintId(pair, jointId);
 }
 

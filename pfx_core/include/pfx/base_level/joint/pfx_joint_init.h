@@ -67,8 +67,9 @@ PfxInt32 pfxInitializeUniversalJoint(PfxJoint& joint, const PfxRigidState& state
                                      const PfxUniversalJointInitParam& param);
 
 // The joint's pair for the solver (seed: "Create a pair structure corresponds to the
-// joints"): its bodies, motion types and whether the solver responds; update it whenever
-// the joint or a body's motion type changes.
+// joints"): its bodies, motion types and whether the solver responds (not when both bodies
+// sleep, or one sleeps and the other is fixed); update it whenever the joint, a body's
+// motion type or its sleep changes.
 void pfxUpdateJointPairs(PfxConstraintPair& pair, PfxUInt32 jointId, const PfxJoint& joint,
                          const PfxRigidState& stateA, const PfxRigidState& stateB);
 
