@@ -36,6 +36,8 @@ const char* const kUsage =
     "  --ground           a ground plane at z = 0\n"
     "  --octomap FILE     static geometry from an OctoMap (.bt or .ot)\n"
     "  --fixed-base       bolt the robot's root link to the world\n"
+    "  --sleep            let bodies at rest fall asleep (off: the statistics measure the\n"
+    "                     solver on every step)\n"
     "  --drop-height H    start with the robot's lowest point H m above z = 0 (default: as\n"
     "                     the URDF places it, or 0.05 m above the ground with --ground)\n"
     "  --png OUT.png      write a picture of the final scene\n"
@@ -56,6 +58,7 @@ struct Options {
   bool ground = false;
   std::string octomap;
   bool fixedBase = false;
+  bool sleep = false;
   bool hasDropHeight = false;
   double dropHeight = 0;
   std::string png;
@@ -99,6 +102,8 @@ int parseArguments(int argc, char** argv, Options& options) {
       return 0;
     } else if (arg == "--ground") {
       options.ground = true;
+    } else if (arg == "--sleep") {
+      options.sleep = true;
     } else if (arg == "--fixed-base") {
       options.fixedBase = true;
     } else if (arg == "--quiet") {
@@ -183,6 +188,7 @@ int main(int argc, char** argv) {
   param.subStep = PfxUInt32(options.substeps);
   param.iteration = PfxUInt32(options.iterations);
   param.measureConservation = true;
+  param.enableSleep = options.sleep;
   PfxWorld world;
   if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
     std::fprintf(stderr, "pfx_sim: world parameters rejected: %s\n", pfxErrorString(err));

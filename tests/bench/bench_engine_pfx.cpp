@@ -40,6 +40,7 @@ class PfxEngine final : public Engine {
     param.gravity = toPfx(scene.gravity);
     param.timeStep = static_cast<PfxFloat>(settings.dt / settings.substeps);
     param.iteration = static_cast<PfxUInt32>(settings.iterations);
+    param.enableSleep = false;  // no engine sleeps (bench_engine.h)
     if (const PfxInt32 err = m_world.initialize(param); err != PFX_OK) {
       error = std::string("pfx: world parameters rejected: ") + pfxErrorString(err);
       return false;

@@ -277,6 +277,8 @@ TEST(DebugRender, ContactPointsAreTheManifoldsPoints) {
   const PfxUInt32 box = addBody(world, pfxMakeShape(PfxBox(0.3f, 0.3f, 0.3f)), PfxVector3(0, 0.35f, 0));
   for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
   ASSERT_EQ(world.getStats().numContactPoints, 4u);
+  // Asleep by now: the contact is drawn from the pair set aside, with its last impulses.
+  ASSERT_TRUE(world.getRigidState(box).isAsleep());
 
   PfxDebugRender render;
   Recorder r;

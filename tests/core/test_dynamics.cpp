@@ -13,8 +13,11 @@ namespace {
 
 constexpr PfxFloat kGravity = 9.80665f;
 
+// These tests measure the solver and integrator over time (drift, sticking, sliding,
+// bouncing); sleep would freeze the bodies at rest and hide what they measure.
 PfxWorldParam defaultParam(PfxFloat timeStep = 1.0f / 60.0f) {
   PfxWorldParam param;
+  param.enableSleep = false;
   param.timeStep = timeStep;
   param.gravity = PfxVector3(0, -kGravity, 0);
   return param;

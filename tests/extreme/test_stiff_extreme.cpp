@@ -19,8 +19,10 @@ namespace {
 
 constexpr PfxFloat kGravity = 9.80665f;
 
+// Sleep off: these scenes measure what the solver does over time, which sleep would freeze.
 PfxWorldParam worldParam(PfxFloat timeStep = 1.0f / 60.0f) {
   PfxWorldParam param;
+  param.enableSleep = false;
   param.timeStep = timeStep;
   param.gravity = PfxVector3(0, -kGravity, 0);
   return param;

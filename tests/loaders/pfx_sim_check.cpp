@@ -120,6 +120,21 @@ TEST(PfxSim, ArmDroppedOntoTheGround) {
 TEST(PfxSim, RagdollDroppedOntoTheGround) { checkDrop(PFX_RAGDOLL_URDF, "ragdoll", 1e-3); }
 #endif
 
+// With --sleep the arm at rest on the ground falls asleep: no pair is solved any more,
+// while without it every step solves its contacts.
+TEST(PfxSim, SleepIsAnOption) {
+  const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
+  for (const bool sleep : {false, true}) {
+    const SimRun run = runSim("\"" + arm + "\" --ground --seconds 3 --dt 0.004" +
+                                  (sleep ? " --sleep" : ""),
+                              sleep ? "sleep" : "awake");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const auto rows = tsvRows(run.out);
+    ASSERT_EQ(rows.size(), 751u);
+    EXPECT_EQ(std::stol(rows.back()[3]) == 0, sleep) << "pairs solved in the last step";
+  }
+}
+
 TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
   const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
   SimRun run = runSim("--help", "help");

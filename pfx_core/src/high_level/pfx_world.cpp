@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
@@ -53,7 +54,8 @@ const char* pfxStageName(PfxStage stage) {
       "apply_external_force", "update_broadphase_proxies", "find_pairs",
       "decompose_pairs",      "refresh_contacts",          "detect_collision",
       "setup_solver_bodies",  "setup_contact_constraints", "setup_joint_constraints",
-      "solve_constraints",    "update_rigid_states",       "correct_joint_positions"};
+      "solve_constraints",    "update_rigid_states",       "correct_joint_positions",
+      "generate_island"};
   return stage < kPfxStageCount ? kNames[stage] : "unknown";
 }
 
@@ -67,7 +69,10 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
       pfxIsFinite(param.timeStep) && param.iteration > 0 && param.subStep > 0 && param.separateBias >= 0 &&
       param.separateBias <= 1 && param.contactSlop >= 0 && pfxIsFinite(param.contactSlop) &&
       param.contactMargin >= 0 && pfxIsFinite(param.contactMargin) &&
-      param.restitutionThreshold >= 0 && pfxIsFinite(param.restitutionThreshold);
+      param.restitutionThreshold >= 0 && pfxIsFinite(param.restitutionThreshold) &&
+      param.sleepLinearVelocity >= 0 && pfxIsFinite(param.sleepLinearVelocity) &&
+      param.sleepAngularVelocity >= 0 && pfxIsFinite(param.sleepAngularVelocity) &&
+      param.sleepTime >= 0 && std::ceil(double(param.sleepTime) / param.timeStep) <= 0xffff;
   if (!valid) return PFX_ERR_INVALID_VALUE;
   if (param.pipeline > kPfxPipelineStable ||
       (param.outOfWorldBehavior & ~PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION |
@@ -95,7 +100,10 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_jointCouplings.clear();
   m_jointedPairKeys.clear();
   m_solverWork.clear();
-  return PFX_OK;
+  m_numSleepingPairs = 0;
+  m_numSleepingBodies = 0;
+  countSleepingContacts();
+  return generateIslands();
 }
 
 PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) const {
@@ -150,6 +158,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   reserveBodies(id + 1);
   m_states.push_back(state);
   m_states.back().setRigidBodyId(id);
+  m_states.back().wakeup();
   m_bodies.push_back(body);
   m_collidables.push_back(collidable);
   m_forces.push_back(PfxVector3::Zero());
@@ -157,6 +166,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_compoundShapes.push_back(std::move(compound));
   m_compoundShapeIds.push_back(std::move(compoundIds));
   m_solverBodies.resize(m_states.capacity());
+  m_islandMarks.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
   reserveSolverWork();
@@ -168,8 +178,11 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
 PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
   if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = validateBody(state, m_bodies[id]); err != PFX_OK) return err;
+  // Woken as it was: what rested on it when it was fixed or keyframe wakes too.
+  wakeAfterChange(id);
   m_states[id] = state;
   m_states[id].setRigidBodyId(id);
+  m_states[id].wakeup();
   m_rayProxiesStale = true;
   return PFX_OK;
 }
@@ -189,6 +202,8 @@ PfxInt32 PfxWorld::updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh,
   }
   m_collidables[id].finish();
   m_rayProxiesStale = true;
+  // The points of sleeping pairs on the mesh must move with it too.
+  wakeAfterChange(id);
 
   for (PfxUInt32 p = 0; p < m_numPairs; ++p) {
     PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[p])];
@@ -241,6 +256,7 @@ PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
   if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = validateBody(m_states[id], body); err != PFX_OK) return err;
   m_bodies[id] = body;
+  wakeAfterChange(id);
   return PFX_OK;
 }
 
@@ -249,6 +265,11 @@ PfxInt32 PfxWorld::applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVe
   if (!pfxIsFinite(force) || !pfxIsFinite(torque)) return PFX_ERR_INVALID_VALUE;
   m_forces[id] += force;
   m_torques[id] += torque;
+  if (pfxMotionTypeIsDynamic(m_states[id].getMotionType()) &&
+      (!force.isZero(0) || !torque.isZero(0))) {
+    wakeIslandOf(id);
+    restoreWokenPairs();
+  }
   return PFX_OK;
 }
 
@@ -256,7 +277,17 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
                                      const PfxQuat& orientation) {
   if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
   if (m_states[id].getMotionType() != kPfxMotionTypeKeyframe) return PFX_ERR_INVALID_FLAG;
-  return pfxSetKeyframeTarget(m_states[id], position, orientation, m_param.timeStep);
+  PfxRigidState target = m_states[id];
+  if (const PfxInt32 err = pfxSetKeyframeTarget(target, position, orientation, m_param.timeStep);
+      err != PFX_OK) {
+    return err;
+  }
+  if (!target.getLinearVelocity().isZero(0) || !target.getAngularVelocity().isZero(0)) {
+    wakeAfterChange(id);
+  }
+  m_states[id].setLinearVelocity(target.getLinearVelocity());
+  m_states[id].setAngularVelocity(target.getAngularVelocity());
+  return PFX_OK;
 }
 
 void PfxWorld::reserveSolverWork() {
@@ -283,6 +314,7 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
   m_jointedPairKeys.insert(
       std::lower_bound(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key), key);
   reserveSolverWork();
+  wakeJointBodies(id);
   if (outId) *outId = id;
   return PFX_OK;
 }
@@ -303,6 +335,7 @@ PfxInt32 PfxWorld::setJoint(PfxUInt32 id, const PfxJoint& joint) {
     if (locksLeader || locksFollower) return PFX_ERR_INVALID_VALUE;
   }
   m_joints[id] = joint;
+  wakeJointBodies(id);
   return PFX_OK;
 }
 
@@ -336,6 +369,8 @@ PfxInt32 PfxWorld::addJointCoupling(const PfxJointCoupling& coupling, PfxUInt32*
   }
   const PfxUInt32 id = getNumJointCouplings();
   m_jointCouplings.push_back(measuredCoupling(coupling));
+  wakeJointBodies(coupling.m_leaderJointId);
+  wakeJointBodies(coupling.m_followerJointId);
   if (outId) *outId = id;
   return PFX_OK;
 }
@@ -346,7 +381,11 @@ PfxInt32 PfxWorld::setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupli
       err != PFX_OK) {
     return err;
   }
+  wakeJointBodies(m_jointCouplings[id].m_leaderJointId);
+  wakeJointBodies(m_jointCouplings[id].m_followerJointId);
   m_jointCouplings[id] = measuredCoupling(coupling);
+  wakeJointBodies(coupling.m_leaderJointId);
+  wakeJointBodies(coupling.m_followerJointId);
   return PFX_OK;
 }
 
@@ -367,6 +406,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
       return PFX_ERR_OUT_OF_RANGE;
     }
   }
+  wakeBeforeTruncate(numBodies, numJoints, numJointCouplings);
   m_jointCouplings.erase(m_jointCouplings.begin() + numJointCouplings, m_jointCouplings.end());
   for (PfxUInt32 i = numJoints; i < getNumJoints(); ++i) {
     const PfxJoint& joint = m_joints[i];
@@ -378,17 +418,25 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_joints.erase(m_joints.begin() + numJoints, m_joints.end());
   m_jointPairs.erase(m_jointPairs.begin() + numJoints, m_jointPairs.end());
 
-  // Pairs stay sorted by key when some are taken out; a stable pipeline reuses the
-  // manifolds of the removed ones.
-  PfxUInt32 kept = 0;
-  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
-    if (pfxGetObjectIdA(m_pairs[i]) < numBodies && pfxGetObjectIdB(m_pairs[i]) < numBodies) {
-      m_pairs[kept++] = m_pairs[i];
-    } else if (m_param.pipeline == kPfxPipelineStable) {
-      m_freeManifolds.push_back(pfxGetContactId(m_pairs[i]));
+  // Pairs stay sorted by key when some are taken out, and the manifolds of the removed
+  // ones are reused.
+  const auto dropRemovedPairs = [&](std::vector<PfxBroadphasePair>& pairs, PfxUInt32& numPairs) {
+    PfxUInt32 kept = 0;
+    for (PfxUInt32 i = 0; i < numPairs; ++i) {
+      if (pfxGetObjectIdA(pairs[i]) < numBodies && pfxGetObjectIdB(pairs[i]) < numBodies) {
+        pairs[kept++] = pairs[i];
+      } else {
+        m_freeManifolds.push_back(pfxGetContactId(pairs[i]));
+      }
     }
+    numPairs = kept;
+  };
+  dropRemovedPairs(m_pairs, m_numPairs);
+  dropRemovedPairs(m_sleepingPairs, m_numSleepingPairs);
+  countSleepingContacts();
+  for (PfxUInt32 i = numBodies; i < getNumRigidBodies(); ++i) {
+    if (m_states[i].isAsleep()) --m_numSleepingBodies;
   }
-  m_numPairs = kept;
   m_states.erase(m_states.begin() + numBodies, m_states.end());
   m_bodies.erase(m_bodies.begin() + numBodies, m_bodies.end());
   m_collidables.erase(m_collidables.begin() + numBodies, m_collidables.end());
@@ -399,7 +447,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_numProxies = 0;
   m_rayProxiesStale = true;
   reserveSolverWork();
-  return PFX_OK;
+  return generateIslands();
 }
 
 // Bodies held together by a joint would otherwise push each other apart where their shapes
@@ -485,6 +533,30 @@ PfxInt32 PfxWorld::findPairs() {
   }
 }
 
+// A manifold slot for a new pair: a freed one, or a new one at the end.
+PfxUInt32 PfxWorld::takeManifold() {
+  if (!m_freeManifolds.empty()) {
+    const PfxUInt32 contactId = m_freeManifolds.back();
+    m_freeManifolds.pop_back();
+    return contactId;
+  }
+  const PfxUInt32 contactId = static_cast<PfxUInt32>(m_manifolds.size());
+  if (m_manifolds.size() == m_manifolds.capacity()) {
+    m_manifolds.reserve(std::max<std::size_t>(64, m_manifolds.size() * 2));
+    m_freeManifolds.reserve(m_manifolds.capacity());
+  }
+  m_manifolds.emplace_back();
+  return contactId;
+}
+
+// Moving pairs between the awake and the sleeping lists needs room for both in each.
+void PfxWorld::reservePairs() {
+  const std::size_t total = std::size_t(m_numPairs) + m_numSleepingPairs;
+  growTo(m_pairs, total);
+  growTo(m_sleepingPairs, total);
+  growTo(m_pairScratch, total);
+}
+
 void PfxWorld::composeStablePairs() {
   growTo(m_decomposedPairs, m_numPairs + m_numFoundPairs);
   PfxDecomposePairsParam param;
@@ -502,18 +574,7 @@ void PfxWorld::composeStablePairs() {
   }
   for (PfxUInt32 i = 0; i < result.numOutNewPairs; ++i) {
     PfxBroadphasePair& pair = result.outNewPairs[i];
-    PfxUInt32 contactId;
-    if (!m_freeManifolds.empty()) {
-      contactId = m_freeManifolds.back();
-      m_freeManifolds.pop_back();
-    } else {
-      contactId = static_cast<PfxUInt32>(m_manifolds.size());
-      if (m_manifolds.size() == m_manifolds.capacity()) {
-        m_manifolds.reserve(std::max<std::size_t>(64, m_manifolds.size() * 2));
-        m_freeManifolds.reserve(m_manifolds.capacity());
-      }
-      m_manifolds.emplace_back();
-    }
+    const PfxUInt32 contactId = takeManifold();
     m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
     pfxSetContactId(pair, contactId);
   }
@@ -524,17 +585,25 @@ void PfxWorld::composeStablePairs() {
              result.outNewPairs, result.outNewPairs + result.numOutNewPairs, m_pairs.begin(),
              byKey);
   m_numPairs = m_numFoundPairs;
+  reservePairs();
 }
 
+// Every pair starts afresh, but its manifold comes from the free list as in the stable
+// pipeline, so that the pairs set aside while their bodies sleep keep theirs. Returned in
+// reverse, the slots come back in pair order while the number of pairs holds.
 void PfxWorld::assignSimplePairs() {
+  for (PfxUInt32 i = m_numPairs; i > 0; --i) {
+    m_freeManifolds.push_back(pfxGetContactId(m_pairs[i - 1]));
+  }
   growTo(m_pairs, m_numFoundPairs);
-  if (m_manifolds.size() < m_numFoundPairs) m_manifolds.resize(m_pairs.size());
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
     m_pairs[i] = m_foundPairs[i];
-    pfxSetContactId(m_pairs[i], i);
-    m_manifolds[i].reset(pfxGetObjectIdA(m_pairs[i]), pfxGetObjectIdB(m_pairs[i]));
+    const PfxUInt32 contactId = takeManifold();
+    pfxSetContactId(m_pairs[i], contactId);
+    m_manifolds[contactId].reset(pfxGetObjectIdA(m_pairs[i]), pfxGetObjectIdB(m_pairs[i]));
   }
   m_numPairs = m_numFoundPairs;
+  reservePairs();
 }
 
 PfxInt32 PfxWorld::detectCollision() {
@@ -558,6 +627,36 @@ PfxInt32 PfxWorld::detectCollision() {
   param.timeStep = m_param.timeStep;
   param.matchDistanceSq = stable ? kMatchDistanceSq : 0;
   return pfxDetectCollision(param);
+}
+
+// Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),
+// the joints and the couplings.
+PfxInt32 PfxWorld::generateIslands() {
+  const PfxUInt32 numPairs = m_numPairs + m_numSleepingPairs;
+  const PfxConstraintPair* pairs = m_pairs.data();
+  if (m_numSleepingPairs > 0) {
+    std::copy(m_pairs.begin(), m_pairs.begin() + m_numPairs, m_pairScratch.begin());
+    std::copy(m_sleepingPairs.begin(), m_sleepingPairs.begin() + m_numSleepingPairs,
+              m_pairScratch.begin() + m_numPairs);
+    pairs = m_pairScratch.data();
+  }
+  const PfxUInt32 bytes = pfxGetIslandBytes(getNumRigidBodies(), numPairs, getNumJoints());
+  growTo(m_islandBuff, (bytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
+  PfxGenerateIslandParam param;
+  param.islandBuff = m_islandBuff.data();
+  param.islandBytes = static_cast<PfxUInt32>(m_islandBuff.size() * sizeof(PfxSortData16));
+  param.offsetRigidStates = m_states.data();
+  param.numRigidBodies = getNumRigidBodies();
+  param.contactPairs = pairs;
+  param.numContactPairs = numPairs;
+  param.offsetJoints = m_joints.data();
+  param.numJoints = getNumJoints();
+  param.offsetJointCouplings = m_jointCouplings.data();
+  param.numJointCouplings = getNumJointCouplings();
+  PfxGenerateIslandResult result;
+  if (const PfxInt32 err = pfxGenerateIsland(param, result); err != PFX_OK) return err;
+  m_island = result.island;
+  return PFX_OK;
 }
 
 PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
@@ -726,13 +825,23 @@ PfxInt32 PfxWorld::step() {
     }
   }
   if (const PfxInt32 err = detectCollision(); err != PFX_OK) return err;
+  {
+    StageTimer timer(m_stats, kPfxStageGenerateIsland);
+    if (const PfxInt32 err = generateIslands(); err != PFX_OK) return err;
+    wakeTouchedIslands();
+  }
   const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
   for (PfxUInt32 i = 0; i < m_param.subStep; ++i) {
     if (const PfxInt32 err = subStep(subTimeStep); err != PFX_OK) return err;
   }
   std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
   std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
+  {
+    StageTimer timer(m_stats, kPfxStageGenerateIsland);
+    updateSleep();
+  }
   gatherStats();
+  gatherSleepStats();
   if (m_param.measureConservation) {
     const PfxConservedQuantities after = measureConservedQuantities();
     m_stats.energyChange = after.energy - before.energy;

@@ -1,6 +1,7 @@
 // The high-level world: owns every buffer, grows them as bodies are added, and runs the
-// simple or the stable pipeline of seed chapter 4 over them. After the first steps have
-// sized the pair and contact buffers, a step allocates no memory.
+// simple or the stable pipeline of seed chapter 4 over them, with simulation islands and
+// sleep (seed 3_sleep). After the first steps have sized the pair and contact buffers, a
+// step allocates no memory.
 #pragma once
 
 #include <memory>
@@ -17,6 +18,7 @@
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
+#include "pfx/low_level/solver/pfx_island_generation.h"
 
 namespace pfx {
 
@@ -48,10 +50,26 @@ struct PfxWorldParam {
   // bodies) and report their change in PfxWorldStats.
   bool measureConservation = false;
   PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
+  // Sleep (seed 3_sleep): an island (pfx_island_generation.h) whose active, one-way and
+  // keyframe bodies have all moved slower than both velocities for sleepTime falls asleep
+  // as a whole: its velocities are zeroed, and its bodies cost neither collision detection
+  // nor solving until something wakes them. A keyframe body counts as still only at zero
+  // velocity, as sleeping would stop a motion the application prescribed; likewise the
+  // bodies of a joint whose drive has a velocity to keep or a position still to reach
+  // (further than 1 mm or 1 mrad). What wakes an island: an awake body that forces move
+  // touching it (they form one island), a moving keyframe body touching it, and any change
+  // the application makes to one of its bodies, joints or couplings or to a body it rests
+  // on (see the setters). sleepTime / timeStep may not exceed 65535 steps. Turn sleep off
+  // to measure the solver's long-term behaviour.
+  bool enableSleep = true;
+  PfxFloat sleepLinearVelocity = PfxFloat(0.15);  // m/s
+  PfxFloat sleepAngularVelocity = PfxFloat(0.15);  // rad/s
+  PfxFloat sleepTime = PfxFloat(0.5);              // s
 };
 
 // The stages of a step, named as in the seed; index of PfxWorldStats::stageSeconds. The
-// broad phase and collision detection run once per step, the rest once per sub-step.
+// broad phase, collision detection and islands run once per step, the rest once per
+// sub-step.
 enum PfxStage : PfxUInt8 {
   kPfxStageApplyExternalForce = 0,
   kPfxStageUpdateBroadphaseProxies,
@@ -65,6 +83,8 @@ enum PfxStage : PfxUInt8 {
   kPfxStageSolveConstraints,
   kPfxStageUpdateRigidStates,
   kPfxStageCorrectJointPositions,
+  // Once per step, after collision detection: islands, then waking and putting them to sleep.
+  kPfxStageGenerateIsland,
   kPfxStageCount
 };
 
@@ -74,7 +94,10 @@ struct PfxWorldStats {
   double stageSeconds[kPfxStageCount] = {};  // wall time of each stage in the last step,
                                              // summed over its sub-steps
   double stepSeconds = 0;
-  PfxUInt32 numPairs = 0;          // broadphase pairs
+  // Broadphase pairs the step worked on: a pair whose bodies all sleep (or are fixed) costs
+  // nothing and is counted in numSleepingPairs instead.
+  PfxUInt32 numPairs = 0;
+  // Contacts as they stand after the step, those of sleeping bodies included.
   PfxUInt32 numContactPairs = 0;   // pairs with at least one contact point
   PfxUInt32 numContactPoints = 0;
   PfxUInt32 numOutOfWorld = 0;
@@ -88,6 +111,14 @@ struct PfxWorldStats {
   double energyChange = 0;
   double linearMomentumChange = 0;
   double angularMomentumChange = 0;
+  // Sleep, after the step: islands (bodies that are not fixed, grouped as in
+  // pfx_island_generation.h), those asleep, the bodies that are not fixed awake and asleep,
+  // and the pairs set aside because all their bodies sleep or are fixed.
+  PfxUInt32 numIslands = 0;
+  PfxUInt32 numSleepingIslands = 0;
+  PfxUInt32 numAwakeBodies = 0;
+  PfxUInt32 numSleepingBodies = 0;
+  PfxUInt32 numSleepingPairs = 0;
 };
 
 // Totals over the bodies that forces move (active and one-way, awake or asleep).
@@ -109,9 +140,10 @@ class PfxWorld {
   const PfxWorldParam& getParam() const { return m_param; }
 
   // Adds a body with one shape or a compound of up to 64 (the shapes are copied). The
-  // state's rigid body id is set to the new id. Rejects an invalid state (NaN, non-unit
-  // orientation), an invalid mass or inertia on a body that forces move, invalid shapes
-  // and too many shapes; the world is unchanged then.
+  // state's rigid body id is set to the new id, and the body starts awake (the world alone
+  // puts bodies to sleep). Rejects an invalid state (NaN, non-unit orientation), an invalid
+  // mass or inertia on a body that forces move, invalid shapes and too many shapes; the
+  // world is unchanged then.
   PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
                         const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
 
@@ -121,15 +153,18 @@ class PfxWorld {
   const PfxCollidable& getCollidable(PfxUInt32 id) const { return m_collidables[id]; }
   const PfxRigidState* getRigidStates() const { return m_states.data(); }
 
-  // Replaces a body's state (its id is kept) or attributes, after the same checks as
-  // addRigidBody.
+  // Replaces a body's state (its id is kept, it is stored awake) or attributes, after the
+  // same checks as addRigidBody. Wakes the body's island and, for a fixed or keyframe
+  // body, the islands touching it or jointed to it (they may rest on it).
   PfxInt32 setRigidState(PfxUInt32 id, const PfxRigidState& state);
   PfxInt32 setRigidBody(PfxUInt32 id, const PfxRigidBody& body);
 
   // A force and torque (world frame, about the centre of mass) applied during the next
-  // step only; calls add up.
+  // step only; calls add up. A force or torque other than zero wakes the body's island.
   PfxInt32 applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque);
-  // Moves a keyframe body to the pose over the next step (seed 4_motion_type).
+  // Moves a keyframe body to the pose over the next step (seed 4_motion_type). A target
+  // other than the current pose wakes the body and the islands touching it; a keyframe
+  // body held at its pose can fall asleep.
   PfxInt32 setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
                              const PfxQuat& orientation);
 
@@ -137,15 +172,16 @@ class PfxWorld {
   // vertices (pfxUpdateLargeTriMeshVertices), refreshes the body's bounds, carries the
   // contact points on the mesh to the moved triangles by their corner weights, and puts a
   // body that the move pushed deeper back onto the surface (moved along the contact normal
-  // by the added depth). Rejects an id out of range (PFX_ERR_OUT_OF_RANGE), a body without
-  // a shape naming `mesh` (PFX_ERR_INVALID_VALUE) and whatever the vertex update rejects;
-  // nothing changes then. Allocates nothing.
+  // by the added depth), waking the islands on it. Rejects an id out of range
+  // (PFX_ERR_OUT_OF_RANGE), a body without a shape naming `mesh` (PFX_ERR_INVALID_VALUE) and
+  // whatever the vertex update rejects; nothing changes then. Allocates nothing.
   PfxInt32 updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh, const PfxFloat* vertices,
                               PfxUInt32 numVertices);
 
   // Adds a joint between two bodies of this world, made with pfxInitialize...Joint. Rejects
   // unknown or equal body ids and anything pfxCheckJoint rejects; the world is unchanged
-  // then. Bodies held by a joint do not collide with each other.
+  // then. Bodies held by a joint do not collide with each other. Adding or replacing a joint
+  // or a coupling wakes the islands of its bodies.
   PfxInt32 addJoint(const PfxJoint& joint, PfxUInt32* outId = nullptr);
   PfxUInt32 getNumJoints() const { return static_cast<PfxUInt32>(m_joints.size()); }
   const PfxJoint& getJoint(PfxUInt32 id) const { return m_joints[id]; }
@@ -167,8 +203,10 @@ class PfxWorld {
   // Keeps the first numBodies bodies, numJoints joints and numJointCouplings couplings and
   // removes the rest, as if they had never been added: their contact pairs go, bodies they
   // held apart may collide again, and rays no longer see them (a loader undoing a load that
-  // failed half way). Rejects a count above the current one and a kept joint or coupling
-  // that names a removed body or joint (PFX_ERR_OUT_OF_RANGE); nothing changes then.
+  // failed half way). Kept bodies that touched or were jointed to removed ones wake with
+  // their islands, so that nothing sleeps on a support that is gone. Rejects a count above
+  // the current one and a kept joint or coupling that names a removed body or joint
+  // (PFX_ERR_OUT_OF_RANGE); nothing changes then.
   PfxInt32 truncate(PfxUInt32 numBodies, PfxUInt32 numJoints, PfxUInt32 numJointCouplings);
 
   // One step of param.timeStep.
@@ -190,20 +228,31 @@ class PfxWorld {
   PfxInt32 castRay(const PfxRayInput& in, PfxRayOutput& out);
   PfxInt32 castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays);
 
-  // The pairs of the last step, sorted by key, and their contact manifolds.
-  PfxUInt32 getNumContactPairs() const { return m_numPairs; }
-  const PfxConstraintPair& getContactPair(PfxUInt32 i) const { return m_pairs[i]; }
+  // The pairs of the last step and their contact manifolds: those with an awake body that is
+  // not fixed, sorted by key, then those set aside while all their bodies sleep (or are
+  // fixed), sorted by key. A sleeping pair keeps the points it had when it fell asleep.
+  PfxUInt32 getNumContactPairs() const { return m_numPairs + m_numSleepingPairs; }
+  const PfxConstraintPair& getContactPair(PfxUInt32 i) const {
+    return i < m_numPairs ? m_pairs[i] : m_sleepingPairs[i - m_numPairs];
+  }
   const PfxContactManifold& getContactManifold(const PfxConstraintPair& pair) const {
     return m_manifolds[pfxGetContactId(pair)];
   }
+
+  // The simulation islands of the last step (pfx_island_generation.h), over all the pairs
+  // above, the joints and the couplings; an island is asleep when its bodies are. Bodies
+  // added since belong to none (pfxGetIslandId gives PFX_ISLAND_NONE).
+  const PfxIsland& getIsland() const { return *m_island; }
 
  private:
   PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body) const;
   void reserveBodies(std::size_t n);
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
+  PfxUInt32 takeManifold();
   void composeStablePairs();
   void assignSimplePairs();
+  void reservePairs();
   PfxInt32 detectCollision();
   PfxInt32 subStep(PfxFloat timeStep);
   PfxInt32 validateJoint(const PfxJoint& joint) const;
@@ -215,6 +264,22 @@ class PfxWorld {
   void reserveSolverWork();
   void dropJointedPairs();
   void gatherStats();
+  PfxInt32 generateIslands();
+  // Sleep (pfx_world_sleep.cpp).
+  void wakeTouchedIslands();
+  void updateSleep();
+  bool isDormant(const PfxConstraintPair& pair) const;
+  void putToSleep(PfxUInt32 id);
+  void wakeBody(PfxUInt32 id);
+  void wakeIslandOf(PfxUInt32 id);
+  void wakeIslandsTouching(PfxUInt32 id);
+  void wakeAfterChange(PfxUInt32 id);
+  void wakeJointBodies(PfxUInt32 jointId);
+  void restoreWokenPairs();
+  void setAsideDormantPairs();
+  void countSleepingContacts();
+  void wakeBeforeTruncate(PfxUInt32 numBodies, PfxUInt32 numJoints, PfxUInt32 numJointCouplings);
+  void gatherSleepStats();
   PfxInt32 updateRayProxies();
   PfxRayCastParam rayCastParam() const;
 
@@ -247,6 +312,26 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
+
+  // Pairs that findPairs no longer reports because all their bodies sleep (or are fixed),
+  // sorted by key and kept with their manifolds until a body wakes: a woken island gets
+  // its contacts back, impulses and all, in the same step, and islands stay whole while
+  // they sleep. m_pairs and m_sleepingPairs each have room for both together.
+  std::vector<PfxBroadphasePair> m_sleepingPairs;
+  PfxUInt32 m_numSleepingPairs = 0;
+  PfxUInt32 m_numSleepingBodies = 0;
+  // The contacts of the sleeping pairs, counted when pairs are set aside or come back (a
+  // sleeping manifold does not change), so that a step's statistics need not visit them.
+  PfxUInt32 m_sleepingContactPairs = 0;
+  PfxUInt32 m_sleepingContactPoints = 0;
+  PfxFloat m_sleepingMaxPenetration = 0;
+  bool m_pairsToRestore = false;  // a body woke since the sleeping pairs were last sorted out
+  // The islands (in m_islandBuff), their input and moving pairs' scratch (m_pairScratch),
+  // and one mark per island.
+  std::vector<PfxSortData16> m_islandBuff;
+  const PfxIsland* m_island = nullptr;
+  std::vector<PfxConstraintPair> m_pairScratch;
+  std::vector<PfxUInt8> m_islandMarks;
 
   std::vector<PfxJoint> m_joints;
   std::vector<PfxConstraintPair> m_jointPairs;
