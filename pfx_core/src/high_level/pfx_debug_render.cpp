@@ -208,14 +208,6 @@ bool boxMeetsFrustum(const PfxTransform3& transform, const PfxVector3& half,
   return true;
 }
 
-PfxUInt32 findRoot(std::vector<PfxUInt32>& parent, PfxUInt32 i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
 }  // namespace
 
 void PfxDebugRender::resetVisible(PfxUInt32 numRigidBodies) {
@@ -368,49 +360,25 @@ PfxInt32 PfxDebugRender::renderLocalAxis(const PfxWorld& world, PfxFloat scale) 
 }
 
 void PfxDebugRender::renderIsland(const PfxWorld& world) {
-  const PfxUInt32 numBodies = world.getNumRigidBodies();
-  auto moves = [&](PfxUInt32 id) {
-    return pfxMotionTypeIsDynamic(world.getRigidState(id).getMotionType());
-  };
-  m_islandParent.resize(numBodies);
-  for (PfxUInt32 i = 0; i < numBodies; ++i) m_islandParent[i] = i;
-  auto join = [&](PfxUInt32 a, PfxUInt32 b) {
-    if (a >= numBodies || b >= numBodies || !moves(a) || !moves(b)) return;
-    const PfxUInt32 ra = findRoot(m_islandParent, a), rb = findRoot(m_islandParent, b);
-    if (ra != rb) m_islandParent[std::max(ra, rb)] = std::min(ra, rb);
-  };
-  for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
-    const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(i));
-    if (manifold.getNumContacts() > 0) join(manifold.getRigidBodyIdA(), manifold.getRigidBodyIdB());
-  }
-  for (PfxUInt32 j = 0; j < world.getNumJoints(); ++j) {
-    const PfxJoint& joint = world.getJoint(j);
-    if (joint.m_active) join(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB);
-  }
-  // Bounds gathered at each root; a root's index is the lowest of its island.
-  m_islandBounds.assign(2 * std::size_t(numBodies), PfxVector3::Zero());
-  m_islandHasBody.assign(numBodies, 0);
-  for (PfxUInt32 id = 0; id < numBodies; ++id) {
-    if (!moves(id) || !isVisible(id)) continue;
-    PfxVector3 center, half;
-    world.getCollidable(id).getWorldAabb(world.getRigidState(id).getTransform(), center, half);
-    const PfxUInt32 root = findRoot(m_islandParent, id);
-    PfxVector3& lower = m_islandBounds[2 * root];
-    PfxVector3& upper = m_islandBounds[2 * root + 1];
-    if (!m_islandHasBody[root]) {
-      lower = center - half;
-      upper = center + half;
-      m_islandHasBody[root] = 1;
-    } else {
-      lower = lower.cwiseMin(center - half);
-      upper = upper.cwiseMax(center + half);
+  const PfxIsland& island = world.getIsland();
+  for (PfxUInt32 islandId = 0; islandId < pfxGetNumIslands(island); ++islandId) {
+    PfxUInt32 count = 0;
+    const PfxUInt32* bodies = pfxGetRigidBodiesInIsland(island, islandId, count);
+    PfxVector3 lower = PfxVector3::Zero(), upper = PfxVector3::Zero();
+    bool drawn = false;
+    for (PfxUInt32 i = 0; i < count; ++i) {
+      const PfxUInt32 id = bodies[i];
+      const PfxRigidState& state = world.getRigidState(id);
+      if (!pfxMotionTypeIsDynamic(state.getMotionType()) || !isVisible(id)) continue;
+      PfxVector3 center, half;
+      world.getCollidable(id).getWorldAabb(state.getTransform(), center, half);
+      lower = drawn ? PfxVector3(lower.cwiseMin(center - half)) : PfxVector3(center - half);
+      upper = drawn ? PfxVector3(upper.cwiseMax(center + half)) : PfxVector3(center + half);
+      drawn = true;
     }
-  }
-  for (PfxUInt32 root = 0; root < numBodies; ++root) {
-    if (!m_islandHasBody[root]) continue;
-    const PfxVector3& lower = m_islandBounds[2 * root];
-    const PfxVector3& upper = m_islandBounds[2 * root + 1];
-    drawAabb((lower + upper) / 2, (upper - lower) / 2, indexColor(root));
+    // Coloured by the island's lowest body, so that an island keeps its colour while other
+    // islands come and go.
+    if (drawn) drawAabb((lower + upper) / 2, (upper - lower) / 2, indexColor(bodies[0]));
   }
 }
 

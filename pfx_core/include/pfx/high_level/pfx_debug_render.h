@@ -81,9 +81,10 @@ class PfxDebugRender {
   // Each visible body's frame: its X, Y and Z axes as red, green and blue lines of `scale`
   // metres. Rejects a scale that is not finite and positive (PFX_ERR_INVALID_VALUE).
   PfxInt32 renderLocalAxis(const PfxWorld& world, PfxFloat scale = PfxFloat(0.1));
-  // Simulation islands: the bounds of each group of bodies that forces move and that the
-  // last step's contacts (pairs with at least one point) and the joints connect; a fixed or
-  // keyframe body joins no group, as it passes no motion on. One colour per island.
+  // Simulation islands of the last step (PfxWorld::getIsland): the bounds of the visible
+  // bodies that forces move in each group that contacts (pairs with at least one point),
+  // joints and couplings connect; a fixed or keyframe body joins no group, as it passes no
+  // motion on. One colour per island; bodies added since the last step are not drawn.
   void renderIsland(const PfxWorld& world);
   // Every contact point of the last step between visible bodies: a point on each surface
   // (the manifold's points on A and on B), the normal from A's point, and a line along the
@@ -130,10 +131,6 @@ class PfxDebugRender {
   PfxDebugRenderTriangleFunc m_triangle;
   std::vector<PfxUInt8> m_visible;
   std::vector<LargeMeshFlag> m_largeMeshFlags;
-  // Scratch of renderIsland: union-find parents, bounds and whether a root has a body.
-  std::vector<PfxUInt32> m_islandParent;
-  std::vector<PfxVector3> m_islandBounds;
-  std::vector<PfxUInt8> m_islandHasBody;
   PfxUInt32 m_circleSegments = 16;
   PfxFloat m_drawLength = PfxFloat(0.1);
   PfxFloat m_forceScale = PfxFloat(0.01);
