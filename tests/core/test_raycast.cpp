@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -443,6 +444,15 @@ TEST(RayInput, ZeroLengthNaNAndInfiniteRaysAreRejected) {
             PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(pfxCheckRayInput(makeRay(PfxVector3::Zero(), PfxVector3(1e20f, 0, 0))),
             PFX_ERR_INVALID_VALUE);
+  // The limits are float's in both precisions: what is infinite in float is rejected in
+  // double too, and lengths just inside them can be cast.
+  const PfxFloat beyondFloat = PfxFloat(std::numeric_limits<float>::max()) * 2;
+  EXPECT_EQ(pfxCheckRayInput(makeRay(PfxVector3(beyondFloat, 0, 0), PfxVector3(1, 0, 0))),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(pfxCheckRayInput(makeRay(PfxVector3::Zero(), PfxVector3(0, -beyondFloat, 0))),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(pfxCheckRayInput(makeRay(PfxVector3::Zero(), PfxVector3::Constant(1e18f))), PFX_OK);
+  EXPECT_EQ(pfxCheckRayInput(makeRay(PfxVector3::Zero(), PfxVector3(0, 0, 1e-18f))), PFX_OK);
   PfxRayInput reset;
   reset.reset();
   EXPECT_EQ(pfxCheckRayInput(reset), PFX_ERR_DEGENERATE);
@@ -964,7 +974,7 @@ TEST(RayBvh, RejectsBadBuffersAndWritesNothing) {
   cast.bvhProxies = scene.proxiesX().data();
   ASSERT_EQ(pfxCastSingleRay(makeRay(PfxVector3(-5, 0, 0), PfxVector3(10, 0, 0)), out, cast),
             PFX_OK);
-  EXPECT_EQ(out.m_variable, 0.4f);
+  EXPECT_EQ(out.m_variable, PfxFloat(0.4));
 }
 
 TEST(RayCastStage, EmptySceneMissesEverything) {
@@ -1178,7 +1188,7 @@ TEST(RayCastStageRejects, BadRaysAndParametersLeaveTheOutputUntouched) {
   PfxRayOutput out;
   ASSERT_EQ(pfxCastSingleRay(makeRay(PfxVector3(5, 0, 0), PfxVector3(-10, 0, 0)), out, p), PFX_OK);
   EXPECT_TRUE(out.m_contactFlag);
-  EXPECT_EQ(out.m_variable, 0.4f);
+  EXPECT_EQ(out.m_variable, PfxFloat(0.4));
 }
 
 TEST(RayCastStageRejects, BatchArraysMissingOrSharingBytes) {

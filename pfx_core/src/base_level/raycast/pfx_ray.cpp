@@ -21,15 +21,29 @@ void PfxRayOutput::setMiss(const PfxRayInput& ray) {
   m_contactFlag = false;
 }
 
+namespace {
+
+// A ray is castable within float's range in both precisions. The shape tests work in
+// double and multiply squared lengths together (a sphere's discriminant is the squared
+// length times the squared radius); from float's range these stay far inside double's, but
+// from double's own range they overflow and a long ray hits a large sphere at fraction 0.
+constexpr PfxFloat kLargestValue = PfxFloat(std::numeric_limits<float>::max());
+constexpr PfxFloat kSmallestLengthSq = PfxFloat(std::numeric_limits<float>::min());
+
+// False for NaN as well.
+bool withinFloatRange(const PfxVector3& v) { return (v.array().abs() <= kLargestValue).all(); }
+
+}  // namespace
+
 PfxInt32 pfxCheckRayInput(const PfxRayInput& ray) {
-  if (!pfxIsFinite(ray.m_startPosition) || !pfxIsFinite(ray.m_direction)) {
+  if (!withinFloatRange(ray.m_startPosition) || !withinFloatRange(ray.m_direction)) {
     return PFX_ERR_INVALID_VALUE;
   }
   // The shape tests divide by the squared length; one that overflows or underflows would
   // turn a finite ray into NaN there.
   const PfxFloat lengthSq = ray.m_direction.squaredNorm();
-  if (!pfxIsFinite(lengthSq)) return PFX_ERR_INVALID_VALUE;
-  if (!(lengthSq >= std::numeric_limits<PfxFloat>::min())) return PFX_ERR_DEGENERATE;
+  if (!(lengthSq <= kLargestValue)) return PFX_ERR_INVALID_VALUE;
+  if (!(lengthSq >= kSmallestLengthSq)) return PFX_ERR_DEGENERATE;
   return PFX_OK;
 }
 

@@ -25,9 +25,10 @@
 //
 // Rays that cannot be cast: a start or direction with a NaN or infinite component is
 // rejected with PFX_ERR_INVALID_VALUE, and so is a direction whose squared length overflows
-// (beyond about 1e19 in float); a zero-length direction, or one whose squared length
-// underflows (below about 1e-19 in float), with PFX_ERR_DEGENERATE. The output is then left
-// as it was.
+// (a length beyond about 1.8e19); a zero-length direction, or one whose squared length
+// underflows (a length below about 1.1e-19), with PFX_ERR_DEGENERATE. The output is then left
+// as it was. The limits are float's also in the double build (a component beyond 3.4e38 is
+// as infinite as in float), so a ray castable in one precision is castable in the other.
 #pragma once
 
 #include "pfx/base_level/base/pfx_vec_math.h"
