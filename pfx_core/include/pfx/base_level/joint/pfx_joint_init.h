@@ -29,8 +29,10 @@ struct PfxSwingTwistJointInitParam : PfxJointInitParamBase {
 
 struct PfxHingeJointInitParam : PfxJointInitParamBase {
   PfxVector3 axis = PfxVector3::UnitZ();
-  PfxFloat lowerAngle = -PfxFloat(3.14159265);
-  PfxFloat upperAngle = PfxFloat(3.14159265);
+  // The full turn, which leaves the hinge unlimited. Exactly PFX_PI: a rounded literal
+  // would lie inside the turn in double and stop the hinge there.
+  PfxFloat lowerAngle = -PFX_PI;
+  PfxFloat upperAngle = PFX_PI;
 };
 
 struct PfxSliderJointInitParam : PfxJointInitParamBase {
