@@ -4,13 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <vector>
 
 #include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_ragdoll.h"
+#include "pfx_object_bytes.h"
 
 using namespace pfx;
 
@@ -57,8 +57,8 @@ TEST(Joints, InitializationRejectsBadInputAndLeavesTheJointAlone) {
   PfxJoint joint;
   joint.reset();
   joint.m_rigidBodyIdA = 77;
-  const PfxJoint before = joint;
-  auto unchanged = [&] { return std::memcmp(&before, &joint, sizeof(PfxJoint)) == 0; };
+  const std::vector<unsigned char> before = pfx_test::objectBytes(joint);
+  auto unchanged = [&] { return pfx_test::sameBytes(before, joint); };
 
   PfxBallJointInitParam ball;
   ball.anchorPoint = PfxVector3(std::numeric_limits<PfxFloat>::quiet_NaN(), 0, 0);
