@@ -44,7 +44,7 @@ bool keyframeScene() {
   }
   int swept = 0;
   for (PfxUInt32 id : boxes) swept += world.getRigidState(id).getPosition().z() < 0.5f ? 1 : 0;
-  const PfxFloat turned = 2 * std::acos(std::min(1.0f, std::abs(world.getRigidState(paddle).getOrientation().w())));
+  const PfxFloat turned = 2 * std::acos(std::min(PfxFloat(1), std::abs(world.getRigidState(paddle).getOrientation().w())));
   std::printf("keyframe: paddle turned %.1f deg as fed; %d of 5 boxes swept off their row\n",
               turned * 180 / PFX_PI, swept);
   return swept >= 3 && std::abs(turned - PFX_PI) < 0.01f;
