@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, what the build needs. Usage: install_deps.sh [core|all]
-#   core: compiler, CMake, Eigen, GoogleTest, Google Benchmark (the physics core and its tests)
+#   core: compiler, CMake, Eigen, oneTBB (the task manager), GoogleTest, Google Benchmark (the
+#         physics core and its tests)
 #   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo), the ROS node
 #         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
 #         peers (Bullet, ODE, MuJoCo, Embree, gnuplot)
 set -euo pipefail
 
 set_name=${1:-core}
-core=(build-essential cmake pkg-config libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev)
+core=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libgtest-dev libgmock-dev
+  libbenchmark-dev)
 packages=("${core[@]}")
 if [ "$set_name" = all ]; then
   packages+=(liburdfdom-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
