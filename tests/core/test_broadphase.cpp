@@ -13,6 +13,7 @@
 #include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
 #include "pfx/low_level/broadphase/pfx_find_pairs.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/base_level/task/pfx_tbb_task_manager.h"
 
 namespace pfx {
 namespace {
@@ -1132,6 +1133,80 @@ TEST(DecomposePairs, BadInputIsRejectedAndNothingWritten) {
   p = good;
   p.currentPairs = repeated.data();
   expectRejected(PFX_ERR_INVALID_VALUE, p, "repeated key in current");
+}
+
+// ---------------------------------------------------------------------------------------
+// With a task manager: the same bytes as on one thread, whatever the number of threads.
+
+TEST(BroadphaseThreads, ProxiesAndPairsAreTheSameWithAnyNumberOfThreads) {
+  std::mt19937 rng(77);
+  // Enough bodies for the proxies, the sorts and the sweep to split into chunks; some lie
+  // outside the world.
+  const Scene original = randomScene(20000, rng, 60);
+  for (const PfxUInt32 behavior :
+       {PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION), PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY)}) {
+    Scene serialScene = original;
+    ProxyArrays serial(original.states.size());
+    PfxUpdateBroadphaseProxiesParam serialParam = serial.param(serialScene);
+    serialParam.worldExtent = PfxVector3::Constant(50);
+    serialParam.outOfWorldBehavior = behavior;
+    PfxUpdateBroadphaseProxiesResult serialResult;
+    ASSERT_EQ(PFX_OK, pfxUpdateBroadphaseProxies(serialParam, serialResult));
+    ASSERT_GT(serialResult.numOutOfWorldProxies, 0u);
+    ASSERT_GT(serialResult.numProxies, 10000u);
+
+    // Serial pairs, with room for all of them and with room for half.
+    PairBuffers serialPairs(200000);
+    PfxFindPairsParam findParam =
+        serialPairs.param(serial.arrays[1], serialResult.numProxies, 200000, 1);
+    PfxFindPairsResult found;
+    ASSERT_EQ(PFX_OK, pfxFindPairs(findParam, found));
+    const std::vector<PfxBroadphasePair> allPairs = resultPairs(found);
+    ASSERT_GT(allPairs.size(), 2000u);
+    const PfxUInt32 half = static_cast<PfxUInt32>(allPairs.size() / 2);
+    PairBuffers serialHalf(half);
+    findParam = serialHalf.param(serial.arrays[1], serialResult.numProxies, half, 1);
+    ASSERT_EQ(PFX_ERR_OUT_OF_MAX_PAIRS, pfxFindPairs(findParam, found));
+    const std::vector<PfxBroadphasePair> halfPairs = resultPairs(found);
+
+    for (PfxUInt32 threads : {1u, 2u, 4u}) {
+      PfxTbbTaskManager manager;
+      ASSERT_EQ(PFX_OK, manager.initialize(threads));
+      Scene scene = original;
+      ProxyArrays out(original.states.size());
+      PfxUpdateBroadphaseProxiesParam param = out.param(scene);
+      param.worldExtent = serialParam.worldExtent;
+      param.outOfWorldBehavior = behavior;
+      PfxUpdateBroadphaseProxiesResult result;
+      ASSERT_EQ(PFX_OK, pfxUpdateBroadphaseProxies(param, result, &manager));
+      EXPECT_EQ(serialResult.numProxies, result.numProxies);
+      EXPECT_EQ(serialResult.numOutOfWorldProxies, result.numOutOfWorldProxies);
+      for (int a = 0; a < 6; ++a) {
+        EXPECT_TRUE(sameBytes(serial.arrays[a], out.arrays[a])) << "array " << a << ", "
+                                                                  << threads << " threads";
+      }
+      for (std::size_t i = 0; i < scene.states.size(); ++i) {
+        ASSERT_EQ(serialScene.states[i].getMotionType(), scene.states[i].getMotionType());
+      }
+
+      // Exactly as many pairs as fit: chunks that found more than their share of the
+      // work buffer sweep again into place.
+      const PfxUInt32 exact = static_cast<PfxUInt32>(allPairs.size());
+      for (const PfxUInt32 maxPairs : {PfxUInt32(200000), exact}) {
+        PairBuffers buffers(maxPairs);
+        PfxFindPairsParam p = buffers.param(out.arrays[1], result.numProxies, maxPairs, 1);
+        PfxFindPairsResult pairs;
+        ASSERT_EQ(PFX_OK, pfxFindPairs(p, pairs, &manager));
+        EXPECT_TRUE(sameBytes(resultPairs(pairs), allPairs)) << threads << " threads";
+      }
+      PairBuffers halfBuffers(half);
+      PfxFindPairsParam p = halfBuffers.param(out.arrays[1], result.numProxies, half, 1);
+      PfxFindPairsResult pairs;
+      ASSERT_EQ(PFX_ERR_OUT_OF_MAX_PAIRS, pfxFindPairs(p, pairs, &manager));
+      EXPECT_EQ(exact, pairs.numPairsFound);
+      EXPECT_TRUE(sameBytes(resultPairs(pairs), halfPairs)) << threads << " threads";
+    }
+  }
 }
 
 }  // namespace

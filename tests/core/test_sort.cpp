@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "pfx/base_level/task/pfx_tbb_task_manager.h"
 #include "pfx/low_level/sort/pfx_parallel_sort.h"
 
 namespace pfx {
@@ -128,6 +129,30 @@ TYPED_TEST(SortTest, BadBuffersAreRejectedAndDataUntouched) {
   EXPECT_EQ(PFX_ERR_OUT_OF_BUFFER, pfxParallelSort(records.data(), 64, work.data(), bytes - 1));
   EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxParallelSort(records.data(), 64, records.data() + 32, bytes));
   expectSameRecords(records, before);
+}
+
+// Large arrays are sorted in chunks on several threads: the result must be the stable
+// order all the same, for every key pattern (one pass, several, none).
+TYPED_TEST(SortTest, TaskManagerGivesTheStableOrder) {
+  for (PfxUInt32 threads : {2u, 4u}) {
+    PfxTbbTaskManager manager;
+    ASSERT_EQ(PFX_OK, manager.initialize(threads));
+    unsigned seed = 100;
+    for (PfxUInt64 keyMask : {~PfxUInt64(0), PfxUInt64(0xffff), PfxUInt64(0x00ff0000000000ffull),
+                              PfxUInt64(0x3), PfxUInt64(0)}) {
+      for (std::size_t n : {std::size_t(9000), std::size_t(100003)}) {
+        std::mt19937_64 rng(++seed);
+        std::vector<TypeParam> records = randomRecords<TypeParam>(n, rng, keyMask);
+        std::vector<TypeParam> expected = records;
+        std::stable_sort(expected.begin(), expected.end(),
+                         [](const TypeParam& x, const TypeParam& y) { return x.key < y.key; });
+        std::vector<TypeParam> work(n);
+        ASSERT_EQ(PFX_OK, pfxParallelSort(records.data(), static_cast<PfxUInt32>(n), work.data(),
+                                          static_cast<PfxUInt32>(n * sizeof(TypeParam)), &manager));
+        expectSameRecords(records, expected);
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "pfx/low_level/broadphase/pfx_find_pairs.h"
 
+#include <algorithm>
+
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/low_level/sort/pfx_parallel_sort.h"
 #include "low_level/pfx_buffer_checks.h"
@@ -52,8 +54,8 @@ bool isPair(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b) {
 }  // namespace
 
 PfxUInt32 pfxGetWorkBytesOfFindPairs(PfxUInt32 maxPairs, PfxUInt32 /*maxTasks*/) {
-  // The sweep runs as one task, so the only scratch is the sort's, whatever the number
-  // of tasks the caller plans for.
+  // The tasks share the work buffer: each collects its pairs in its own part of it before
+  // they are copied out in order, and the sort then uses the whole buffer.
   return static_cast<PfxUInt32>(pfxAlignBytes(sizeof(PfxBroadphasePair) * maxPairs));
 }
 
@@ -61,7 +63,80 @@ PfxUInt32 pfxGetPairBytesOfFindPairs(PfxUInt32 maxPairs) {
   return static_cast<PfxUInt32>(pfxAlignBytes(sizeof(PfxBroadphasePair) * maxPairs));
 }
 
-PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result) {
+namespace {
+
+// Sweeps the proxies [begin, end) against those after them; writes the first `capacity`
+// pairs found to `out` and returns how many there are.
+PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies, int axis,
+                PfxUInt32 begin, PfxUInt32 end, PfxBroadphasePair* out, PfxUInt32 capacity) {
+  PfxUInt32 numFound = 0;
+  const int axis1 = (axis + 1) % 3;
+  const int axis2 = (axis + 2) % 3;
+  for (PfxUInt32 i = begin; i < end; ++i) {
+    const PfxBroadphaseProxy& a = proxies[i];
+    const PfxUInt16 last = pfxGetXMax(a, axis);
+    const CrossSection sectionA = crossSectionOf(a, axis1, axis2);
+    for (PfxUInt32 j = i + 1; j < numProxies && pfxGetXMin(proxies[j], axis) <= last; ++j) {
+      const PfxBroadphaseProxy& b = proxies[j];
+      if (!crossSectionsOverlap(sectionA, crossSectionOf(b, axis1, axis2)) || !isPair(a, b)) {
+        continue;
+      }
+      if (numFound < capacity) {
+        pfxInitializePair(out[numFound], pfxGetObjectId(a), pfxGetMotionType(a),
+                          pfxGetObjectId(b), pfxGetMotionType(b));
+      }
+      ++numFound;
+    }
+  }
+  return numFound;
+}
+
+// Chunks of at least this many proxies are swept as separate tasks.
+constexpr PfxUInt32 kMinProxiesPerChunk = 256;
+constexpr PfxUInt32 kMaxChunks = 64;
+
+// The sweep in chunks of proxies, each collecting its pairs in its share of the work
+// buffer; the pairs are then laid out chunk after chunk, which is the order of the sweep
+// over all proxies at once, up to maxPairs of them. A chunk that found more than its share
+// sweeps again straight into its place. Returns the number of pairs found.
+PfxUInt32 sweepInChunks(const PfxFindPairsParam& param, PfxBroadphasePair* pairs,
+                        PfxUInt32 numChunks, PfxTaskManager* taskManager) {
+  PfxBroadphasePair* work = static_cast<PfxBroadphasePair*>(param.workBuff);
+  const PfxUInt32 share = param.maxPairs / numChunks;
+  auto chunkBegin = [&](PfxUInt32 c) { return pfxChunkBegin(param.numProxies, numChunks, c); };
+  PfxUInt32 found[kMaxChunks];
+  pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 c = first; c < last; ++c) {
+      found[c] = sweep(param.proxies, param.numProxies, param.axis, chunkBegin(c),
+                       chunkBegin(c + 1), work + std::size_t(c) * share, share);
+    }
+  });
+  PfxUInt32 offsets[kMaxChunks];
+  PfxUInt32 numFound = 0;
+  for (PfxUInt32 c = 0; c < numChunks; ++c) {
+    offsets[c] = numFound;
+    numFound += found[c];
+  }
+  pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 c = first; c < last; ++c) {
+      if (offsets[c] >= param.maxPairs) continue;
+      const PfxUInt32 room = std::min(found[c], param.maxPairs - offsets[c]);
+      if (found[c] <= share) {
+        const PfxBroadphasePair* collected = work + std::size_t(c) * share;
+        std::copy(collected, collected + room, pairs + offsets[c]);
+      } else {
+        sweep(param.proxies, param.numProxies, param.axis, chunkBegin(c), chunkBegin(c + 1),
+              pairs + offsets[c], room);
+      }
+    }
+  });
+  return numFound;
+}
+
+}  // namespace
+
+PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result,
+                      PfxTaskManager* taskManager) {
   const int axis = param.axis;
   if (axis < 0 || axis > 2) return PFX_ERR_INVALID_VALUE;
   if (param.numProxies > 0 && !param.proxies) return PFX_ERR_NULL_POINTER;
@@ -79,29 +154,15 @@ PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result
   if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) return PFX_ERR_INVALID_VALUE;
 
   PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);
-  const PfxBroadphaseProxy* proxies = param.proxies;
-  PfxUInt32 numFound = 0;
-  const int axis1 = (axis + 1) % 3;
-  const int axis2 = (axis + 2) % 3;
-  for (PfxUInt32 i = 0; i < param.numProxies; ++i) {
-    const PfxBroadphaseProxy& a = proxies[i];
-    const PfxUInt16 end = pfxGetXMax(a, axis);
-    const CrossSection sectionA = crossSectionOf(a, axis1, axis2);
-    for (PfxUInt32 j = i + 1; j < param.numProxies && pfxGetXMin(proxies[j], axis) <= end; ++j) {
-      const PfxBroadphaseProxy& b = proxies[j];
-      if (!crossSectionsOverlap(sectionA, crossSectionOf(b, axis1, axis2)) || !isPair(a, b)) {
-        continue;
-      }
-      if (numFound < param.maxPairs) {
-        pfxInitializePair(pairs[numFound], pfxGetObjectId(a), pfxGetMotionType(a),
-                          pfxGetObjectId(b), pfxGetMotionType(b));
-      }
-      ++numFound;
-    }
-  }
+  const PfxUInt32 numChunks =
+      pfxNumChunks(taskManager, param.numProxies, kMinProxiesPerChunk, kMaxChunks);
+  const PfxUInt32 numFound =
+      numChunks == 1 ? sweep(param.proxies, param.numProxies, axis, 0, param.numProxies, pairs,
+                             param.maxPairs)
+                     : sweepInChunks(param, pairs, numChunks, taskManager);
 
   const PfxUInt32 numStored = numFound < param.maxPairs ? numFound : param.maxPairs;
-  pfxParallelSort(pairs, numStored, param.workBuff, param.workBytes);
+  pfxParallelSort(pairs, numStored, param.workBuff, param.workBytes, taskManager);
   result.pairs = pairs;
   result.numPairs = numStored;
   result.numPairsFound = numFound;

@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kQuantizedMax = 65535.0;
 constexpr int kNumProxyArrays = 6;
+constexpr PfxUInt32 kBodiesPerTask = 256;
 constexpr PfxUInt32 kKnownOutOfWorldFlags =
     PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION | PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY;
 
@@ -119,7 +120,8 @@ PfxUInt32 pfxGetWorkBytesOfUpdateBroadphaseProxies(PfxUInt32 numRigidBodies) {
 }
 
 PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param,
-                                    PfxUpdateBroadphaseProxiesResult& result) {
+                                    PfxUpdateBroadphaseProxiesResult& result,
+                                    PfxTaskManager* taskManager) {
   PfxBroadphaseProxy* const arrays[kNumProxyArrays] = {param.proxiesX,  param.proxiesY,
                                                       param.proxiesZ,  param.proxiesXb,
                                                       param.proxiesYb, param.proxiesZb};
@@ -166,30 +168,41 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   const bool fixOutside = (param.outOfWorldBehavior & PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION) != 0;
   const bool removeOutside =
       (param.outOfWorldBehavior & PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY) != 0;
-  PfxUInt32 numProxies = 0;
-  PfxUInt32 numOutOfWorld = 0;
-  for (PfxUInt32 i = 0; i < n; ++i) {
-    PfxRigidState& state = param.offsetRigidStates[i];
-    PfxBroadphaseProxy proxy;
-    if (buildProxy(proxy, state, param.offsetCollidables[i], grid, param.timeStep)) {
-      ++numOutOfWorld;
-      if (fixOutside) {
+  // Each body writes its own proxy at its own index; the sort value (rewritten below)
+  // marks a body outside the world until the proxies are counted in body order.
+  pfxParallelFor(taskManager, n, kBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 i = begin; i < end; ++i) {
+      PfxRigidState& state = param.offsetRigidStates[i];
+      PfxBroadphaseProxy& proxy = primary[i];
+      const bool outOfWorld =
+          buildProxy(proxy, state, param.offsetCollidables[i], grid, param.timeStep);
+      if (outOfWorld && fixOutside) {
         state.setMotionType(kPfxMotionTypeFixed);
         pfxSetIdentity(proxy, state.getRigidBodyId(), kPfxMotionTypeFixed, state.isAsleep());
       }
-      if (removeOutside) continue;
+      pfxSetSortValue(proxy, outOfWorld ? 1 : 0);
     }
-    primary[numProxies++] = proxy;
+  });
+  PfxUInt32 numProxies = 0;
+  PfxUInt32 numOutOfWorld = 0;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const bool outOfWorld = pfxGetSortValue(primary[i]) != 0;
+    numOutOfWorld += outOfWorld ? 1 : 0;
+    if (outOfWorld && removeOutside) continue;
+    if (numProxies != i) primary[numProxies] = primary[i];
+    ++numProxies;
   }
 
   for (int a = 0; a < kNumProxyArrays; ++a) {
     PfxBroadphaseProxy* array = arrays[a];
     if (!array) continue;
-    for (PfxUInt32 i = 0; i < numProxies; ++i) {
-      if (array != primary) array[i] = primary[i];
-      pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
-    }
-    pfxParallelSort(array, numProxies, param.workBuff, param.workBytes);
+    pfxParallelFor(taskManager, numProxies, kBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+      for (PfxUInt32 i = begin; i < end; ++i) {
+        if (array != primary) array[i] = primary[i];
+        pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
+      }
+    });
+    pfxParallelSort(array, numProxies, param.workBuff, param.workBytes, taskManager);
   }
 
   result.numProxies = numProxies;

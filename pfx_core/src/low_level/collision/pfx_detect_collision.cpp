@@ -20,9 +20,31 @@ PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const 
   return (linear + angular) * timeStep;
 }
 
+constexpr PfxUInt32 kPairsPerTask = 32;
+
+void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
+                PfxContactCandidate* candidates) {
+  const PfxUInt32 idA = pfxGetObjectIdA(pair);
+  const PfxUInt32 idB = pfxGetObjectIdB(pair);
+  const PfxRigidState& stateA = param.offsetRigidStates[idA];
+  const PfxRigidState& stateB = param.offsetRigidStates[idB];
+  const PfxCollidable& collA = param.offsetCollidables[idA];
+  const PfxCollidable& collB = param.offsetCollidables[idB];
+  const PfxTransform3 transformA = stateA.getTransform();
+  const PfxTransform3 transformB = stateB.getTransform();
+  const PfxFloat threshold =
+      param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
+  const PfxUInt32 numCandidates =
+      pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
+                            PFX_MAX_CONTACT_CANDIDATES);
+  PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+  manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
+  pfxSetNumConstraints(pair, manifold.getNumContacts());
+}
+
 }  // namespace
 
-PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param) {
+PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager* taskManager) {
   if (param.numContactPairs > 0 && (!param.contactPairs || !param.offsetContactManifolds ||
                                     !param.offsetRigidStates || !param.offsetCollidables)) {
     return PFX_ERR_NULL_POINTER;
@@ -36,26 +58,14 @@ PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param) {
     return PFX_ERR_OUT_OF_RANGE;
   }
 
-  PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
-  for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
-    PfxConstraintPair& pair = param.contactPairs[i];
-    const PfxUInt32 idA = pfxGetObjectIdA(pair);
-    const PfxUInt32 idB = pfxGetObjectIdB(pair);
-    const PfxRigidState& stateA = param.offsetRigidStates[idA];
-    const PfxRigidState& stateB = param.offsetRigidStates[idB];
-    const PfxCollidable& collA = param.offsetCollidables[idA];
-    const PfxCollidable& collB = param.offsetCollidables[idB];
-    const PfxTransform3 transformA = stateA.getTransform();
-    const PfxTransform3 transformB = stateB.getTransform();
-    const PfxFloat threshold =
-        param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
-    const PfxUInt32 numCandidates =
-        pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
-                              PFX_MAX_CONTACT_CANDIDATES);
-    PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
-    manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
-    pfxSetNumConstraints(pair, manifold.getNumContacts());
-  }
+  // Each pair writes only its own manifold and its own pair.
+  pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     detectPair(param, param.contactPairs[i], candidates);
+                   }
+                 });
   return PFX_OK;
 }
 

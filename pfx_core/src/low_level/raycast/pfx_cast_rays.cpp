@@ -266,7 +266,7 @@ PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRay
 }
 
 PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays,
-                     const PfxRayCastParam& param) {
+                     const PfxRayCastParam& param, PfxTaskManager* taskManager) {
   if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
   if (numRays == 0) return PFX_OK;
   if (!in || !out) return PFX_ERR_NULL_POINTER;
@@ -289,35 +289,44 @@ PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays
   for (PfxUInt32 i = 0; i < numRays; ++i) {
     if (const PfxInt32 err = checkRay(in[i], param); err != PFX_OK) return err;
   }
+  // Each ray writes only its own output, so tasks may take any of them.
+  constexpr PfxUInt32 kRaysPerTask = 64;
   if (!ordered) {
-    for (PfxUInt32 i = 0; i < numRays; ++i) castCheckedRay(in[i], out[i], param);
+    pfxParallelFor(taskManager, numRays, kRaysPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+      for (PfxUInt32 i = begin; i < end; ++i) castCheckedRay(in[i], out[i], param);
+    });
     return PFX_OK;
   }
   PfxSortData16* order = static_cast<PfxSortData16*>(param.workBuff);
-  for (PfxUInt32 i = 0; i < numRays; ++i) {
-    pfxSetKey(order[i], mortonKey(in[i], param));
-    order[i].data[0] = i;
-    order[i].data[1] = 0;
-  }
+  pfxParallelFor(taskManager, numRays, 1024, [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 i = begin; i < end; ++i) {
+      pfxSetKey(order[i], mortonKey(in[i], param));
+      order[i].data[0] = i;
+      order[i].data[1] = 0;
+    }
+  });
   const PfxUInt32 recordBytes = static_cast<PfxUInt32>(sizeof(PfxSortData16) * numRays);
-  if (const PfxInt32 err = pfxParallelSort(order, numRays, order + numRays, recordBytes);
+  if (const PfxInt32 err =
+          pfxParallelSort(order, numRays, order + numRays, recordBytes, taskManager);
       err != PFX_OK) {
     return err;
   }
   // In this order the rays and outputs are read and written all over their arrays; asking
   // for them a few rays ahead hides the wait for memory behind the casts in between.
   constexpr PfxUInt32 kLookAhead = 8;
-  for (PfxUInt32 k = 0; k < numRays; ++k) {
+  pfxParallelFor(taskManager, numRays, kRaysPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 k = begin; k < end; ++k) {
 #if defined(__GNUC__)
-    if (k + kLookAhead < numRays) {
-      const PfxUInt32 ahead = order[k + kLookAhead].data[0];
-      __builtin_prefetch(&in[ahead]);
-      __builtin_prefetch(&out[ahead], 1);
-    }
+      if (k + kLookAhead < end) {
+        const PfxUInt32 ahead = order[k + kLookAhead].data[0];
+        __builtin_prefetch(&in[ahead]);
+        __builtin_prefetch(&out[ahead], 1);
+      }
 #endif
-    const PfxUInt32 i = order[k].data[0];
-    castCheckedRay(in[i], out[i], param);
-  }
+      const PfxUInt32 i = order[k].data[0];
+      castCheckedRay(in[i], out[i], param);
+    }
+  });
   return PFX_OK;
 }
 

@@ -4,6 +4,8 @@ namespace pfx {
 
 namespace {
 
+constexpr PfxUInt32 kBodiesPerTask = 512;
+
 bool movedByForces(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
 }
@@ -33,7 +35,8 @@ PfxInt32 pfxApplyExternalForce(PfxRigidState& state, const PfxRigidBody& body,
   return PFX_OK;
 }
 
-PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param) {
+PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param,
+                               PfxTaskManager* taskManager) {
   if (param.numRigidBodies > 0 && (!param.states || !param.bodies)) return PFX_ERR_NULL_POINTER;
   if (!validStep(param.gravity, param.timeStep)) return PFX_ERR_INVALID_VALUE;
   for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
@@ -43,12 +46,16 @@ PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param) {
     }
   }
   const PfxVector3 zero = PfxVector3::Zero();
-  for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
-    PfxRigidState& state = param.states[i];
-    if (!movedByForces(state)) continue;
-    applyForce(state, param.bodies[i], param.forces ? param.forces[i] : zero,
-               param.torques ? param.torques[i] : zero, param.gravity, param.timeStep);
-  }
+  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     PfxRigidState& state = param.states[i];
+                     if (!movedByForces(state)) continue;
+                     applyForce(state, param.bodies[i], param.forces ? param.forces[i] : zero,
+                                param.torques ? param.torques[i] : zero, param.gravity,
+                                param.timeStep);
+                   }
+                 });
   return PFX_OK;
 }
 

@@ -30,6 +30,8 @@ PfxQuat rotationAboutAxis(int axis, PfxFloat angle) {
 constexpr PfxFloat kMaxSplitAngle = PfxFloat(0.2);
 constexpr int kMaxSplitParts = 64;
 
+constexpr PfxUInt32 kBodiesPerTask = 256;
+
 bool isDiagonal(const PfxMatrix3& m) {
   return m(0, 1) == 0 && m(0, 2) == 0 && m(1, 2) == 0 && m(1, 0) == 0 && m(2, 0) == 0 &&
          m(2, 1) == 0;
@@ -102,12 +104,16 @@ void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeS
   state.setAngularVelocity(frame * momentum.cwiseQuotient(principalInertia));
 }
 
-PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param) {
+PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,
+                              PfxTaskManager* taskManager) {
   if (param.numRigidBodies > 0 && (!param.states || !param.bodies)) return PFX_ERR_NULL_POINTER;
   if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep)) return PFX_ERR_INVALID_VALUE;
-  for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
-    pfxIntegrate(param.states[i], param.bodies[i], param.timeStep);
-  }
+  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     pfxIntegrate(param.states[i], param.bodies[i], param.timeStep);
+                   }
+                 });
   return PFX_OK;
 }
 

@@ -91,9 +91,33 @@ void setupNormalCoupling(PfxContactManifold& manifold, const PfxSolverBody& a, P
   }
 }
 
+constexpr PfxUInt32 kPairsPerTask = 128;
+
+void setupPair(const PfxSetupContactConstraintsParam& param, const PfxConstraintPair& pair) {
+  if (!pfxGetActive(pair)) return;
+  PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+  if (manifold.getNumContacts() == 0) return;
+  const PfxUInt32 idA = pfxGetObjectIdA(pair);
+  const PfxUInt32 idB = pfxGetObjectIdB(pair);
+  const PfxRigidBody& bodyA = param.offsetRigidBodies[idA];
+  const PfxRigidBody& bodyB = param.offsetRigidBodies[idB];
+  manifold.setCompositeFriction(std::sqrt(bodyA.getFriction() * bodyB.getFriction()));
+  manifold.setCompositeRestitution(std::max(bodyA.getRestitution(), bodyB.getRestitution()));
+  const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
+  const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
+  const PfxSolverBody& solverA = param.offsetSolverBodies[idA];
+  const PfxSolverBody& solverB = param.offsetSolverBodies[idB];
+  for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
+    setupPoint(manifold.getContactPoint(c), param.offsetRigidStates[idA], solverA, receivesA,
+               param.offsetRigidStates[idB], solverB, receivesB, param);
+  }
+  setupNormalCoupling(manifold, solverA, receivesA, solverB, receivesB);
+}
+
 }  // namespace
 
-PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param) {
+PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param,
+                                    PfxTaskManager* taskManager) {
   if (param.numContactPairs > 0 &&
       (!param.contactPairs || !param.offsetContactManifolds || !param.offsetRigidStates ||
        !param.offsetRigidBodies || !param.offsetSolverBodies)) {
@@ -108,27 +132,10 @@ PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param
     return PFX_ERR_OUT_OF_RANGE;
   }
 
-  for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
-    const PfxConstraintPair& pair = param.contactPairs[i];
-    if (!pfxGetActive(pair)) continue;
-    PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
-    if (manifold.getNumContacts() == 0) continue;
-    const PfxUInt32 idA = pfxGetObjectIdA(pair);
-    const PfxUInt32 idB = pfxGetObjectIdB(pair);
-    const PfxRigidBody& bodyA = param.offsetRigidBodies[idA];
-    const PfxRigidBody& bodyB = param.offsetRigidBodies[idB];
-    manifold.setCompositeFriction(std::sqrt(bodyA.getFriction() * bodyB.getFriction()));
-    manifold.setCompositeRestitution(std::max(bodyA.getRestitution(), bodyB.getRestitution()));
-    const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
-    const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
-    const PfxSolverBody& solverA = param.offsetSolverBodies[idA];
-    const PfxSolverBody& solverB = param.offsetSolverBodies[idB];
-    for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
-      setupPoint(manifold.getContactPoint(c), param.offsetRigidStates[idA], solverA, receivesA,
-                 param.offsetRigidStates[idB], solverB, receivesB, param);
-    }
-    setupNormalCoupling(manifold, solverA, receivesA, solverB, receivesB);
-  }
+  pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) setupPair(param, param.contactPairs[i]);
+                 });
   return PFX_OK;
 }
 

@@ -11,6 +11,7 @@ namespace pfx {
 namespace {
 
 constexpr PfxFloat kInfinity = std::numeric_limits<PfxFloat>::max();
+constexpr PfxUInt32 kJointsPerTask = 64;
 
 struct JointBodies {
   const PfxRigidState& stateA;
@@ -209,7 +210,8 @@ void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVecto
 
 }  // namespace
 
-PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
+PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
+                                  PfxTaskManager* taskManager) {
   if (param.numJointCouplings > 0 && (!param.offsetJointCouplings || !param.offsetJoints ||
                                       !param.offsetRigidStates || !param.offsetSolverBodies)) {
     return PFX_ERR_NULL_POINTER;
@@ -261,18 +263,21 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param) {
                             param.timeStep);
     }
   }
-  for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
-    const PfxConstraintPair& pair = param.jointPairs[i];
-    if (!pfxGetActive(pair)) continue;
-    const PfxUInt32 idA = pfxGetObjectIdA(pair);
-    const PfxUInt32 idB = pfxGetObjectIdB(pair);
-    const JointBodies bodies{param.offsetRigidStates[idA], param.offsetRigidStates[idB],
-                             param.offsetSolverBodies[idA], param.offsetSolverBodies[idB],
-                             pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
-                             pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
-    setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, param.timeStep,
-               param.warmStartFactor);
-  }
+  pfxParallelFor(taskManager, param.numJointPairs, kJointsPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 i = begin; i < end; ++i) {
+      const PfxConstraintPair& pair = param.jointPairs[i];
+      if (!pfxGetActive(pair)) continue;
+      const PfxUInt32 idA = pfxGetObjectIdA(pair);
+      const PfxUInt32 idB = pfxGetObjectIdB(pair);
+      const JointBodies bodies{param.offsetRigidStates[idA], param.offsetRigidStates[idB],
+                               param.offsetSolverBodies[idA], param.offsetSolverBodies[idB],
+                               pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
+                               pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
+      setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, param.timeStep,
+                 param.warmStartFactor);
+    }
+  });
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
     PfxJointCoupling& coupling = param.offsetJointCouplings[i];
     if (!coupling.m_active || !param.offsetJoints[coupling.m_leaderJointId].m_active ||

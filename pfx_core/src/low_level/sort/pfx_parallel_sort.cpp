@@ -10,6 +10,9 @@ namespace {
 
 constexpr int kNumDigits = 8;  // bytes of the 64-bit key
 constexpr int kNumBuckets = 256;
+// Below this many records per chunk a pass is too short to be worth a task.
+constexpr PfxUInt32 kMinRecordsPerChunk = 4096;
+constexpr PfxUInt32 kMaxSortChunks = 16;
 
 inline PfxUInt32 digitOf(PfxUInt64 key, int digit) {
   return static_cast<PfxUInt32>(key >> (digit * 8)) & 0xffu;
@@ -32,11 +35,7 @@ PfxInt32 validateSort(const Record* data, PfxUInt32 numData, const void* workBuf
 // order. The result depends on nothing but the input, which keeps the pipeline
 // deterministic.
 template <class Record>
-PfxInt32 radixSort(Record* data, PfxUInt32 numData, void* workBuff, PfxUInt32 workBytes) {
-  const PfxInt32 err = validateSort(data, numData, workBuff, workBytes);
-  if (err != PFX_OK) return err;
-  if (numData < 2) return PFX_OK;
-
+void serialRadixSort(Record* data, PfxUInt32 numData, void* workBuff) {
   // All eight histograms in one read of the data; the array lives on the stack (8 KiB)
   // because a stage must not allocate.
   PfxUInt32 counts[kNumDigits][kNumBuckets] = {};
@@ -66,19 +65,103 @@ PfxInt32 radixSort(Record* data, PfxUInt32 numData, void* workBuff, PfxUInt32 wo
   if (src != data) {
     for (PfxUInt32 i = 0; i < numData; ++i) data[i] = src[i];
   }
+}
+
+// The same passes over contiguous chunks of the records: each chunk counts its own
+// histogram, the chunks' buckets are laid out in chunk order (all of bucket 0 first, chunk
+// by chunk, then bucket 1, ...), and each chunk scatters its records in its own order. That
+// is exactly the serial pass, so the result is the same for any number of chunks.
+template <class Record>
+void chunkedRadixSort(Record* data, PfxUInt32 numData, void* workBuff, PfxUInt32 numChunks,
+                      PfxTaskManager* taskManager) {
+  auto chunkBegin = [&](PfxUInt32 c) { return pfxChunkBegin(numData, numChunks, c); };
+  // The bits that differ between keys decide which bytes need a pass.
+  PfxUInt64 anyBits[kMaxSortChunks], allBits[kMaxSortChunks];
+  pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 c = first; c < last; ++c) {
+      PfxUInt64 any = 0, all = ~PfxUInt64(0);
+      for (PfxUInt32 i = chunkBegin(c); i < chunkBegin(c + 1); ++i) {
+        any |= data[i].key;
+        all &= data[i].key;
+      }
+      anyBits[c] = any;
+      allBits[c] = all;
+    }
+  });
+  PfxUInt64 differing = 0, all = ~PfxUInt64(0);
+  for (PfxUInt32 c = 0; c < numChunks; ++c) {
+    differing |= anyBits[c];
+    all &= allBits[c];
+  }
+  differing &= ~all;
+
+  // 16 KiB on the stack: a stage must not allocate.
+  PfxUInt32 counts[kMaxSortChunks][kNumBuckets];
+  Record* src = data;
+  Record* dst = static_cast<Record*>(workBuff);
+  for (int d = 0; d < kNumDigits; ++d) {
+    if (digitOf(differing, d) == 0) continue;
+    pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+      for (PfxUInt32 c = first; c < last; ++c) {
+        PfxUInt32* bucket = counts[c];
+        for (int b = 0; b < kNumBuckets; ++b) bucket[b] = 0;
+        for (PfxUInt32 i = chunkBegin(c); i < chunkBegin(c + 1); ++i) {
+          ++bucket[digitOf(src[i].key, d)];
+        }
+      }
+    });
+    PfxUInt32 offset = 0;
+    for (int b = 0; b < kNumBuckets; ++b) {
+      for (PfxUInt32 c = 0; c < numChunks; ++c) {
+        const PfxUInt32 n = counts[c][b];
+        counts[c][b] = offset;
+        offset += n;
+      }
+    }
+    pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+      for (PfxUInt32 c = first; c < last; ++c) {
+        PfxUInt32* bucket = counts[c];
+        for (PfxUInt32 i = chunkBegin(c); i < chunkBegin(c + 1); ++i) {
+          dst[bucket[digitOf(src[i].key, d)]++] = src[i];
+        }
+      }
+    });
+    std::swap(src, dst);
+  }
+
+  if (src != data) {
+    pfxParallelFor(taskManager, numData, kMinRecordsPerChunk, [&](PfxUInt32 first, PfxUInt32 last) {
+      for (PfxUInt32 i = first; i < last; ++i) data[i] = src[i];
+    });
+  }
+}
+
+template <class Record>
+PfxInt32 radixSort(Record* data, PfxUInt32 numData, void* workBuff, PfxUInt32 workBytes,
+                   PfxTaskManager* taskManager) {
+  const PfxInt32 err = validateSort(data, numData, workBuff, workBytes);
+  if (err != PFX_OK) return err;
+  if (numData < 2) return PFX_OK;
+  const PfxUInt32 numChunks =
+      pfxNumChunks(taskManager, numData, kMinRecordsPerChunk, kMaxSortChunks);
+  if (numChunks == 1) {
+    serialRadixSort(data, numData, workBuff);
+  } else {
+    chunkedRadixSort(data, numData, workBuff, numChunks, taskManager);
+  }
   return PFX_OK;
 }
 
 }  // namespace
 
 PfxInt32 pfxParallelSort(PfxSortData16* data, PfxUInt32 numData, void* workBuff,
-                         PfxUInt32 workBytes) {
-  return radixSort(data, numData, workBuff, workBytes);
+                         PfxUInt32 workBytes, PfxTaskManager* taskManager) {
+  return radixSort(data, numData, workBuff, workBytes, taskManager);
 }
 
 PfxInt32 pfxParallelSort(PfxSortData32* data, PfxUInt32 numData, void* workBuff,
-                         PfxUInt32 workBytes) {
-  return radixSort(data, numData, workBuff, workBytes);
+                         PfxUInt32 workBytes, PfxTaskManager* taskManager) {
+  return radixSort(data, numData, workBuff, workBytes, taskManager);
 }
 
 }  // namespace pfx

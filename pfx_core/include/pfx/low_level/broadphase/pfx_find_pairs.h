@@ -3,6 +3,7 @@
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -30,7 +31,9 @@ PfxUInt32 pfxGetPairBytesOfFindPairs(PfxUInt32 maxPairs);
 
 // A pair is reported when the boxes overlap on all three axes, the two motion types
 // collide (seed chapter 10), the contact filters match, and not both bodies are asleep
-// (or one asleep and the other fixed).
-PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result);
+// (or one asleep and the other fixed). With a task manager the proxies are swept in chunks
+// in parallel; the pairs come out the same.
+PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result,
+                      PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

@@ -4,6 +4,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -51,8 +52,11 @@ struct PfxUpdateBroadphaseProxiesResult {
 
 PfxUInt32 pfxGetWorkBytesOfUpdateBroadphaseProxies(PfxUInt32 numRigidBodies);
 
+// With a task manager, bodies are turned into proxies in parallel and the arrays sorted
+// in parallel; the arrays come out the same.
 PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param,
-                                    PfxUpdateBroadphaseProxiesResult& result);
+                                    PfxUpdateBroadphaseProxiesResult& result,
+                                    PfxTaskManager* taskManager = nullptr);
 
 // The axis (0, 1, 2) along which body centres spread the most: the best one to sweep.
 int pfxChooseSweepAxis(const PfxRigidState* states, PfxUInt32 numRigidBodies);

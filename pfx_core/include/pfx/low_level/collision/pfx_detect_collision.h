@@ -5,6 +5,7 @@
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -26,7 +27,9 @@ struct PfxDetectCollisionParam {
   PfxFloat matchDistanceSq = 0;
 };
 
-// Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints).
-PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param);
+// Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints);
+// pairs run in parallel with a task manager. Pairs must name distinct manifolds.
+PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param,
+                            PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

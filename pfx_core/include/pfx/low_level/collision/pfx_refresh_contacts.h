@@ -6,6 +6,7 @@
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -22,6 +23,8 @@ struct PfxRefreshContactsParam {
   const PfxCollidable* offsetCollidables = nullptr;
 };
 
-PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param);
+// Pairs run in parallel with a task manager; they must name distinct manifolds.
+PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param,
+                            PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

@@ -27,6 +27,7 @@
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/raycast/pfx_ray.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 #include "pfx/low_level/raycast/pfx_build_ray_bvh.h"
 
 namespace pfx {
@@ -84,8 +85,9 @@ PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRay
 // with rays to cast (PFX_ERR_NULL_POINTER), output that shares bytes with the input or
 // the work buffer (PFX_ERR_INVALID_VALUE), a misaligned or short work buffer
 // (PFX_ERR_INVALID_ALIGNMENT, PFX_ERR_OUT_OF_BUFFER) and, with a work buffer, more than
-// PFX_CAST_RAYS_MAX_ORDERED rays (PFX_ERR_OUT_OF_RANGE) are rejected as well.
+// PFX_CAST_RAYS_MAX_ORDERED rays (PFX_ERR_OUT_OF_RANGE) are rejected as well. With a task
+// manager the rays are cast in parallel, each writing only its own output.
 PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays,
-                     const PfxRayCastParam& param);
+                     const PfxRayCastParam& param, PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

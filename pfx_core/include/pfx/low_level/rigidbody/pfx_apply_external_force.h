@@ -3,6 +3,7 @@
 
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -23,7 +24,9 @@ struct PfxApplyExternalForceParam {
 };
 
 // Many bodies. Every input is checked before any state is touched: a NaN force, a
-// non-positive time step or a missing array is rejected and changes nothing.
-PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param);
+// non-positive time step or a missing array is rejected and changes nothing. Bodies run in
+// parallel with a task manager.
+PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param,
+                               PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

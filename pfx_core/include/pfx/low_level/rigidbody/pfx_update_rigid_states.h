@@ -9,6 +9,7 @@
 
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -23,6 +24,8 @@ struct PfxUpdateRigidStatesParam {
   PfxFloat timeStep = 0;
 };
 
-PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param);
+// Bodies run in parallel with a task manager.
+PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,
+                              PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

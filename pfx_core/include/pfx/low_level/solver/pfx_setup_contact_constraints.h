@@ -7,6 +7,7 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -28,6 +29,8 @@ struct PfxSetupContactConstraintsParam {
   PfxFloat warmStartFactor = 1.0f;
 };
 
-PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param);
+// Pairs run in parallel with a task manager; they must name distinct manifolds.
+PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param,
+                                    PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

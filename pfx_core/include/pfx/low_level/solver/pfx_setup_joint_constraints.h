@@ -6,6 +6,7 @@
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -33,6 +34,9 @@ struct PfxSetupJointConstraintsParam {
 // multiplier * leader + offset; one whose joints are inactive, or that is inactive itself,
 // acts on no body. Rejects couplings naming joints or axes out of range
 // (PFX_ERR_OUT_OF_RANGE) before changing anything.
-PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param);
+// With a task manager the joints' rows are set up in parallel (each joint writes only its
+// own); couplings follow in order.
+PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
+                                  PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

@@ -4,6 +4,7 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -15,7 +16,8 @@ struct PfxSetupSolverBodiesParam {
 };
 
 // Bodies that impulses do not move (fixed, keyframe, trigger, asleep) get zero inverse
-// mass and inertia.
-PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param);
+// mass and inertia. Bodies run in parallel with a task manager.
+PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param,
+                              PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx
