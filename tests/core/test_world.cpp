@@ -197,6 +197,11 @@ TEST(World, InitializeRejectsBadParameters) {
   p = good;
   p.outOfWorldBehavior = 0x80;
   rejects(p, PFX_ERR_INVALID_FLAG);
+  p = good;
+  p.numThreads = PFX_MAX_THREADS + 1;
+  p.timeStep = good.timeStep * 2;
+  rejects(p, PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(world.getTaskManager()->getNumThreads(), 1u);
 }
 
 TEST(World, StepAllocatesNothingAfterWarmUp) {

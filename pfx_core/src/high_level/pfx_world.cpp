@@ -74,11 +74,13 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
       param.sleepAngularVelocity >= 0 && pfxIsFinite(param.sleepAngularVelocity) &&
       param.sleepTime >= 0 && std::ceil(double(param.sleepTime) / param.timeStep) <= 0xffff;
   if (!valid) return PFX_ERR_INVALID_VALUE;
+  if (param.numThreads > PFX_MAX_THREADS) return PFX_ERR_OUT_OF_RANGE;
   if (param.pipeline > kPfxPipelineStable ||
       (param.outOfWorldBehavior & ~PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION |
                                              PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY)) != 0) {
     return PFX_ERR_INVALID_FLAG;
   }
+  m_taskManager.initialize(param.numThreads);
   m_param = param;
   m_stats = PfxWorldStats();
   m_states.clear();
@@ -169,7 +171,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_islandMarks.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
-  reserveSolverWork();
+  reserveSolverWork(m_numPairs);
   m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
@@ -290,11 +292,11 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   return PFX_OK;
 }
 
-void PfxWorld::reserveSolverWork() {
-  // Room for as many contact pairs as bodies: the solver's forest of contacts has no more.
+// Grows only: while the first steps find more pairs, and when bodies or joints are added.
+void PfxWorld::reserveSolverWork(PfxUInt32 numContactPairs) {
   const std::size_t workBytes =
-      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), getNumRigidBodies(), getNumJoints());
-  m_solverWork.resize((workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
+      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), numContactPairs, getNumJoints());
+  growTo(m_solverWork, (workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
 }
 
 PfxInt32 PfxWorld::validateJoint(const PfxJoint& joint) const {
@@ -313,7 +315,6 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
                                          std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
   m_jointedPairKeys.insert(
       std::lower_bound(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key), key);
-  reserveSolverWork();
   wakeJointBodies(id);
   if (outId) *outId = id;
   return PFX_OK;
@@ -446,7 +447,6 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_compoundShapeIds.erase(m_compoundShapeIds.begin() + numBodies, m_compoundShapeIds.end());
   m_numProxies = 0;
   m_rayProxiesStale = true;
-  reserveSolverWork();
   return generateIslands();
 }
 
@@ -499,7 +499,7 @@ PfxInt32 PfxWorld::updateBroadphase() {
   param.outOfWorldBehavior = m_param.outOfWorldBehavior;
   param.timeStep = m_param.timeStep;
   PfxUpdateBroadphaseProxiesResult result;
-  const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result);
+  const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
   m_numProxies = result.numProxies;
   m_stats.numOutOfWorld = result.numOutOfWorldProxies;
   m_sweepAxis = axis;
@@ -518,7 +518,7 @@ PfxInt32 PfxWorld::findPairs() {
     param.maxPairs = m_maxPairs;
     param.axis = m_sweepAxis;
     PfxFindPairsResult result;
-    const PfxInt32 err = pfxFindPairs(param, result);
+    const PfxInt32 err = pfxFindPairs(param, result, &m_taskManager);
     if (err == PFX_ERR_OUT_OF_MAX_PAIRS || (err != PFX_OK && m_maxPairs == 0)) {
       // Only while the scene grows: room for the pairs found and some more.
       m_maxPairs = std::max<PfxUInt32>(64, result.numPairsFound + result.numPairsFound / 2);
@@ -615,7 +615,9 @@ PfxInt32 PfxWorld::detectCollision() {
     param.offsetRigidStates = m_states.data();
     param.numRigidBodies = getNumRigidBodies();
     param.offsetCollidables = m_collidables.data();
-    if (const PfxInt32 err = pfxRefreshContacts(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxRefreshContacts(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   StageTimer timer(m_stats, kPfxStageDetectCollision);
   PfxDetectCollisionParam param;
@@ -626,7 +628,7 @@ PfxInt32 PfxWorld::detectCollision() {
   param.contactMargin = m_param.contactMargin;
   param.timeStep = m_param.timeStep;
   param.matchDistanceSq = stable ? kMatchDistanceSq : 0;
-  return pfxDetectCollision(param);
+  return pfxDetectCollision(param, &m_taskManager);
 }
 
 // Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),
@@ -671,7 +673,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.torques = m_torques.data();
     param.gravity = m_param.gravity;
     param.timeStep = timeStep;
-    if (const PfxInt32 err = pfxApplyExternalForce(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxApplyExternalForce(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   {
     StageTimer timer(m_stats, kPfxStageSetupSolverBodies);
@@ -680,7 +684,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.bodies = m_bodies.data();
     param.solverBodies = m_solverBodies.data();
     param.numRigidBodies = numBodies;
-    if (const PfxInt32 err = pfxSetupSolverBodies(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxSetupSolverBodies(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   {
     StageTimer timer(m_stats, kPfxStageSetupContactConstraints);
@@ -694,7 +700,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.separateBias = m_param.separateBias;
     param.contactSlop = m_param.contactSlop;
     param.warmStartFactor = m_param.pipeline == kPfxPipelineStable ? param.warmStartFactor : 0;
-    if (const PfxInt32 err = pfxSetupContactConstraints(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxSetupContactConstraints(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   if (!m_joints.empty()) {
     StageTimer timer(m_stats, kPfxStageSetupJointConstraints);
@@ -710,7 +718,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.offsetSolverBodies = m_solverBodies.data();
     param.numRigidBodies = numBodies;
     param.timeStep = timeStep;
-    if (const PfxInt32 err = pfxSetupJointConstraints(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxSetupJointConstraints(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   {
     StageTimer timer(m_stats, kPfxStageSolveConstraints);
@@ -725,7 +735,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.iteration = m_param.iteration;
     param.timeStep = timeStep;
     param.restitutionThreshold = m_param.restitutionThreshold;
-    if (const PfxInt32 err = pfxSolveConstraints(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxSolveConstraints(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   {
     StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
@@ -734,7 +746,9 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.bodies = m_bodies.data();
     param.numRigidBodies = numBodies;
     param.timeStep = timeStep;
-    if (const PfxInt32 err = pfxUpdateRigidStates(param); err != PFX_OK) return err;
+    if (const PfxInt32 err = pfxUpdateRigidStates(param, &m_taskManager); err != PFX_OK) {
+      return err;
+    }
   }
   if (m_joints.empty()) return PFX_OK;
   StageTimer timer(m_stats, kPfxStageCorrectJointPositions);
@@ -748,7 +762,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   param.numRigidBodies = numBodies;
   param.timeStep = timeStep;
   param.iteration = m_param.iteration;
-  return pfxCorrectJointPositions(param);
+  return pfxCorrectJointPositions(param, &m_taskManager);
 }
 
 PfxConservedQuantities PfxWorld::measureConservedQuantities() const {
@@ -790,15 +804,36 @@ void PfxWorld::gatherStats() {
     m_stats.maxJointGap = std::max(m_stats.maxJointGap, gap);
   }
   m_stats.numPairs = m_numPairs;
+  // Every manifold is read, so chunks of pairs are counted in parallel: sums of counts and
+  // a maximum come out the same however the pairs are split.
+  struct ContactTally {
+    PfxUInt32 pairs = 0;
+    PfxUInt32 points = 0;
+    PfxFloat deepest = 0;
+  };
+  constexpr PfxUInt32 kMaxChunks = 64;
+  ContactTally tallies[kMaxChunks];
+  const PfxUInt32 numChunks = pfxNumChunks(&m_taskManager, m_numPairs, 1024, kMaxChunks);
+  pfxParallelFor(&m_taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 c = first; c < last; ++c) {
+      ContactTally& tally = tallies[c];
+      for (PfxUInt32 i = pfxChunkBegin(m_numPairs, numChunks, c);
+           i < pfxChunkBegin(m_numPairs, numChunks, c + 1); ++i) {
+        const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[i])];
+        if (manifold.getNumContacts() == 0) continue;
+        ++tally.pairs;
+        tally.points += manifold.getNumContacts();
+        tally.deepest = std::max(tally.deepest, manifold.getPenetrationDepth());
+      }
+    }
+  });
   m_stats.numContactPairs = 0;
   m_stats.numContactPoints = 0;
   m_stats.maxPenetration = 0;
-  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
-    const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_pairs[i])];
-    if (manifold.getNumContacts() == 0) continue;
-    ++m_stats.numContactPairs;
-    m_stats.numContactPoints += manifold.getNumContacts();
-    m_stats.maxPenetration = std::max(m_stats.maxPenetration, manifold.getPenetrationDepth());
+  for (PfxUInt32 c = 0; c < numChunks; ++c) {
+    m_stats.numContactPairs += tallies[c].pairs;
+    m_stats.numContactPoints += tallies[c].points;
+    m_stats.maxPenetration = std::max(m_stats.maxPenetration, tallies[c].deepest);
   }
 }
 
@@ -830,6 +865,7 @@ PfxInt32 PfxWorld::step() {
     if (const PfxInt32 err = generateIslands(); err != PFX_OK) return err;
     wakeTouchedIslands();
   }
+  reserveSolverWork(m_numPairs);
   const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
   for (PfxUInt32 i = 0; i < m_param.subStep; ++i) {
     if (const PfxInt32 err = subStep(subTimeStep); err != PFX_OK) return err;

@@ -33,7 +33,8 @@ PfxInt32 PfxWorld::updateRayProxies() {
     PfxUpdateBroadphaseProxiesResult result;
     // Fails only on a body whose state went bad (a simulation that blew up to NaN); the
     // proxies then stay stale and the cast reports it.
-    if (const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result); err != PFX_OK) {
+    if (const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
+        err != PFX_OK) {
       return err;
     }
     // The sort's scratch is free again and four times larger than the build needs.
@@ -81,7 +82,7 @@ PfxInt32 PfxWorld::castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 
     param.workBuff = m_rayOrderWork.data();
     param.workBytes = pfxGetWorkBytesOfCastRays(numRays);
   }
-  return pfxCastRays(in, out, numRays, param);
+  return pfxCastRays(in, out, numRays, param, &m_taskManager);
 }
 
 }  // namespace pfx

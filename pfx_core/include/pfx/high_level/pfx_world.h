@@ -16,6 +16,7 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_tbb_task_manager.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx/low_level/solver/pfx_island_generation.h"
@@ -65,6 +66,12 @@ struct PfxWorldParam {
   PfxFloat sleepLinearVelocity = PfxFloat(0.15);  // m/s
   PfxFloat sleepAngularVelocity = PfxFloat(0.15);  // rad/s
   PfxFloat sleepTime = PfxFloat(0.5);              // s
+  // Threads that run the step and batches of rays, the calling thread included; 0 takes
+  // every core the process may use; at most PFX_MAX_THREADS. The results are the same bits
+  // with any number. One by default: a world is often one of many (simulations run side
+  // by side, a ROS node beside other nodes), and the caller knows best what the machine
+  // has to spare.
+  PfxUInt32 numThreads = 1;
 };
 
 // The stages of a step, named as in the seed; index of PfxWorldStats::stageSeconds. The
@@ -138,6 +145,9 @@ class PfxWorld {
   // Validates and takes the parameters; removes every body.
   PfxInt32 initialize(const PfxWorldParam& param);
   const PfxWorldParam& getParam() const { return m_param; }
+  // The threads the world runs on, for the caller's own calls of the low-level stages
+  // between steps (pfxCastRays with many rays, for example).
+  PfxTaskManager* getTaskManager() { return &m_taskManager; }
 
   // Adds a body with one shape or a compound of up to 64 (the shapes are copied). The
   // state's rigid body id is set to the new id, and the body starts awake (the world alone
@@ -223,7 +233,8 @@ class PfxWorld {
   // outside the world's bounds. Rejects what pfxCastSingleRay and pfxCastRays reject, and a
   // body whose state is no longer valid (PFX_ERR_INVALID_VALUE), with the output untouched.
   // castRays casts a batch of 64 rays or more in the Morton order of their start points
-  // (PfxRayCastParam::workBuff), which finds the same hits faster on large meshes.
+  // (PfxRayCastParam::workBuff), which finds the same hits faster on large meshes, on the
+  // world's threads (PfxWorldParam::numThreads), each ray writing only its own output.
   // Allocates only after bodies were added, and when a batch is larger than any before.
   PfxInt32 castRay(const PfxRayInput& in, PfxRayOutput& out);
   PfxInt32 castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays);
@@ -261,7 +272,7 @@ class PfxWorld {
   void bindContacts(Param& param);
   template <typename Param>
   void bindJoints(Param& param);
-  void reserveSolverWork();
+  void reserveSolverWork(PfxUInt32 numContactPairs);
   void dropJointedPairs();
   void gatherStats();
   PfxInt32 generateIslands();
@@ -285,6 +296,7 @@ class PfxWorld {
 
   PfxWorldParam m_param;
   PfxWorldStats m_stats;
+  PfxTbbTaskManager m_taskManager;
 
   std::vector<PfxRigidState> m_states;
   std::vector<PfxRigidBody> m_bodies;
@@ -337,7 +349,7 @@ class PfxWorld {
   std::vector<PfxConstraintPair> m_jointPairs;
   std::vector<PfxJointCoupling> m_jointCouplings;
   std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
-  std::vector<PfxSortData16> m_solverWork;   // the joints' direct solve
+  std::vector<PfxSortData16> m_solverWork;   // the direct solves and the solver's batches
 
   // The proxies that rays find bodies by, then their sort scratch (two blocks of
   // m_rayProxyStride), and the hierarchy over them. Stale after anything that moves or

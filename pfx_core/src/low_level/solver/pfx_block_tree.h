@@ -35,10 +35,12 @@ inline PfxTreeBlock pfxTreeBodyMass(const PfxSolverBody& body) {
 }
 
 // Nodes numbered breadth first, parents before children: eliminating in reverse order
-// takes children first, D_parent -= H(p, n) D_n^-1 H(n, p).
+// takes children first, D_parent -= H(p, n) D_n^-1 H(n, p). Each tree of the forest is a
+// contiguous range [begin, end) of nodes whose parents lie in it, so trees factor and
+// solve independently.
 template <typename Node>
-void pfxFactorBlockTree(Node* nodes, std::size_t numNodes) {
-  for (std::size_t k = numNodes; k-- > 0;) {
+void pfxFactorBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
+  for (std::size_t k = end; k-- > begin;) {
     Node& node = nodes[k];
     node.diagonalInverse = node.diagonalInverse.inverse().eval();
     if (node.parent < 0) continue;

@@ -39,10 +39,14 @@ inline void pfxApplyRowImpulse(
     PfxVector3 PfxSolverBody::*linearVelocity = &PfxSolverBody::m_deltaLinearVelocity,
     PfxVector3 PfxSolverBody::*angularVelocity = &PfxSolverBody::m_deltaAngularVelocity) {
   const PfxVector3 linear = normal * impulse;
-  a.*linearVelocity -= (receivesA * a.m_massInv) * linear;
-  a.*angularVelocity -= receivesA * (a.m_inertiaInv * rA.cross(linear));
-  b.*linearVelocity += (receivesB * b.m_massInv) * linear;
-  b.*angularVelocity += receivesB * (b.m_inertiaInv * rB.cross(linear));
+  if (pfxTakesImpulse(a, receivesA)) {
+    a.*linearVelocity -= a.m_massInv * linear;
+    a.*angularVelocity -= a.m_inertiaInv * rA.cross(linear);
+  }
+  if (pfxTakesImpulse(b, receivesB)) {
+    b.*linearVelocity += b.m_massInv * linear;
+    b.*angularVelocity += b.m_inertiaInv * rB.cross(linear);
+  }
 }
 
 // Relative normal velocity at a contact point, from the chosen velocities of the bodies
@@ -70,10 +74,14 @@ inline void pfxApplyNormalImpulses(const PfxContactManifold& manifold, const Pfx
     torqueA += cp.m_armA.cross(impulse);
     torqueB += cp.m_armB.cross(impulse);
   }
-  a.*linear -= (receivesA * a.m_massInv) * force;
-  a.*angular -= receivesA * (a.m_inertiaInv * torqueA);
-  b.*linear += (receivesB * b.m_massInv) * force;
-  b.*angular += receivesB * (b.m_inertiaInv * torqueB);
+  if (pfxTakesImpulse(a, receivesA)) {
+    a.*linear -= a.m_massInv * force;
+    a.*angular -= a.m_inertiaInv * torqueA;
+  }
+  if (pfxTakesImpulse(b, receivesB)) {
+    b.*linear += b.m_massInv * force;
+    b.*angular += b.m_inertiaInv * torqueB;
+  }
 }
 
 // One Gauss-Seidel update: the impulse that brings the row to its target velocity, with the

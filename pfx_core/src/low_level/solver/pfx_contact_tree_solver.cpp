@@ -25,6 +25,14 @@ constexpr PfxFloat kMinSpread = PfxFloat(1e-12);  // m^2: points that all coinci
 // A face of the forest was picked but not yet given a node.
 constexpr PfxInt32 kChosen = -2;
 
+constexpr PfxUInt32 kTreesPerTask = 8;
+constexpr PfxUInt32 kPairsPerTask = 256;
+
+// What a pair is to the forest.
+constexpr PfxUInt8 kEligible = 1;
+constexpr PfxUInt8 kMovesA = 2;
+constexpr PfxUInt8 kMovesB = 4;
+
 // The points that hold a face up: those that overlap, and those that pushed in the last
 // step (which carry their impulse into this one). A resting face's points hover around
 // zero distance, and choosing by distance alone would make the face flicker between one,
@@ -63,7 +71,9 @@ PfxUInt32 PfxContactTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies,
                                                      (2 * maxFaces +            // pair, state
                                                       3 * numRigidBodies +      // nodes, sets, loops
                                                       numRigidBodies + 1 +      // adjacency offsets
-                                                      2 * maxFaces));           // adjacency
+                                                      2 * maxFaces +            // adjacency
+                                                      numRigidBodies + 1)) +    // tree starts
+      PfxWorkCarver::bytesFor(1, numContactPairs);  // each pair's flags
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -155,8 +165,9 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                                  const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
                                  const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
                                  PfxContactManifold* manifolds, PfxSolverBody* solverBodies,
-                                 PfxUInt32 numRigidBodies) {
+                                 PfxUInt32 numRigidBodies, PfxTaskManager* taskManager) {
   m_numNodes = 0;
+  m_numTrees = 0;
   m_contactPairs = contactPairs;
   m_manifolds = manifolds;
   m_solverBodies = solverBodies;
@@ -170,9 +181,11 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* unsolvedFaces = carver.take<PfxInt32>(numRigidBodies);  // per set
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * maxFaces);
+  m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  PfxUInt8* pairFlags = carver.take<PfxUInt8>(numContactPairs);
   if (maxFaces == 0) return true;
   if (!m_nodes || !facePair || !faceState || !bodyNode || !sets || !unsolvedFaces ||
-      !adjacencyStart || !adjacency) {
+      !adjacencyStart || !adjacency || !m_treeStarts || !pairFlags) {
     return false;
   }
 
@@ -181,15 +194,27 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   };
   // Faces that touch and act on a body that moves. A body that moves but takes nothing
   // from the pair (one-way) cannot be both inside and outside the system: such a pair
-  // stays iterative.
-  auto eligible = [&](const PfxConstraintPair& pair, bool& moveA, bool& moveB) {
-    if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)])) return false;
-    const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
-    moveA = movable(a, pfxGetReceivesA(pair));
-    moveB = movable(b, pfxGetReceivesB(pair));
-    const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
-                        (!moveB && solverBodies[b].m_massInv > 0);
-    return !oneWay && (moveA || moveB);
+  // stays iterative. Found for every pair at once, in parallel, since it reads each
+  // manifold; the forest is then picked from these flags in pair order.
+  pfxParallelFor(taskManager, numContactPairs, kPairsPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 i = begin; i < end; ++i) {
+      const PfxConstraintPair& pair = contactPairs[i];
+      pairFlags[i] = 0;
+      if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)])) continue;
+      const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+      const bool moveA = movable(a, pfxGetReceivesA(pair));
+      const bool moveB = movable(b, pfxGetReceivesB(pair));
+      const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
+                          (!moveB && solverBodies[b].m_massInv > 0);
+      if (oneWay || (!moveA && !moveB)) continue;
+      pairFlags[i] = kEligible | (moveA ? kMovesA : 0) | (moveB ? kMovesB : 0);
+    }
+  });
+  auto eligible = [&](PfxUInt32 pairIndex, bool& moveA, bool& moveB) {
+    const PfxUInt8 flags = pairFlags[pairIndex];
+    moveA = (flags & kMovesA) != 0;
+    moveB = (flags & kMovesB) != 0;
+    return (flags & kEligible) != 0;
   };
   auto movingRoot = [&](const PfxConstraintPair& pair, bool moveA) {
     return pfxFindTreeRoot(sets, static_cast<PfxInt32>(moveA ? pfxGetObjectIdA(pair)
@@ -210,7 +235,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   bool moveA = false, moveB = false;
   for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
     const PfxConstraintPair& pair = contactPairs[i];
-    if (!eligible(pair, moveA, moveB) || !moveA || !moveB || numFaces == maxFaces) continue;
+    if (!eligible(i, moveA, moveB) || !moveA || !moveB || numFaces == maxFaces) continue;
     const PfxInt32 ra = pfxFindTreeRoot(sets, static_cast<PfxInt32>(pfxGetObjectIdA(pair)));
     const PfxInt32 rb = pfxFindTreeRoot(sets, static_cast<PfxInt32>(pfxGetObjectIdB(pair)));
     if (ra == rb) continue;
@@ -219,7 +244,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   }
   for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
     const PfxConstraintPair& pair = contactPairs[i];
-    if (!eligible(pair, moveA, moveB) || moveA == moveB || numFaces == maxFaces) continue;
+    if (!eligible(i, moveA, moveB) || moveA == moveB || numFaces == maxFaces) continue;
     const PfxInt32 root = movingRoot(pair, moveA);
     if (grounded[root]) continue;
     grounded[root] = 1;
@@ -232,7 +257,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // support ends, and a pyramid topples. Those are left to the iterations.
   for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
     const PfxConstraintPair& pair = contactPairs[i];
-    if (eligible(pair, moveA, moveB)) ++unsolvedFaces[movingRoot(pair, moveA)];
+    if (eligible(i, moveA, moveB)) ++unsolvedFaces[movingRoot(pair, moveA)];
   }
   // A body held by a joint does not answer a push with its own mass alone: solved as if it
   // were free, a ragdoll's foot on the ground took thousands of newton-seconds in one step.
@@ -248,13 +273,13 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   }
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
     const PfxConstraintPair& pair = contactPairs[facePair[f]];
-    eligible(pair, moveA, moveB);
+    eligible(PfxUInt32(facePair[f]), moveA, moveB);
     --unsolvedFaces[movingRoot(pair, moveA)];
   }
   PfxUInt32 kept = 0;
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
     const PfxConstraintPair& pair = contactPairs[facePair[f]];
-    eligible(pair, moveA, moveB);
+    eligible(PfxUInt32(facePair[f]), moveA, moveB);
     if (unsolvedFaces[movingRoot(pair, moveA)] != 0) continue;
     facePair[kept] = facePair[f];
     faceState[kept++] = kChosen;
@@ -318,6 +343,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       continue;
     }
     const std::size_t head = m_numNodes;
+    m_treeStarts[m_numTrees++] = m_numNodes;
     faceState[f] = addNode(-1, -1, static_cast<PfxInt32>(f));
     grow(head);
   }
@@ -325,6 +351,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     if (faceState[f] != kChosen) continue;
     const PfxUInt32 a = pfxGetObjectIdA(contactPairs[facePair[f]]);
     const std::size_t head = m_numNodes;
+    m_treeStarts[m_numTrees++] = m_numNodes;
     bodyNode[a] = addNode(-1, static_cast<PfxInt32>(a), -1);
     grow(head);
   }
@@ -371,15 +398,28 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                      PfxUInt32(body) == pfxGetObjectIdB(pair));
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  pfxFactorBlockTree(m_nodes, m_numNodes);
+  m_treeStarts[m_numTrees] = m_numNodes;
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) {
+      pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
+    }
+  });
   return true;
 }
 
-void PfxContactTreeSolver::solveVelocities() { solve(false); }
-void PfxContactTreeSolver::solvePush() { solve(true); }
+void PfxContactTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
+  solve(false, taskManager);
+}
+void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
-void PfxContactTreeSolver::solve(bool push) {
-  if (m_numNodes == 0) return;
+void PfxContactTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
+  // Trees share no body that moves, so they are solved at the same time.
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
+  });
+}
+
+void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) {
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =
@@ -388,7 +428,7 @@ void PfxContactTreeSolver::solve(bool push) {
   // Right-hand side: zero for bodies; for each face row, the weighted sum of its points'
   // target velocities minus their velocities.
   bool anyResidual = false;
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
+  for (std::size_t n = begin; n < end; ++n) {
     Node& node = m_nodes[n];
     node.value.setZero();
     if (node.body >= 0) continue;
@@ -408,11 +448,11 @@ void PfxContactTreeSolver::solve(bool push) {
     anyResidual = anyResidual || !node.value.isZero(0);
   }
   if (!anyResidual) return;
-  pfxSolveBlockTree(m_nodes, 0, m_numNodes);
+  pfxSolveBlockTree(m_nodes, begin, end);
 
   // Each face takes its impulses point by point, clamped to pushing only; the bodies take
   // what the points apply, so that velocities and impulses stay consistent after a clamp.
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
+  for (std::size_t n = begin; n < end; ++n) {
     const Node& node = m_nodes[n];
     if (node.body >= 0) continue;
     const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];

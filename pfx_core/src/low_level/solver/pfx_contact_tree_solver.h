@@ -19,6 +19,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -28,25 +29,30 @@ class PfxContactTreeSolver {
 
   // Picks the touching contact pairs that form a forest, orders and factors the system.
   // Trees with a body held by one of the joints are left out. False when the work buffer
-  // is too small.
+  // is too small. The trees are factored in parallel with a task manager.
   bool build(void* workBuff, PfxUInt32 workBytes, const PfxConstraintPair* contactPairs,
              PfxUInt32 numContactPairs, const PfxConstraintPair* jointPairs,
              PfxUInt32 numJointPairs, PfxContactManifold* manifolds,
-             PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies);
+             PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies,
+             PfxTaskManager* taskManager = nullptr);
 
   // Adds to the points' normal impulses, and to the bodies' velocity changes, what makes
   // every face of the forest move at its points' target velocities (m_rhs), each point's
-  // accumulated impulse kept at zero or above.
-  void solveVelocities();
+  // accumulated impulse kept at zero or above. Trees are solved in parallel with a task
+  // manager; they share no moving body, so the result is the same.
+  void solveVelocities(PfxTaskManager* taskManager = nullptr);
   // The same for the split impulses and the push velocities (m_pushRhs).
-  void solvePush();
+  void solvePush(PfxTaskManager* taskManager = nullptr);
 
  private:
   struct Node;
-  void solve(bool push);
+  void solve(bool push, PfxTaskManager* taskManager);
+  void solveTree(bool push, PfxUInt32 begin, PfxUInt32 end);
 
-  Node* m_nodes = nullptr;  // breadth first: parents before children
+  Node* m_nodes = nullptr;  // breadth first: parents before children, tree after tree
   PfxUInt32 m_numNodes = 0;
+  PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
+  PfxUInt32 m_numTrees = 0;
   const PfxConstraintPair* m_contactPairs = nullptr;
   PfxContactManifold* m_manifolds = nullptr;
   PfxSolverBody* m_solverBodies = nullptr;

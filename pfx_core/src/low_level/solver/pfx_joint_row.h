@@ -46,10 +46,14 @@ inline void pfxApplyJointRowImpulse(const PfxJointRowJacobian& j, PfxFloat impul
                                     PfxSolverBody& a, PfxFloat receivesA, PfxSolverBody& b,
                                     PfxFloat receivesB, PfxVector3 PfxSolverBody::*linear,
                                     PfxVector3 PfxSolverBody::*angular) {
-  a.*linear += (receivesA * a.m_massInv * impulse) * j.linearA;
-  a.*angular += receivesA * impulse * (a.m_inertiaInv * j.angularA);
-  b.*linear += (receivesB * b.m_massInv * impulse) * j.linearB;
-  b.*angular += receivesB * impulse * (b.m_inertiaInv * j.angularB);
+  if (pfxTakesImpulse(a, receivesA)) {
+    a.*linear += (a.m_massInv * impulse) * j.linearA;
+    a.*angular += impulse * (a.m_inertiaInv * j.angularA);
+  }
+  if (pfxTakesImpulse(b, receivesB)) {
+    b.*linear += (b.m_massInv * impulse) * j.linearB;
+    b.*angular += impulse * (b.m_inertiaInv * j.angularB);
+  }
 }
 
 // One Gauss-Seidel update of a joint row (velocities) with its impulse clamped to the

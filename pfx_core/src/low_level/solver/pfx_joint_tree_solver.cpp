@@ -15,6 +15,8 @@ constexpr double kRelativeCompliance = 1e-9;
 // A joint picked for the forest but not yet given a node.
 constexpr PfxInt32 kChosen = -2;
 
+constexpr PfxUInt32 kTreesPerTask = 8;
+
 bool isLockedRow(const PfxJointConstraint& c) {
   return c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
 }
@@ -39,15 +41,19 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                      (numJointPairs +           // joint nodes
                                                       2 * numRigidBodies + 1 +  // nodes, sets
                                                       numRigidBodies + 1 +      // adjacency offsets
-                                                      2 * numJointPairs));      // adjacency
+                                                      2 * numJointPairs +       // adjacency
+                                                      numRigidBodies + 1));     // tree starts
   return static_cast<PfxUInt32>(bytes);
 }
 
 bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                                const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
                                PfxJoint* joints, PfxSolverBody* solverBodies,
-                               PfxUInt32 numRigidBodies) {
+                               PfxUInt32 numRigidBodies, PfxTaskManager* taskManager) {
   m_numNodes = 0;
+  m_numTrees = 0;
+  m_bodyNode = nullptr;
+  m_numRigidBodies = numRigidBodies;
   m_joints = joints;
   m_jointPairs = jointPairs;
   m_solverBodies = solverBodies;
@@ -59,10 +65,13 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* sets = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
-  if (maxNodes > 0 && (!m_nodes || !bodyNode || !sets || !adjacencyStart ||
-                       (numJointPairs > 0 && (!m_jointNode || !adjacency)))) {
+  m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  if (maxNodes == 0) return true;
+  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts ||
+      (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
+  m_bodyNode = bodyNode;
 
   auto movable = [&](PfxUInt32 id, bool receives) {
     return receives && solverBodies[id].m_massInv > 0;
@@ -164,6 +173,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const bool moveB = movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair));
     if (moveA == moveB) continue;
     const std::size_t head = m_numNodes;
+    m_treeStarts[m_numTrees++] = m_numNodes;
     m_jointNode[i] = addNode(-1, -1, static_cast<PfxInt32>(i));
     grow(head);
   }
@@ -171,6 +181,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     if (m_jointNode[i] != kChosen) continue;
     const PfxUInt32 a = pfxGetObjectIdA(jointPairs[i]);
     const std::size_t head = m_numNodes;
+    m_treeStarts[m_numTrees++] = m_numNodes;
     bodyNode[a] = addNode(-1, static_cast<PfxInt32>(a), -1);
     grow(head);
   }
@@ -212,19 +223,41 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     }
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  pfxFactorBlockTree(m_nodes, m_numNodes);
+  m_treeStarts[m_numTrees] = m_numNodes;
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) {
+      pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
+    }
+  });
   return true;
 }
 
-void PfxJointTreeSolver::solveVelocities() { solve(false, 0, m_numNodes); }
-void PfxJointTreeSolver::solvePush() { solve(true, 0, m_numNodes); }
+void PfxJointTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
+  solve(false, taskManager);
+}
+void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
 void PfxJointTreeSolver::solveVelocitiesOfTree(PfxUInt32 jointPairIndex) {
   const Node& node = m_nodes[m_jointNode[jointPairIndex]];
-  solve(false, node.treeBegin, node.treeEnd);
+  solveTree(false, node.treeBegin, node.treeEnd);
 }
 
-void PfxJointTreeSolver::solve(bool push, std::size_t begin, std::size_t end) {
+PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
+  // A tree's first node is a body or a joint whose first child is a body.
+  std::size_t n = m_nodes[m_bodyNode[rigidBodyId]].treeBegin;
+  while (m_nodes[n].body < 0) ++n;
+  return m_nodes[n].body;
+}
+
+void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
+  // Trees share no body that moves, so they are solved at the same time.
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
+  });
+}
+
+void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end) {
   if (begin == end) return;
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;

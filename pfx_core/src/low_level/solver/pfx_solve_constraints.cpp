@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "low_level/solver/pfx_constraint_batches.h"
 #include "low_level/solver/pfx_constraint_row_solver.h"
 #include "low_level/solver/pfx_contact_tree_solver.h"
 #include "low_level/solver/pfx_joint_coupling_row.h"
@@ -301,17 +302,45 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
   }
 }
 
+constexpr PfxUInt32 kBodiesPerTask = 512;
+
+// The work buffer: the joints' forest, the contacts' forest, the bodies' batch words, then
+// the batches of contacts and of joints.
+struct SolverWorkLayout {
+  PfxUInt32 jointTreeBytes = 0;
+  PfxUInt32 contactTreeBytes = 0;
+  std::size_t bodyBatchBytes = 0;
+  std::size_t contactBatchBytes = 0;
+  std::size_t jointBatchBytes = 0;
+
+  SolverWorkLayout(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs, PfxUInt32 numJointPairs) {
+    if (numJointPairs > 0) {
+      jointTreeBytes = PfxJointTreeSolver::getWorkBytes(numRigidBodies, numJointPairs);
+    }
+    if (numContactPairs > 0) {
+      contactTreeBytes = PfxContactTreeSolver::getWorkBytes(numRigidBodies, numContactPairs);
+    }
+    if (numContactPairs + numJointPairs > 0) {
+      bodyBatchBytes = sizeof(PfxUInt32) * (std::size_t(numRigidBodies) + 1);
+    }
+    contactBatchBytes = PfxConstraintBatches::getWorkBytes(numContactPairs);
+    jointBatchBytes = PfxConstraintBatches::getWorkBytes(numJointPairs);
+  }
+  std::size_t total() const {
+    return std::size_t(jointTreeBytes) + contactTreeBytes + bodyBatchBytes + contactBatchBytes +
+           jointBatchBytes;
+  }
+};
+
 }  // namespace
 
 PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
                                             PfxUInt32 numJointPairs, PfxUInt32) {
-  return (numJointPairs > 0 ? PfxJointTreeSolver::getWorkBytes(numRigidBodies, numJointPairs)
-                            : 0) +
-         (numContactPairs > 0 ? PfxContactTreeSolver::getWorkBytes(numRigidBodies, numContactPairs)
-                              : 0);
+  const std::size_t bytes = SolverWorkLayout(numRigidBodies, numContactPairs, numJointPairs).total();
+  return bytes > 0xffffffffu ? 0xffffffffu : static_cast<PfxUInt32>(bytes);
 }
 
-PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
+PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManager* taskManager) {
   if (param.numContactPairs > 0 && (!param.contactPairs || !param.offsetContactManifolds)) {
     return PFX_ERR_NULL_POINTER;
   }
@@ -343,41 +372,60 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
       }
     }
   }
-  const PfxUInt32 workBytes = pfxGetWorkBytesOfSolveConstraints(
-      param.numRigidBodies, param.numContactPairs, param.numJointPairs);
-  if (workBytes > 0 && (!param.workBuff || param.workBytes < workBytes)) {
+  const SolverWorkLayout layout(param.numRigidBodies, param.numContactPairs, param.numJointPairs);
+  if (layout.total() > 0 && (!param.workBuff || param.workBytes < layout.total())) {
     return PFX_ERR_OUT_OF_BUFFER;
   }
+  unsigned char* cursor = static_cast<unsigned char*>(param.workBuff);
   PfxJointTreeSolver tree;
-  const PfxUInt32 jointBytes =
-      param.numJointPairs > 0
-          ? PfxJointTreeSolver::getWorkBytes(param.numRigidBodies, param.numJointPairs)
-          : 0;
   if (param.numJointPairs > 0) {
-    tree.build(param.workBuff, jointBytes, param.jointPairs, param.numJointPairs,
-               param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies);
+    tree.build(cursor, layout.jointTreeBytes, param.jointPairs, param.numJointPairs,
+               param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies, taskManager);
   }
+  cursor += layout.jointTreeBytes;
   PfxContactTreeSolver contactTree;
-  contactTree.build(static_cast<unsigned char*>(param.workBuff) + jointBytes,
-                    param.workBytes - jointBytes, param.contactPairs, param.numContactPairs,
-                    param.jointPairs, param.numJointPairs, param.offsetContactManifolds, param.offsetSolverBodies, param.numRigidBodies);
+  contactTree.build(cursor, layout.contactTreeBytes, param.contactPairs, param.numContactPairs,
+                    param.jointPairs, param.numJointPairs, param.offsetContactManifolds,
+                    param.offsetSolverBodies, param.numRigidBodies, taskManager);
+  cursor += layout.contactTreeBytes;
+  PfxUInt32* bodyBatches = reinterpret_cast<PfxUInt32*>(
+      (reinterpret_cast<std::uintptr_t>(cursor) + alignof(PfxUInt32) - 1) &
+      ~std::uintptr_t(alignof(PfxUInt32) - 1));
+  cursor += layout.bodyBatchBytes;
+  PfxConstraintBatches contactBatches;
+  contactBatches.build(cursor, layout.contactBatchBytes, bodyBatches, param.contactPairs,
+                       param.numContactPairs, param.offsetSolverBodies, param.numRigidBodies,
+                       [&](PfxUInt32 i) {
+                         const PfxConstraintPair& pair = param.contactPairs[i];
+                         return pfxGetActive(pair) &&
+                                param.offsetContactManifolds[pfxGetContactId(pair)]
+                                        .getNumContacts() > 0;
+                       },
+                       [](PfxUInt32 id) { return id; }, taskManager);
+  cursor += layout.contactBatchBytes;
+  PfxConstraintBatches jointBatches;
+  // A row of a joint in the direct solve's forest moves its whole tree (solveTreeJointRow),
+  // so every joint on a tree's bodies counts as acting on one body of that tree.
+  jointBatches.build(cursor, layout.jointBatchBytes, bodyBatches, param.jointPairs,
+                     param.numJointPairs, param.offsetSolverBodies, param.numRigidBodies,
+                     [&](PfxUInt32 i) { return pfxGetActive(param.jointPairs[i]); },
+                     [&](PfxUInt32 id) {
+                       const PfxInt32 treeBody = tree.getTreeBody(id);
+                       return treeBody >= 0 ? PfxUInt32(treeBody) : id;
+                     },
+                     taskManager);
+
   auto forEachJoint = [&](auto&& work) {
-    for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
-      const PfxConstraintPair& pair = param.jointPairs[i];
-      if (!pfxGetActive(pair)) continue;
+    jointBatches.forEach(taskManager, [&](const PfxConstraintPair& pair, PfxUInt32 i) {
       work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
            i);
-    }
+    });
   };
-
   auto forEachContact = [&](auto&& work) {
-    for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
-      const PfxConstraintPair& pair = param.contactPairs[i];
-      if (!pfxGetActive(pair)) continue;
-      PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
-      if (manifold.getNumContacts() == 0) continue;
-      work(manifold, bodiesOf(pair, param.offsetSolverBodies));
-    }
+    contactBatches.forEach(taskManager, [&](const PfxConstraintPair& pair, PfxUInt32) {
+      work(param.offsetContactManifolds[pfxGetContactId(pair)],
+           bodiesOf(pair, param.offsetSolverBodies));
+    });
   };
 
   forEachContact([](PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
@@ -400,7 +448,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
       pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
                                  param.offsetSolverBodies, false);
     }
-    tree.solveVelocities();
+    tree.solveVelocities(taskManager);
     // The contacts' direct solve once, after the first sweep has set the impulses of the
     // faces it leaves out, as a predictor that the remaining sweeps refine: it hands the
     // whole weight of a stack to every face at once, which the sweeps alone pass down one
@@ -410,8 +458,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
     // pressures leave friction and the faces outside the forest far from balance, and one
     // sweep cannot restore that.
     if (iteration == 0) {
-      contactTree.solveVelocities();
-      contactTree.solvePush();
+      contactTree.solveVelocities(taskManager);
+      contactTree.solvePush(taskManager);
     }
   }
   forEachContact([&](PfxContactManifold& m, const PairBodies& p) {
@@ -420,14 +468,19 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param) {
 
   // Velocities take the solved changes; positions take the split impulses' push over the
   // step, which is then forgotten.
-  for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
-    PfxRigidState& state = param.offsetRigidStates[i];
-    const PfxSolverBody& solverBody = param.offsetSolverBodies[i];
-    if (solverBody.m_massInv == 0) continue;
-    state.setLinearVelocity(state.getLinearVelocity() + solverBody.m_deltaLinearVelocity);
-    state.setAngularVelocity(state.getAngularVelocity() + solverBody.m_deltaAngularVelocity);
-    pfxApplyPush(state, solverBody, param.timeStep);
-  }
+  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     PfxRigidState& state = param.offsetRigidStates[i];
+                     const PfxSolverBody& solverBody = param.offsetSolverBodies[i];
+                     if (solverBody.m_massInv == 0) continue;
+                     state.setLinearVelocity(state.getLinearVelocity() +
+                                             solverBody.m_deltaLinearVelocity);
+                     state.setAngularVelocity(state.getAngularVelocity() +
+                                              solverBody.m_deltaAngularVelocity);
+                     pfxApplyPush(state, solverBody, param.timeStep);
+                   }
+                 });
   return PFX_OK;
 }
 

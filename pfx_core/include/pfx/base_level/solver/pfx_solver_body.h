@@ -20,4 +20,11 @@ struct PfxSolverBody {
   PfxUInt32 m_motionType;
 };
 
+// Whether an impulse changes the body's velocities (`receives` is 0 or 1, as the pair
+// says). The solver writes only to such bodies; the others are only read, so that
+// constraints solved at the same time may share them (a floor under many bodies).
+inline bool pfxTakesImpulse(const PfxSolverBody& body, PfxFloat receives) {
+  return receives != 0 && body.m_massInv != 0;
+}
+
 }  // namespace pfx

@@ -11,6 +11,7 @@
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -34,6 +35,10 @@ struct PfxCorrectJointPositionsParam {
 PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
                                                  PfxUInt32 numJointPairs);
 
-PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param);
+// With a task manager the bodies and joints are set up, the joints' trees solved, and the
+// bodies moved in parallel; the rows left to iteration are swept in joint order on one
+// thread, so the result does not depend on it.
+PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
+                                  PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

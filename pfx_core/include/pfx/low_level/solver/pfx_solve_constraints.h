@@ -2,6 +2,11 @@
 // frame, then a restitution pass; the velocity changes are added to the states at the end
 // (seed chapter 4). The locked axes of joints that form trees are solved exactly, once per
 // iteration, by a direct linear-time factorization (see pfxGetWorkBytesOfSolveConstraints).
+//
+// Order: each sweep goes over the contacts, then the joints, in pair order. With a task
+// manager they are split into batches in which no moving body appears twice and each body
+// meets its pairs in pair order; the pairs of a batch run in parallel, and the result is
+// the same bits as the sweep in pair order, with any number of threads.
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
@@ -10,6 +15,7 @@
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfx {
 
@@ -35,10 +41,12 @@ struct PfxSolveConstraintsParam {
   PfxFloat restitutionThreshold = 0.2f;
 };
 
-// Work memory for the joints' direct solve: none without joints.
+// Work memory for the direct solves over the joints' and the contacts' trees and for the
+// batches (a few bytes per pair and per body); the same whatever the number of tasks.
 PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
                                             PfxUInt32 numJointPairs = 0, PfxUInt32 maxTasks = 1);
 
-PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param);
+PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param,
+                             PfxTaskManager* taskManager = nullptr);
 
 }  // namespace pfx

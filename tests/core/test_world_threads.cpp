@@ -1,0 +1,179 @@
+// PfxWorld on several threads: a pile of a few hundred bodies of every convex shape with
+// two ragdolls on top gives the same bits with 1, 2 and 4 threads and run after run, and a
+// warm step on two threads allocates nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_ragdoll.h"
+#include "pfx_allocation_counter.h"
+
+using namespace pfx;
+
+namespace {
+
+// Uniform in [0, 1) from the generator's raw output, the same with every standard library.
+PfxFloat uniform(std::mt19937& rng) { return PfxFloat(rng() / 4294967296.0); }
+
+PfxQuat randomOrientation(std::mt19937& rng) {
+  const PfxVector3 axis(uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f);
+  const PfxFloat angle = 2 * PFX_PI * uniform(rng);
+  if (axis.norm() < 1e-3f) return PfxQuat::Identity();
+  return PfxQuat(Eigen::AngleAxis<PfxFloat>(angle, axis.normalized()));
+}
+
+void addFixedBox(PfxWorld& world, const PfxVector3& half, const PfxVector3& position) {
+  PfxBodyInit init;
+  init.mass = 0;
+  init.position = position;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(half)), init), PFX_OK);
+}
+
+// 600 boxes, spheres, capsules and cylinders dropped into a 4 x 4 m box, two ragdolls
+// dropped on them, two sub-steps per step so that every stage runs.
+void buildPile(PfxWorld& world, PfxUInt32 numThreads) {
+  PfxWorldParam param;
+  param.numThreads = numThreads;
+  param.subStep = 2;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  addFixedBox(world, PfxVector3(2.5f, 0.25f, 2.5f), PfxVector3(0, -0.25f, 0));
+  addFixedBox(world, PfxVector3(0.25f, 2, 2.5f), PfxVector3(2.25f, 2, 0));
+  addFixedBox(world, PfxVector3(0.25f, 2, 2.5f), PfxVector3(-2.25f, 2, 0));
+  addFixedBox(world, PfxVector3(2, 2, 0.25f), PfxVector3(0, 2, 2.25f));
+  addFixedBox(world, PfxVector3(2, 2, 0.25f), PfxVector3(0, 2, -2.25f));
+  std::mt19937 rng(4242u);
+  for (int layer = 0; layer < 6; ++layer) {
+    for (int i = 0; i < 10; ++i) {
+      for (int k = 0; k < 10; ++k) {
+        PfxBodyInit init;
+        init.position = PfxVector3(0.36f * (i - 4.5f) + 0.01f * uniform(rng),
+                                   0.3f + 0.36f * layer, 0.36f * (k - 4.5f) + 0.01f * uniform(rng));
+        init.orientation = randomOrientation(rng);
+        init.mass = 0.5f + uniform(rng);
+        init.restitution = (i + k) % 5 == 0 ? 0.5f : 0;
+        PfxShape shape;
+        switch ((i + k + layer) % 4) {
+          case 0: shape = pfxMakeShape(PfxBox(0.15f, 0.1f, 0.12f)); break;
+          case 1: shape = pfxMakeShape(PfxSphere(0.14f)); break;
+          case 2: shape = pfxMakeShape(PfxCapsule(0.08f, 0.08f)); break;
+          default: shape = pfxMakeShape(PfxCylinder(0.1f, 0.12f)); break;
+        }
+        ASSERT_EQ(pfxAddBody(world, shape, init), PFX_OK);
+      }
+    }
+  }
+  PfxRagdoll ragdoll;
+  ASSERT_EQ(pfxAddRagdoll(world, PfxVector3(-0.8f, 4, 0), PfxQuat::Identity(), &ragdoll), PFX_OK);
+  ASSERT_EQ(pfxAddRagdoll(world, PfxVector3(0.8f, 4.5f, 0.3f),
+                          PfxQuat(Eigen::AngleAxis<PfxFloat>(1.2f, PfxVector3::UnitY())), &ragdoll),
+            PFX_OK);
+}
+
+std::vector<unsigned char> snapshot(const PfxWorld& world) {
+  const auto* begin = reinterpret_cast<const unsigned char*>(world.getRigidStates());
+  return std::vector<unsigned char>(begin,
+                                    begin + world.getNumRigidBodies() * sizeof(PfxRigidState));
+}
+
+// Rays down into the pile and sideways through it from a fixed grid of starts.
+std::vector<PfxRayInput> raysIntoPile() {
+  std::vector<PfxRayInput> rays;
+  for (int i = 0; i < 40; ++i) {
+    for (int k = 0; k < 40; ++k) {
+      PfxRayInput ray;
+      ray.reset();
+      ray.m_startPosition = PfxVector3(0.1f * (i - 19.5f), 6, 0.1f * (k - 19.5f));
+      ray.m_direction = (i + k) % 2 ? PfxVector3(0, -8, 0) : PfxVector3(1.5f, -8, -0.7f);
+      rays.push_back(ray);
+    }
+  }
+  return rays;
+}
+
+struct Outcome {
+  std::vector<unsigned char> states;
+  std::vector<unsigned char> hits;
+  PfxUInt32 numContactPoints = 0;
+};
+
+Outcome simulate(PfxUInt32 numThreads, int steps) {
+  Outcome outcome;
+  PfxWorld world;
+  buildPile(world, numThreads);
+  for (int i = 0; i < steps; ++i) {
+    EXPECT_EQ(world.step(), PFX_OK);
+  }
+  outcome.states = snapshot(world);
+  outcome.numContactPoints = world.getStats().numContactPoints;
+  const std::vector<PfxRayInput> rays = raysIntoPile();
+  std::vector<PfxRayOutput> hits(rays.size());
+  EXPECT_EQ(world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
+  const auto* begin = reinterpret_cast<const unsigned char*>(hits.data());
+  outcome.hits.assign(begin, begin + hits.size() * sizeof(PfxRayOutput));
+  return outcome;
+}
+
+}  // namespace
+
+TEST(WorldThreads, SameBitsWithOneTwoAndFourThreadsAndRunAfterRun) {
+  constexpr int kSteps = 180;  // 3 s
+  const Outcome one = simulate(1, kSteps);
+  // The pile has settled into many contacts: not the same because nothing touched.
+  EXPECT_GT(one.numContactPoints, 1000u);
+  for (PfxUInt32 threads : {2u, 4u, 2u}) {
+    const Outcome many = simulate(threads, kSteps);
+    EXPECT_TRUE(one.states == many.states) << threads << " threads";
+    EXPECT_TRUE(one.hits == many.hits) << threads << " threads";
+    EXPECT_EQ(one.numContactPoints, many.numContactPoints) << threads << " threads";
+  }
+}
+
+TEST(WorldThreads, PileComesToRestInsideTheBox) {
+  PfxWorld world;
+  buildPile(world, 2);
+  for (int i = 0; i < 240; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  for (PfxUInt32 id = 5; id < world.getNumRigidBodies(); ++id) {
+    const PfxRigidState& s = world.getRigidState(id);
+    ASSERT_TRUE(pfxIsFinite(s.getPosition())) << id;
+    EXPECT_LT(std::abs(s.getPosition().x()), 2.0f) << id;
+    EXPECT_LT(std::abs(s.getPosition().z()), 2.0f) << id;
+    EXPECT_GT(s.getPosition().y(), 0.0f) << id;
+    EXPECT_LT(s.getLinearVelocity().norm(), 3.0f) << id;
+  }
+  EXPECT_LT(world.getStats().maxPenetration, 0.05f);
+}
+
+TEST(WorldThreads, WarmStepOnTwoThreadsAllocatesNothing) {
+  PfxWorld world;
+  buildPile(world, 2);
+  for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  std::vector<PfxRayInput> rays = raysIntoPile();
+  std::vector<PfxRayOutput> hits(rays.size());
+  ASSERT_EQ(world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
+  const long before = pfx_test::pfxAllocationCount();
+  for (int i = 0; i < 120; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    ASSERT_EQ(world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
+  }
+  EXPECT_EQ(pfx_test::pfxAllocationCount() - before, 0);
+  EXPECT_EQ(world.getTaskManager()->getNumThreads(), 2u);
+}
+
+TEST(WorldThreads, ThreadCountIsCheckedAndZeroTakesTheMachine) {
+  PfxWorld world;
+  buildPile(world, 2);
+  const std::vector<unsigned char> before = snapshot(world);
+  PfxWorldParam param = world.getParam();
+  param.numThreads = PFX_MAX_THREADS + 1;
+  EXPECT_EQ(world.initialize(param), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(snapshot(world), before);
+  EXPECT_EQ(world.getParam().numThreads, 2u);
+  EXPECT_EQ(world.getTaskManager()->getNumThreads(), 2u);
+  param.numThreads = 0;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  EXPECT_GE(world.getTaskManager()->getNumThreads(), 1u);
+}
