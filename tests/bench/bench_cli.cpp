@@ -61,12 +61,16 @@ bool parsePositiveInts(const std::string& name, const std::string& text, std::ve
 const char* usage() {
   return "usage: pfx_bench [--scene NAME[,NAME...]] [--engine NAME[,NAME...]] [--dt DT[,DT...]]\n"
          "                 [--iterations N[,N...]] [--substeps N[,N...]] [--threads N[,N...]]\n"
-         "                 [--seconds S] [--out DIR]\n"
+         "                 [--seconds S] [--out DIR] [--same-bits]\n"
          "  Steps each scene with each engine for each combination of the settings and\n"
          "  prints one TSV row per error metric on stdout. DT is 1/60 or 0.0166.\n"
          "  Defaults: every scene, every engine built, dt 1/30,1/60,1/120,1/240,1/480,1/960,\n"
          "  10 iterations, 1 sub-step, 1 thread, each scene's own duration.\n"
          "  --out DIR also writes DIR/results.tsv and one plot per scene, DIR/<scene>.png.\n"
+         "  --same-bits compares every run with the first run of the same scene, engine\n"
+         "  and settings but another thread count (--threads 1,2,4): each gets a row\n"
+         "  same_bits (1 when the final positions, orientations and velocities of all\n"
+         "  bodies are bit-identical, else 0), and any 0 makes pfx_bench exit with 1.\n"
          "  The scene rays measures rays per second against a 524,288-triangle terrain\n"
          "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h; the\n"
          "  scene octomap loads a 97,784-voxel OctoMap and casts rays into it (pfx only),\n"
@@ -79,6 +83,10 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
     const std::string option = argv[i];
     if (option == "--help" || option == "-h") {
       options.help = true;
+      continue;
+    }
+    if (option == "--same-bits") {
+      options.sameBits = true;
       continue;
     }
     static const char* const kOptionsWithValue[] = {"--scene",    "--engine",  "--dt",

@@ -16,6 +16,9 @@ struct Options {
   std::vector<int> threads{1};
   double seconds = 0;  // 0: each scene's own duration
   std::string outDir;  // empty: TSV on stdout only
+  // Runs that differ only in their number of threads must end in bit-identical states;
+  // a run that does not fails the benchmark.
+  bool sameBits = false;
   bool help = false;
 };
 

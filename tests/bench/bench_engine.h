@@ -103,9 +103,12 @@
 //   scene may set a speed limit (the chains: ten times the speed of a free fall from the
 //   chain's length); a body beyond it stops the run as blown up. Stopped runs report NaN
 //   figures and say on stderr when and why they stopped.
-// - Threads. No engine is run on more than one thread yet (pfx's world has no task
-//   manager, the Bullet adapter uses the single-threaded btDiscreteDynamicsWorld, MuJoCo
-//   steps one model on one thread); runs asking for more threads are skipped, not faked.
+// - Threads. pfx runs on PfxWorldParam::numThreads threads (its oneTBB task manager) and
+//   gives the same bits with any number of them. The peers run on one thread, and runs
+//   asking them for more are skipped, not faked: Debian's Bullet is built without
+//   BT_THREADSAFE (btCreateDefaultTaskScheduler() returns null, so btDiscreteDynamicsWorldMt
+//   would run on one thread), ODE steps a world on one thread, and MuJoCo steps one model
+//   on one thread.
 #pragma once
 
 #include <memory>

@@ -1,5 +1,6 @@
 // pfx behind the benchmark's interface: the stable pipeline (cached pairs and contacts,
-// warm-started solver), sub-steps by stepping the world several times at dt / substeps.
+// warm-started solver), sub-steps by stepping the world several times at dt / substeps,
+// on as many threads as the settings say.
 // Joints are PfxJoints made by pfxInitializeBallJoint / pfxInitializeHingeJoint; joints to
 // the world hang from one extra fixed body that collides with nothing. A motor is the
 // velocity drive of its hinge's twist axis, its force limit the motor's torque.
@@ -41,6 +42,7 @@ class PfxEngine final : public Engine {
     param.timeStep = static_cast<PfxFloat>(settings.dt / settings.substeps);
     param.iteration = static_cast<PfxUInt32>(settings.iterations);
     param.enableSleep = false;  // no engine sleeps (bench_engine.h)
+    param.numThreads = static_cast<PfxUInt32>(settings.threads);
     if (const PfxInt32 err = m_world.initialize(param); err != PFX_OK) {
       error = std::string("pfx: world parameters rejected: ") + pfxErrorString(err);
       return false;

@@ -1,12 +1,13 @@
 // The registry of engines. A peer whose library CMake did not find is listed without a
 // constructor, so that asking for it says why it is missing instead of failing silently.
 #include "bench_engine.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
 
 namespace pfxbench {
 
 const std::vector<EngineInfo>& knownEngines() {
   static const std::vector<EngineInfo> engines = {
-      {"pfx", createPfxEngine, 1},
+      {"pfx", createPfxEngine, static_cast<int>(pfx::PFX_MAX_THREADS)},
 #ifdef PFX_BENCH_HAVE_BULLET
       {"bullet", createBulletEngine, 1},
       {"bullet_multibody", createBulletMultiBodyEngine, 1},

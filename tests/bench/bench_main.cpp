@@ -3,10 +3,12 @@
 // set to.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -42,13 +44,16 @@ std::string describeTimeStep(double dt) {
   return text;
 }
 
-std::string describeJob(const Job& job) {
+std::string describeJobWithoutThreads(const Job& job) {
   std::string text = job.scene->name;
   if (job.scene->variant != "-") text += "/" + job.scene->variant;
   return text + " " + job.engine->name + " dt=" + describeTimeStep(job.settings.dt) +
          " it=" + std::to_string(job.settings.iterations) +
-         " sub=" + std::to_string(job.settings.substeps) +
-         " thr=" + std::to_string(job.settings.threads);
+         " sub=" + std::to_string(job.settings.substeps);
+}
+
+std::string describeJob(const Job& job) {
+  return describeJobWithoutThreads(job) + " thr=" + std::to_string(job.settings.threads);
 }
 
 // The engines asked for (all known ones by default) that were built; says on stderr which
@@ -181,6 +186,8 @@ int main(int argc, char** argv) {
   for (const Job& job : jobs) totalWork += runWork(*job.scene, job.settings, job.seconds);
   Progress progress(totalWork);
   std::vector<ResultRow> rows;
+  // --same-bits: the first finished run of each scene, engine and setting, by thread count.
+  std::map<std::string, std::pair<int, std::uint64_t>> firstDigests;
   int failures = 0;
   int stopped = 0;
   for (const Job& job : jobs) {
@@ -212,6 +219,24 @@ int main(int argc, char** argv) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
       rows.push_back(row);
+    }
+    if (options.sameBits && !result.stopped) {
+      const std::string group = describeJobWithoutThreads(job);
+      const auto first = firstDigests.emplace(group, std::make_pair(job.settings.threads,
+                                                                   result.stateDigest));
+      const bool same = first.first->second.second == result.stateDigest;
+      char text[160];
+      std::snprintf(text, sizeof(text), ": final state digest %016llx, %s %d thread(s)",
+                    static_cast<unsigned long long>(result.stateDigest),
+                    same ? "the same bits as with" : "DIFFERENT BITS from",
+                    first.first->second.first);
+      progress.log(label + text);
+      if (!same) ++failures;
+      const ResultRow row{job.scene->name, job.engine->name, job.scene->variant, job.settings.dt,
+                          job.settings.substeps, job.settings.iterations, job.settings.threads,
+                          result.wallSecondsPerSimSecond, "same_bits", same ? 1.0 : 0.0};
+      writeTsvRow(std::cout, row);
+      if (tsvFile) writeTsvRow(tsvFile, row);
     }
     std::cout.flush();
   }

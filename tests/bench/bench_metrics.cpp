@@ -98,7 +98,8 @@ double MetricRecorder::value(Metric metric) const {
       return escaped;
     }
     case Metric::JointGapMax: return m_jointGap;
-    case Metric::PositionError: break;
+    case Metric::PositionError:
+    case Metric::BytesPerBody: break;
   }
   return kNaN;
 }

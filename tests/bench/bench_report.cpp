@@ -20,6 +20,7 @@ std::string formatNumber(double value) {
 const char* metricUnit(const std::string& metric) {
   if (metric == "energy_drift" || metric == "momentum_drift") return "relative";
   if (metric == "escaped") return "bodies";
+  if (metric == "bytes_per_body") return "bytes";
   return "m";
 }
 

@@ -4,8 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <limits>
+#include <malloc.h>
+#include <memory>
 
 #include "bench_metrics.h"
 #include "bench_motors.h"
@@ -63,7 +66,45 @@ struct Simulation {
   std::string error;
   double wallSeconds = 0;
   double simulatedSeconds = 0;
+  std::uint64_t finalDigest = 0;
 };
+
+std::uint64_t digestOf(const std::vector<BodyState>& states) {
+  std::uint64_t hash = 1469598103934665603ull;
+  auto add = [&](double value) {
+    unsigned char bytes[sizeof(double)];
+    std::memcpy(bytes, &value, sizeof(double));
+    for (unsigned char byte : bytes) hash = (hash ^ byte) * 1099511628211ull;
+  };
+  for (const BodyState& s : states) {
+    for (int k = 0; k < 3; ++k) add(s.position[k]);
+    for (int k = 0; k < 4; ++k) add(s.orientation.coeffs()[k]);
+    for (int k = 0; k < 3; ++k) add(s.linearVelocity[k]);
+    for (int k = 0; k < 3; ++k) add(s.angularVelocity[k]);
+  }
+  return hash;
+}
+
+// Bytes on the heap, glibc's count over all arenas, large mapped blocks included.
+double heapBytesInUse() {
+  const struct mallinfo2 info = mallinfo2();
+  return static_cast<double>(info.uordblks) + static_cast<double>(info.hblkhd);
+}
+
+// What an engine keeps on the heap per body of the scene: a fresh engine built and stepped
+// a few times, so that its pair and contact buffers have grown, against the heap before.
+double heapBytesPerBody(const EngineInfo& info, const Scene& scene, const EngineSettings& settings,
+                        long long steps) {
+  constexpr long long kWarmUpSteps = 10;
+  const double before = heapBytesInUse();
+  std::unique_ptr<Engine> engine = info.create();
+  std::string error;
+  if (!engine->build(scene, settings, error)) return kNaN;
+  for (long long i = 0; i < std::min(steps, kWarmUpSteps); ++i) {
+    if (!engine->step(error)) return kNaN;
+  }
+  return (heapBytesInUse() - before) / static_cast<double>(scene.bodies.size());
+}
 
 struct Observers {
   std::function<void(const std::vector<BodyState>&)> bodies;
@@ -126,6 +167,7 @@ Simulation simulate(const EngineInfo& info, const Scene& scene, const EngineSett
     progress.advance(static_cast<double>(chunk) * weight);
   }
   sim.ok = true;
+  sim.finalDigest = digestOf(states);
   return sim;
 }
 
@@ -177,6 +219,7 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
     return result;
   }
   result.wallSecondsPerSimSecond = run.wallSeconds / run.simulatedSeconds;
+  result.stateDigest = run.finalDigest;
 
   double positionError = kNaN;
   if (tracked) {
@@ -202,8 +245,10 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
   }
 
   for (Metric metric : scene.metrics) {
-    result.metrics.emplace_back(metric,
-                                metric == Metric::PositionError ? positionError : recorder.value(metric));
+    double value = recorder.value(metric);
+    if (metric == Metric::PositionError) value = positionError;
+    if (metric == Metric::BytesPerBody) value = heapBytesPerBody(engine, scene, settings, steps);
+    result.metrics.emplace_back(metric, value);
   }
   result.ok = true;
   return result;

@@ -3,6 +3,7 @@
 // reference: the same scene and engine at dt / 16 with four times the iterations.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,9 @@ struct RunResult {
   std::string error;
   double wallSecondsPerSimSecond = 0;
   std::vector<std::pair<Metric, double>> metrics;
+  // FNV-1a over every body's final position, orientation and velocities as the engine
+  // reported them: equal digests mean bit-identical states (runs finished only).
+  std::uint64_t stateDigest = 0;
 };
 
 // Relative cost of a run for the progress bar (body steps, reference included).

@@ -18,6 +18,7 @@ struct SceneEntry {
 const SceneEntry kScenes[] = {
     {"pyramid", buildPyramidScene}, {"tower", buildTowerScene},
     {"spinner", buildSpinnerScene}, {"rain", buildRainScene},
+    {"spheres", buildSpheresScene},
     {"bullet", buildBulletScene}, {"chain", buildChainScene},
     {"longchain", buildLongChainScene}, {"ragdoll", buildRagdollScene},
 #ifdef PFX_BENCH_HAVE_LOADERS
@@ -152,6 +153,7 @@ const char* metricName(Metric metric) {
     case Metric::Escaped: return "escaped";
     case Metric::PositionError: return "position_error";
     case Metric::JointGapMax: return "joint_gap_max";
+    case Metric::BytesPerBody: return "bytes_per_body";
   }
   return "unknown";
 }

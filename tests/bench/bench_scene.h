@@ -109,7 +109,9 @@ enum class Metric {
   MomentumDrift,
   Escaped,
   PositionError,
-  JointGapMax
+  JointGapMax,
+  // Heap the engine holds per body of the scene after a few steps (bench_run.cpp).
+  BytesPerBody
 };
 const char* metricName(Metric metric);
 
@@ -164,6 +166,7 @@ void buildPyramidScene(std::vector<Scene>& variants);
 void buildTowerScene(std::vector<Scene>& variants);
 void buildSpinnerScene(std::vector<Scene>& variants);
 void buildRainScene(std::vector<Scene>& variants);
+void buildSpheresScene(std::vector<Scene>& variants);
 void buildBulletScene(std::vector<Scene>& variants);
 
 // Jointed scenes (bench_scenes_joint.cpp).

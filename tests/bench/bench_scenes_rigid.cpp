@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
 
 #include "bench_scene.h"
 
@@ -122,6 +123,31 @@ void buildRainScene(std::vector<Scene>& variants) {
     }
   }
   variants.push_back(scene);
+}
+
+// Scaling: n spheres of 10 cm radius, 1,000 kg/m^3, resting on a fixed ground box on a
+// square grid 25 cm apart, each touching the ground and none its neighbours, for n =
+// 1,000, 10,000 and 100,000. Nothing should move; the step time shows how the cost grows
+// with n, and bytes_per_body what the engine holds per body.
+void buildSpheresScene(std::vector<Scene>& variants) {
+  const double radius = 0.1, pitch = 0.25;
+  for (const int n : {1000, 10000, 100000}) {
+    Scene scene;
+    scene.name = "spheres";
+    scene.variant = std::to_string(n / 1000) + "k";
+    scene.duration = 1;
+    scene.metrics = {Metric::StackDrift, Metric::PenetrationMax, Metric::BytesPerBody};
+    const int side = static_cast<int>(std::ceil(std::sqrt(double(n))));
+    const double half = 0.5 * side * pitch + 1;
+    scene.bodies.push_back(makeFixedBody(ShapeDesc::box(Vec3(half, 0.5, half)), Vec3(0, -0.5, 0)));
+    const ShapeDesc sphere = ShapeDesc::sphere(radius);
+    for (int i = 0; i < n; ++i) {
+      const Vec3 position(pitch * (i % side - 0.5 * (side - 1)), radius,
+                          pitch * (i / side - 0.5 * (side - 1)));
+      scene.bodies.push_back(makeDynamicBody(sphere, 1000 * sphere.volume(), position));
+    }
+    variants.push_back(scene);
+  }
 }
 
 // Ten steel spheres of 2 cm diameter at 100 m/s toward a fixed wall 1 cm thick, without
