@@ -171,7 +171,6 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_islandMarks.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
-  reserveSolverWork(m_numPairs);
   m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
@@ -292,7 +291,9 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   return PFX_OK;
 }
 
-// Grows only: while the first steps find more pairs, and when bodies or joints are added.
+// Sized in the step for the bodies, joints and pairs there are then, not each time a body
+// or joint is added (whose doubling left up to twice the memory needed); grows only while
+// the first steps find more pairs.
 void PfxWorld::reserveSolverWork(PfxUInt32 numContactPairs) {
   const std::size_t workBytes =
       pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), numContactPairs, getNumJoints());

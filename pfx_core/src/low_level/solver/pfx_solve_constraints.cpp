@@ -415,56 +415,84 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                      },
                      taskManager);
 
-  auto forEachJoint = [&](auto&& work) {
-    jointBatches.forEach(taskManager, [&](const PfxConstraintPair& pair, PfxUInt32 i) {
+  // work(sweep, ...) over numSweeps sweeps of the contacts, or one of the joints.
+  auto sweepContacts = [&](PfxUInt32 numSweeps, auto&& work) {
+    contactBatches.sweep(taskManager, numSweeps,
+                         [&](PfxUInt32 sweep, const PfxConstraintPair& pair, PfxUInt32) {
+                           work(sweep, param.offsetContactManifolds[pfxGetContactId(pair)],
+                                bodiesOf(pair, param.offsetSolverBodies));
+                         });
+  };
+  auto sweepJoints = [&](auto&& work) {
+    jointBatches.sweep(taskManager, 1, [&](PfxUInt32, const PfxConstraintPair& pair, PfxUInt32 i) {
       work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
            i);
     });
   };
-  auto forEachContact = [&](auto&& work) {
-    contactBatches.forEach(taskManager, [&](const PfxConstraintPair& pair, PfxUInt32) {
-      work(param.offsetContactManifolds[pfxGetContactId(pair)],
-           bodiesOf(pair, param.offsetSolverBodies));
-    });
+  auto restitution = [&](PfxContactManifold& m, const PairBodies& p) {
+    applyRestitution(m, p, param.restitutionThreshold, param.timeStep);
+  };
+  // The contacts' direct solve once, after the first sweep has set the impulses of the
+  // faces it leaves out, as a predictor that the remaining sweeps refine: it hands the
+  // whole weight of a stack to every face at once, which the sweeps alone pass down one
+  // body per sweep. Measured on a 30-box tower at 10 iterations, solving it before the
+  // sweeps leaves the top drifting 9 cm in a minute, after the first 2 cm; as the last
+  // word of every iteration it makes the tower explode, because its clamped face
+  // pressures leave friction and the faces outside the forest far from balance, and one
+  // sweep cannot restore that.
+  auto solveContactTrees = [&] {
+    contactTree.solveVelocities(taskManager);
+    contactTree.solvePush(taskManager);
   };
 
-  forEachContact([](PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
-  forEachJoint([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
-  for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
-    const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
-    pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
-                                 param.offsetSolverBodies, &PfxSolverBody::m_deltaLinearVelocity,
-                                 &PfxSolverBody::m_deltaAngularVelocity);
-  }
-  // Joints last in each iteration, and their locked axes exactly: whatever the contacts
-  // did, every iteration ends with the joints' velocities consistent. Their positions are
-  // corrected after the bodies have moved, by pfxCorrectJointPositions.
-  for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
-    forEachContact([](PfxContactManifold& m, const PairBodies& p) { solveContacts(m, p); });
-    forEachJoint([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
-      solveJoint(j, p, tree, index);
+  if (param.numJointPairs == 0 && param.numJointCouplings == 0) {
+    // Only contacts: the warm start and the first sweep, then the trees, then the other
+    // sweeps and the restitution pass, each run of sweeps in one parallel loop.
+    sweepContacts(2, [](PfxUInt32 sweep, PfxContactManifold& m, const PairBodies& p) {
+      if (sweep == 0) {
+        warmStart(m, p);
+      } else {
+        solveContacts(m, p);
+      }
     });
+    solveContactTrees();
+    sweepContacts(param.iteration, [&](PfxUInt32 sweep, PfxContactManifold& m, const PairBodies& p) {
+      if (sweep + 1 < param.iteration) {
+        solveContacts(m, p);
+      } else {
+        restitution(m, p);
+      }
+    });
+  } else {
+    sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
+    sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
-      pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
-                                 param.offsetSolverBodies, false);
+      const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+      pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
+                                   param.offsetSolverBodies, &PfxSolverBody::m_deltaLinearVelocity,
+                                   &PfxSolverBody::m_deltaAngularVelocity);
     }
-    tree.solveVelocities(taskManager);
-    // The contacts' direct solve once, after the first sweep has set the impulses of the
-    // faces it leaves out, as a predictor that the remaining sweeps refine: it hands the
-    // whole weight of a stack to every face at once, which the sweeps alone pass down one
-    // body per sweep. Measured on a 30-box tower at 10 iterations, solving it before the
-    // sweeps leaves the top drifting 9 cm in a minute, after the first 2 cm; as the last
-    // word of every iteration it makes the tower explode, because its clamped face
-    // pressures leave friction and the faces outside the forest far from balance, and one
-    // sweep cannot restore that.
-    if (iteration == 0) {
-      contactTree.solveVelocities(taskManager);
-      contactTree.solvePush(taskManager);
+    // Joints last in each iteration, and their locked axes exactly: whatever the contacts
+    // did, every iteration ends with the joints' velocities consistent. Their positions are
+    // corrected after the bodies have moved, by pfxCorrectJointPositions.
+    for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
+      sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
+        solveContacts(m, p);
+      });
+      sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
+        solveJoint(j, p, tree, index);
+      });
+      for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
+        pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
+                                   param.offsetSolverBodies, false);
+      }
+      tree.solveVelocities(taskManager);
+      if (iteration == 0) solveContactTrees();
     }
+    sweepContacts(1, [&](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
+      restitution(m, p);
+    });
   }
-  forEachContact([&](PfxContactManifold& m, const PairBodies& p) {
-    applyRestitution(m, p, param.restitutionThreshold, param.timeStep);
-  });
 
   // Velocities take the solved changes; positions take the split impulses' push over the
   // step, which is then forgotten.
