@@ -1,6 +1,6 @@
-// PfxWorld on several threads: a pile of a few hundred bodies of every convex shape with
-// two ragdolls on top gives the same bits with 1, 2 and 4 threads and run after run, and a
-// warm step on two threads allocates nothing.
+// PfxWorld on several threads: a pile of 500 bodies of every convex shape with two ragdolls
+// on top (sleep on, as by default) gives the same bits with 1, 2 and 4 threads and run after
+// run, and a warm step on two threads allocates nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,7 +33,7 @@ void addFixedBox(PfxWorld& world, const PfxVector3& half, const PfxVector3& posi
   ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(half)), init), PFX_OK);
 }
 
-// 600 boxes, spheres, capsules and cylinders dropped into a 4 x 4 m box, two ragdolls
+// 500 boxes, spheres, capsules and cylinders dropped into a 4 x 4 m box, two ragdolls
 // dropped on them, two sub-steps per step so that every stage runs.
 void buildPile(PfxWorld& world, PfxUInt32 numThreads) {
   PfxWorldParam param;
@@ -46,7 +46,7 @@ void buildPile(PfxWorld& world, PfxUInt32 numThreads) {
   addFixedBox(world, PfxVector3(2, 2, 0.25f), PfxVector3(0, 2, 2.25f));
   addFixedBox(world, PfxVector3(2, 2, 0.25f), PfxVector3(0, 2, -2.25f));
   std::mt19937 rng(4242u);
-  for (int layer = 0; layer < 6; ++layer) {
+  for (int layer = 0; layer < 5; ++layer) {
     for (int i = 0; i < 10; ++i) {
       for (int k = 0; k < 10; ++k) {
         PfxBodyInit init;
@@ -100,6 +100,19 @@ struct Outcome {
   PfxUInt32 numContactPoints = 0;
 };
 
+// The pile stays in its box, settles and does not blow up.
+void expectSettledInTheBox(const PfxWorld& world) {
+  for (PfxUInt32 id = 5; id < world.getNumRigidBodies(); ++id) {
+    const PfxRigidState& s = world.getRigidState(id);
+    ASSERT_TRUE(pfxIsFinite(s.getPosition())) << id;
+    EXPECT_LT(std::abs(s.getPosition().x()), 2.0f) << id;
+    EXPECT_LT(std::abs(s.getPosition().z()), 2.0f) << id;
+    EXPECT_GT(s.getPosition().y(), 0.0f) << id;
+    EXPECT_LT(s.getLinearVelocity().norm(), 3.0f) << id;
+  }
+  EXPECT_LT(world.getStats().maxPenetration, 0.05f);
+}
+
 Outcome simulate(PfxUInt32 numThreads, int steps) {
   Outcome outcome;
   PfxWorld world;
@@ -107,6 +120,7 @@ Outcome simulate(PfxUInt32 numThreads, int steps) {
   for (int i = 0; i < steps; ++i) {
     EXPECT_EQ(world.step(), PFX_OK);
   }
+  expectSettledInTheBox(world);
   outcome.states = snapshot(world);
   outcome.numContactPoints = world.getStats().numContactPoints;
   const std::vector<PfxRayInput> rays = raysIntoPile();
@@ -120,7 +134,7 @@ Outcome simulate(PfxUInt32 numThreads, int steps) {
 }  // namespace
 
 TEST(WorldThreads, SameBitsWithOneTwoAndFourThreadsAndRunAfterRun) {
-  constexpr int kSteps = 180;  // 3 s
+  constexpr int kSteps = 150;  // 2.5 s
   const Outcome one = simulate(1, kSteps);
   // The pile has settled into many contacts: not the same because nothing touched.
   EXPECT_GT(one.numContactPoints, 1000u);
@@ -132,21 +146,6 @@ TEST(WorldThreads, SameBitsWithOneTwoAndFourThreadsAndRunAfterRun) {
   }
 }
 
-TEST(WorldThreads, PileComesToRestInsideTheBox) {
-  PfxWorld world;
-  buildPile(world, 2);
-  for (int i = 0; i < 240; ++i) ASSERT_EQ(world.step(), PFX_OK);
-  for (PfxUInt32 id = 5; id < world.getNumRigidBodies(); ++id) {
-    const PfxRigidState& s = world.getRigidState(id);
-    ASSERT_TRUE(pfxIsFinite(s.getPosition())) << id;
-    EXPECT_LT(std::abs(s.getPosition().x()), 2.0f) << id;
-    EXPECT_LT(std::abs(s.getPosition().z()), 2.0f) << id;
-    EXPECT_GT(s.getPosition().y(), 0.0f) << id;
-    EXPECT_LT(s.getLinearVelocity().norm(), 3.0f) << id;
-  }
-  EXPECT_LT(world.getStats().maxPenetration, 0.05f);
-}
-
 TEST(WorldThreads, WarmStepOnTwoThreadsAllocatesNothing) {
   PfxWorld world;
   buildPile(world, 2);
@@ -155,7 +154,7 @@ TEST(WorldThreads, WarmStepOnTwoThreadsAllocatesNothing) {
   std::vector<PfxRayOutput> hits(rays.size());
   ASSERT_EQ(world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
   const long before = pfx_test::pfxAllocationCount();
-  for (int i = 0; i < 120; ++i) {
+  for (int i = 0; i < 60; ++i) {
     ASSERT_EQ(world.step(), PFX_OK);
     ASSERT_EQ(world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
   }
