@@ -1,6 +1,7 @@
 #include "base_level/collision/contact/pfx_closest_points.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pfx {
 
@@ -58,6 +59,19 @@ void pfxClosestPointsSegmentSegment(const PfxVector3& p0, const PfxVector3& p1,
   }
   onP = p0 + d1 * s;
   onQ = q0 + d2 * t;
+}
+
+bool pfxEdgeContactPoints(const PfxVector3& p0, const PfxVector3& p1, const PfxVector3& q0,
+                          const PfxVector3& q1, const PfxVector3& axis, PfxFloat separation,
+                          PfxFloat mergeDistance, PfxVector3& onP, PfxVector3& onQ,
+                          PfxFloat& distance) {
+  PfxFloat s, t;
+  pfxClosestPointsSegmentSegment(p0, p1, q0, q1, s, t, onP, onQ);
+  const PfxVector3 gap = onQ - onP;
+  distance = axis.dot(gap);
+  const PfxFloat tolerance = mergeDistance + PfxFloat(1e-4) * std::abs(separation);
+  return (gap - axis * distance).norm() <= tolerance &&
+         std::abs(distance - separation) <= tolerance;
 }
 
 }  // namespace pfx

@@ -12,6 +12,16 @@ void pfxClosestPointsSegmentSegment(const PfxVector3& p0, const PfxVector3& p1,
                                     const PfxVector3& q0, const PfxVector3& q1, PfxFloat& s,
                                     PfxFloat& t, PfxVector3& onP, PfxVector3& onQ);
 
+// The touching points of two edges that a separating-axis test found `separation` apart
+// along `axis` (unit, from P to Q): their closest points, and the distance between them
+// along the axis. False when those points do not lie on the axis at that separation within
+// `mergeDistance` (plus a relative 1e-4), which happens when the edges' lines cross beyond
+// an end; a face contact then describes the pair.
+bool pfxEdgeContactPoints(const PfxVector3& p0, const PfxVector3& p1, const PfxVector3& q0,
+                          const PfxVector3& q1, const PfxVector3& axis, PfxFloat separation,
+                          PfxFloat mergeDistance, PfxVector3& onP, PfxVector3& onQ,
+                          PfxFloat& distance);
+
 // Parameter in [0, 1] of the point of segment p0-p1 closest to `point`.
 PfxFloat pfxClosestParameterOnSegment(const PfxVector3& p0, const PfxVector3& p1,
                                       const PfxVector3& point);

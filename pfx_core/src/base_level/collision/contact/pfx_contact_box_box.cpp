@@ -219,15 +219,11 @@ class BoxBoxContact {
     const PfxVector3 centreB = translation + rotation * centreInB;
     const PfxVector3 alongB = rotation.col(edge.axisB) * m_b.half[edge.axisB];
 
-    PfxFloat s, t;
     PfxVector3 onA, onB;
-    pfxClosestPointsSegmentSegment(centreA - alongA, centreA + alongA, centreB - alongB,
-                                   centreB + alongB, s, t, onA, onB);
-    const PfxVector3 gap = onB - onA;
-    const PfxFloat along = edge.normal.dot(gap);
-    const PfxFloat tolerance = m_mergeDistance + PfxFloat(1e-4) * std::abs(edge.separation);
-    if ((gap - edge.normal * along).norm() > tolerance ||
-        std::abs(along - edge.separation) > tolerance) {
+    PfxFloat along;
+    if (!pfxEdgeContactPoints(centreA - alongA, centreA + alongA, centreB - alongB,
+                              centreB + alongB, edge.normal, edge.separation, m_mergeDistance,
+                              onA, onB, along)) {
       return false;
     }
     const PfxTransform3& ta = *m_a.transform;

@@ -246,17 +246,13 @@ class PolyhedraContact {
     // Parallel edges share the axis; the ones furthest towards each other touch.
     const PfxUInt32 edgeA = supportingEdge(m_a, edge.edgeA, edge.axis);
     const PfxUInt32 edgeB = supportingEdge(m_b, edge.edgeB, -edge.axis);
-    PfxFloat s, t;
     PfxVector3 onA, onB;
-    pfxClosestPointsSegmentSegment(
-        m_a.verts[ta.m_edgeVertIds[edgeA][0]], m_a.verts[ta.m_edgeVertIds[edgeA][1]],
-        m_b.verts[tb.m_edgeVertIds[edgeB][0]], m_b.verts[tb.m_edgeVertIds[edgeB][1]], s, t, onA,
-        onB);
-    const PfxVector3 gap = onB - onA;
-    const PfxFloat along = edge.axis.dot(gap);
-    const PfxFloat tolerance = m_mergeDistance + PfxFloat(1e-4) * std::abs(edge.separation);
-    if ((gap - edge.axis * along).norm() > tolerance ||
-        std::abs(along - edge.separation) > tolerance) {
+    PfxFloat along;
+    if (!pfxEdgeContactPoints(m_a.verts[ta.m_edgeVertIds[edgeA][0]],
+                              m_a.verts[ta.m_edgeVertIds[edgeA][1]],
+                              m_b.verts[tb.m_edgeVertIds[edgeB][0]],
+                              m_b.verts[tb.m_edgeVertIds[edgeB][1]], edge.axis, edge.separation,
+                              m_mergeDistance, onA, onB, along)) {
       return false;
     }
     emit(edge.axis, onA, onB, along);
