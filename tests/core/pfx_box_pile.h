@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -69,6 +70,20 @@ inline PileSteps settlePile(PfxWorld& world, int maxSteps) {
     if (steps.rest < 0 && step > window && moved < 0.05f) steps.rest = step;
   }
   return steps;
+}
+
+// Drops `count` boxes into a bin and checks that they come to rest within `maxSteps` and
+// are all asleep, as one island each, within 5 s of it.
+inline void expectPileSleepsWithinFiveSecondsOfRest(PfxWorld& world, int count, int maxSteps) {
+  addBoxPileInBin(world, count);
+  const PileSteps steps = settlePile(world, maxSteps);
+  std::printf("%d boxes: at rest after %.2f s, asleep after %.2f s\n", count, steps.rest / 60.0,
+              steps.asleep / 60.0);
+  ASSERT_GT(steps.rest, 0) << "the pile never came to rest";
+  ASSERT_GT(steps.asleep, 0) << "the pile never fell asleep";
+  EXPECT_LE(steps.asleep, steps.rest + 5 * 60);
+  EXPECT_EQ(world.getStats().numSleepingBodies, PfxUInt32(count));
+  EXPECT_EQ(world.getStats().numSleepingIslands, world.getStats().numIslands);
 }
 
 }  // namespace pfx_test

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -472,15 +471,7 @@ TEST(Sleep, ASettledPileSleepsWithinFiveSecondsOfComingToRest) {
   // 125 boxes dropped into a bin (tests/extreme has 1,000).
   PfxWorld world;
   ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
-  pfx_test::addBoxPileInBin(world, 125);
-  const pfx_test::PileSteps steps = pfx_test::settlePile(world, 60 * 30);
-  std::printf("125 boxes: at rest after %.2f s, asleep after %.2f s\n", steps.rest / 60.0,
-              steps.asleep / 60.0);
-  ASSERT_GT(steps.rest, 0) << "the pile never came to rest";
-  ASSERT_GT(steps.asleep, 0) << "the pile never fell asleep";
-  EXPECT_LE(steps.asleep, steps.rest + 5 * 60);
-  EXPECT_EQ(world.getStats().numSleepingBodies, 125u);
-  EXPECT_EQ(world.getStats().numSleepingIslands, world.getStats().numIslands);
+  pfx_test::expectPileSleepsWithinFiveSecondsOfRest(world, 125, 60 * 30);
 }
 
 TEST(Sleep, SleepingAndWakingAllocateNothingOnceWarm) {
