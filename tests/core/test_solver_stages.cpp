@@ -156,8 +156,11 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
   bad = detect;
   bad.numRigidBodies = 1;  // the pair names body 1
   EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_OUT_OF_RANGE);
+  // A pair naming a manifold beyond the count given; without a count (0) ids go unchecked.
+  PfxConstraintPair farPair = s.pair;
+  pfxSetContactId(farPair, 1);
   bad = detect;
-  bad.numContactManifolds = 0;
+  bad.contactPairs = &farPair;
   EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_OUT_OF_RANGE);
   unchanged("detect");
 
@@ -217,9 +220,9 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
   solve.restitutionThreshold = -1;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_INVALID_VALUE);
   solve.restitutionThreshold = 0.2f;
-  solve.numContactManifolds = 0;
+  solve.contactPairs = &farPair;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_RANGE);
-  solve.numContactManifolds = 1;
+  solve.contactPairs = &s.pair;
   solve.offsetSolverBodies = nullptr;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_NULL_POINTER);
   unchanged("solve");

@@ -3,17 +3,15 @@
 
 #include <cstdint>
 
+#include "low_level/pfx_param_checks.h"
 #include "pfx/base_level/base/pfx_common.h"
 
 namespace pfx {
 
-// PFX_OK, or why `buff` cannot serve as `requiredBytes` of scratch or output.
-inline PfxInt32 pfxCheckBuffer(const void* buff, PfxUInt64 bytes, PfxUInt64 requiredBytes) {
-  if (!buff) return PFX_ERR_OUT_OF_BUFFER;
-  if (!pfxIsAligned(buff)) return PFX_ERR_INVALID_ALIGNMENT;
-  if (bytes < requiredBytes) return PFX_ERR_OUT_OF_BUFFER;
-  return PFX_OK;
-}
+// PFX_OK, or why `buff` cannot serve as `requiredBytes` of scratch or output; the detail
+// names the stage and the field `buffField`.
+PfxInt32 pfxCheckBuffer(const PfxParamNames& at, const char* buffField, const void* buff,
+                        PfxUInt64 bytes, PfxUInt64 requiredBytes);
 
 // A stage that writes one buffer while it reads another gives garbage when they share
 // bytes, so such calls are rejected rather than run.

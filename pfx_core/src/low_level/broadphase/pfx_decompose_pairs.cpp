@@ -1,5 +1,7 @@
 #include "pfx/low_level/broadphase/pfx_decompose_pairs.h"
 
+#include <tuple>
+
 #include "low_level/pfx_buffer_checks.h"
 
 namespace pfx {
@@ -56,22 +58,39 @@ PfxUInt32 pfxGetPairBytesOfDecomposePairs(PfxUInt32 numPreviousPairs, PfxUInt32 
 }
 
 PfxInt32 pfxDecomposePairs(const PfxDecomposePairsParam& param, PfxDecomposePairsResult& result) {
-  if ((param.numPreviousPairs > 0 && !param.previousPairs) ||
-      (param.numCurrentPairs > 0 && !param.currentPairs)) {
-    return PFX_ERR_NULL_POINTER;
-  }
+  const PfxParamNames at{"pfxDecomposePairs", "PfxDecomposePairsParam"};
   const PfxUInt64 previousBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.numPreviousPairs;
   const PfxUInt64 currentBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.numCurrentPairs;
   const PfxUInt64 requiredBytes = previousBytes + currentBytes;
-  const PfxInt32 err = pfxCheckBuffer(param.pairBuff, param.pairBytes, requiredBytes);
-  if (err != PFX_OK) return err;
-  if (pfxRangesOverlap(param.pairBuff, requiredBytes, param.previousPairs, previousBytes) ||
-      pfxRangesOverlap(param.pairBuff, requiredBytes, param.currentPairs, currentBytes)) {
-    return PFX_ERR_INVALID_VALUE;
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at, {{param.previousPairs, "previousPairs"}}, "numPreviousPairs",
+                              param.numPreviousPairs)) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.currentPairs, "currentPairs"}}, "numCurrentPairs",
+                              param.numCurrentPairs)) != PFX_OK ||
+      (err = pfxCheckBuffer(at, "pairBuff", param.pairBuff, param.pairBytes, requiredBytes)) !=
+          PFX_OK) {
+    return err;
   }
-  if (!isStrictlyAscending(param.previousPairs, param.numPreviousPairs) ||
-      !isStrictlyAscending(param.currentPairs, param.numCurrentPairs)) {
-    return PFX_ERR_INVALID_VALUE;
+  for (const auto& [pairs, bytes, field] :
+       {std::tuple(param.previousPairs, previousBytes, "previousPairs"),
+        std::tuple(param.currentPairs, currentBytes, "currentPairs")}) {
+    if (pfxRangesOverlap(param.pairBuff, requiredBytes, pairs, bytes)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxDecomposePairs: PfxDecomposePairsParam::pairBuff shares bytes "
+                            "with %s",
+                            field);
+    }
+  }
+  if (!isStrictlyAscending(param.previousPairs, param.numPreviousPairs)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxDecomposePairs: PfxDecomposePairsParam::previousPairs are not "
+                          "sorted by key without repeats");
+  }
+  if (!isStrictlyAscending(param.currentPairs, param.numCurrentPairs)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxDecomposePairs: PfxDecomposePairsParam::currentPairs are not "
+                          "sorted by key without repeats");
   }
 
   PfxUInt32 numNew = 0;

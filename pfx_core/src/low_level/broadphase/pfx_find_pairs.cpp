@@ -137,21 +137,34 @@ PfxUInt32 sweepInChunks(const PfxFindPairsParam& param, PfxBroadphasePair* pairs
 
 PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result,
                       PfxTaskManager* taskManager) {
+  const PfxParamNames at{"pfxFindPairs", "PfxFindPairsParam"};
   const int axis = param.axis;
-  if (axis < 0 || axis > 2) return PFX_ERR_INVALID_VALUE;
-  if (param.numProxies > 0 && !param.proxies) return PFX_ERR_NULL_POINTER;
   const PfxUInt64 pairBytes = PfxUInt64(sizeof(PfxBroadphasePair)) * param.maxPairs;
-  PfxInt32 err = pfxCheckBuffer(param.pairBuff, param.pairBytes, pairBytes);
-  if (err != PFX_OK) return err;
-  err = pfxCheckBuffer(param.workBuff, param.workBytes, pairBytes);
-  if (err != PFX_OK) return err;
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckValue(at, "axis", axis, axis >= 0 && axis <= 2, "0, 1 or 2")) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.proxies, "proxies"}}, "numProxies",
+                              param.numProxies)) != PFX_OK ||
+      (err = pfxCheckBuffer(at, "pairBuff", param.pairBuff, param.pairBytes, pairBytes)) !=
+          PFX_OK ||
+      (err = pfxCheckBuffer(at, "workBuff", param.workBuff, param.workBytes, pairBytes)) !=
+          PFX_OK) {
+    return err;
+  }
   const PfxUInt64 proxyBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * param.numProxies;
   if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes) ||
       pfxRangesOverlap(param.pairBuff, pairBytes, param.proxies, proxyBytes) ||
       pfxRangesOverlap(param.workBuff, pairBytes, param.proxies, proxyBytes)) {
-    return PFX_ERR_INVALID_VALUE;
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxFindPairs: PfxFindPairsParam::pairBuff, workBuff and proxies share "
+                          "bytes");
   }
-  if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) return PFX_ERR_INVALID_VALUE;
+  if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxFindPairs: PfxFindPairsParam::proxies are not sorted along axis %d "
+                          "(pfxParallelSort them after pfxUpdateBroadphaseProxy)",
+                          axis);
+  }
 
   PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);
   const PfxUInt32 numChunks =

@@ -105,9 +105,25 @@ PfxUInt16 sortValueOfArray(const PfxBroadphaseProxy& proxy, int array) {
 PfxInt32 pfxUpdateBroadphaseProxy(PfxBroadphaseProxy& proxy, const PfxRigidState& state,
                                   const PfxCollidable& collidable, const PfxVector3& worldCenter,
                                   const PfxVector3& worldExtent, int axis, PfxFloat timeStep) {
-  if (axis < 0 || axis > 2 || !isValidWorld(worldCenter, worldExtent) ||
-      !isValidTimeStep(timeStep) || !state.isValid() || !isValidCollidable(collidable)) {
-    return PFX_ERR_INVALID_VALUE;
+  const PfxParamNames at{"pfxUpdateBroadphaseProxy", ""};
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckValue(at, "axis", axis, axis >= 0 && axis <= 2, "0, 1 or 2")) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", timeStep, isValidTimeStep(timeStep),
+                           "finite and not negative")) != PFX_OK) {
+    return err;
+  }
+  if (!isValidWorld(worldCenter, worldExtent)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxUpdateBroadphaseProxy: worldCenter and worldExtent must be finite, "
+                          "the extent positive");
+  }
+  if (!state.isValid()) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxUpdateBroadphaseProxy: state fails PfxRigidState::isValid()");
+  }
+  if (!isValidCollidable(collidable)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxUpdateBroadphaseProxy: collidable has no shape or a non-finite box");
   }
   const WorldGrid grid = makeWorldGrid(worldCenter, worldExtent);
   const bool outOfWorld = buildProxy(proxy, state, collidable, grid, timeStep);
@@ -125,42 +141,90 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   PfxBroadphaseProxy* const arrays[kNumProxyArrays] = {param.proxiesX,  param.proxiesY,
                                                       param.proxiesZ,  param.proxiesXb,
                                                       param.proxiesYb, param.proxiesZb};
+  static const char* const arrayFields[kNumProxyArrays] = {"proxiesX",  "proxiesY",  "proxiesZ",
+                                                          "proxiesXb", "proxiesYb", "proxiesZb"};
+  const PfxParamNames at{"pfxUpdateBroadphaseProxies", "PfxUpdateBroadphaseProxiesParam"};
   const PfxUInt32 n = param.numRigidBodies;
-  if (n > 0 && (!param.offsetRigidStates || !param.offsetCollidables)) {
-    return PFX_ERR_NULL_POINTER;
+  if (const PfxInt32 err = pfxCheckRequired(at,
+                                            {{param.offsetRigidStates, "offsetRigidStates"},
+                                             {param.offsetCollidables, "offsetCollidables"}},
+                                            "numRigidBodies", n);
+      err != PFX_OK) {
+    return err;
   }
   PfxBroadphaseProxy* primary = nullptr;
-  for (PfxBroadphaseProxy* array : arrays) {
-    if (!array) continue;
-    if (!pfxIsAligned(array)) return PFX_ERR_INVALID_ALIGNMENT;
-    if (!primary) primary = array;
+  for (int a = 0; a < kNumProxyArrays; ++a) {
+    if (!arrays[a]) continue;
+    if (!pfxIsAligned(arrays[a])) {
+      return pfxRejectParam(PFX_ERR_INVALID_ALIGNMENT,
+                            "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::%s is "
+                            "not 16-byte aligned",
+                            arrayFields[a]);
+    }
+    if (!primary) primary = arrays[a];
   }
-  if (!primary) return PFX_ERR_NULL_POINTER;
-  if ((param.outOfWorldBehavior & ~kKnownOutOfWorldFlags) != 0) return PFX_ERR_INVALID_FLAG;
-  if (!isValidWorld(param.worldCenter, param.worldExtent) || !isValidTimeStep(param.timeStep)) {
-    return PFX_ERR_INVALID_VALUE;
+  if (!primary) {
+    return pfxRejectParam(PFX_ERR_NULL_POINTER,
+                          "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::proxiesX "
+                          "to proxiesZb are all null; at least one array is needed");
+  }
+  if ((param.outOfWorldBehavior & ~kKnownOutOfWorldFlags) != 0) {
+    return pfxRejectParam(PFX_ERR_INVALID_FLAG,
+                          "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::"
+                          "outOfWorldBehavior is 0x%x; known flags are "
+                          "PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION and _REMOVE_PROXY",
+                          param.outOfWorldBehavior);
+  }
+  if (!isValidWorld(param.worldCenter, param.worldExtent)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::"
+                          "worldCenter and worldExtent must be finite, the extent positive");
+  }
+  if (const PfxInt32 err = pfxCheckValue(at, "timeStep", param.timeStep,
+                                         isValidTimeStep(param.timeStep),
+                                         "finite and not negative");
+      err != PFX_OK) {
+    return err;
   }
   const PfxUInt64 arrayBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * n;
-  const PfxInt32 err = pfxCheckBuffer(param.workBuff, param.workBytes, arrayBytes);
-  if (err != PFX_OK) return err;
+  if (const PfxInt32 err =
+          pfxCheckBuffer(at, "workBuff", param.workBuff, param.workBytes, arrayBytes);
+      err != PFX_OK) {
+    return err;
+  }
   // Each array is filled from the first and sorted through the work buffer, so none may
   // share bytes with another.
   auto bytesOf = [arrayBytes](const void* array) { return array ? arrayBytes : 0; };
   for (int a = 0; a < kNumProxyArrays; ++a) {
     if (pfxRangesOverlap(arrays[a], bytesOf(arrays[a]), param.workBuff, arrayBytes)) {
-      return PFX_ERR_INVALID_VALUE;
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::%s "
+                            "shares bytes with workBuff",
+                            arrayFields[a]);
     }
     for (int b = a + 1; b < kNumProxyArrays; ++b) {
       if (pfxRangesOverlap(arrays[a], bytesOf(arrays[a]), arrays[b], bytesOf(arrays[b]))) {
-        return PFX_ERR_INVALID_VALUE;
+        return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                              "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::%s "
+                              "shares bytes with %s",
+                              arrayFields[a], arrayFields[b]);
       }
     }
   }
   // Checked before anything is written, so that a rejected call leaves states and arrays
   // as they were.
   for (PfxUInt32 i = 0; i < n; ++i) {
-    if (!param.offsetRigidStates[i].isValid() || !isValidCollidable(param.offsetCollidables[i])) {
-      return PFX_ERR_INVALID_VALUE;
+    if (!param.offsetRigidStates[i].isValid()) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::"
+                            "offsetRigidStates[%u] fails PfxRigidState::isValid()",
+                            i);
+    }
+    if (!isValidCollidable(param.offsetCollidables[i])) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::"
+                            "offsetCollidables[%u] has no shape or a non-finite box",
+                            i);
     }
   }
 

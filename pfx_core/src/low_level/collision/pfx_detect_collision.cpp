@@ -1,5 +1,6 @@
 #include "pfx/low_level/collision/pfx_detect_collision.h"
 
+#include "low_level/pfx_param_checks.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
 
 namespace pfx {
@@ -45,17 +46,27 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
 }  // namespace
 
 PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager* taskManager) {
-  if (param.numContactPairs > 0 && (!param.contactPairs || !param.offsetContactManifolds ||
-                                    !param.offsetRigidStates || !param.offsetCollidables)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (!(param.contactMargin >= 0) || !pfxIsFinite(param.contactMargin) ||
-      !(param.timeStep >= 0) || !pfxIsFinite(param.timeStep) || !(param.matchDistanceSq >= 0)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
-                       param.numContactManifolds)) {
-    return PFX_ERR_OUT_OF_RANGE;
+  const PfxParamNames at{"pfxDetectCollision", "PfxDetectCollisionParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at,
+                              {{param.contactPairs, "contactPairs"},
+                               {param.offsetContactManifolds, "offsetContactManifolds"},
+                               {param.offsetRigidStates, "offsetRigidStates"},
+                               {param.offsetCollidables, "offsetCollidables"}},
+                              "numContactPairs", param.numContactPairs)) != PFX_OK ||
+      (err = pfxCheckValue(at, "contactMargin", param.contactMargin,
+                           param.contactMargin >= 0 && pfxIsFinite(param.contactMargin),
+                           "finite and not negative")) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep >= 0 && pfxIsFinite(param.timeStep),
+                           "finite and not negative")) != PFX_OK ||
+      (err = pfxCheckValue(at, "matchDistanceSq", param.matchDistanceSq,
+                           param.matchDistanceSq >= 0, "not negative")) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
+                                  param.numRigidBodies, "numContactManifolds",
+                                  param.numContactManifolds)) != PFX_OK) {
+    return err;
   }
 
   // Each pair writes only its own manifold and its own pair.

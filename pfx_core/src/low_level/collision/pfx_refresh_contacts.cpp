@@ -1,5 +1,7 @@
 #include "pfx/low_level/collision/pfx_refresh_contacts.h"
 
+#include "low_level/pfx_param_checks.h"
+
 namespace pfx {
 
 namespace {
@@ -21,16 +23,21 @@ void refreshPair(const PfxRefreshContactsParam& param, PfxConstraintPair& pair) 
 }  // namespace
 
 PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param, PfxTaskManager* taskManager) {
-  if (param.numContactPairs > 0 &&
-      (!param.contactPairs || !param.offsetContactManifolds || !param.offsetRigidStates)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (!(param.breakDistance >= 0) || !pfxIsFinite(param.breakDistance)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
-                       param.numContactManifolds)) {
-    return PFX_ERR_OUT_OF_RANGE;
+  const PfxParamNames at{"pfxRefreshContacts", "PfxRefreshContactsParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at,
+                              {{param.contactPairs, "contactPairs"},
+                               {param.offsetContactManifolds, "offsetContactManifolds"},
+                               {param.offsetRigidStates, "offsetRigidStates"}},
+                              "numContactPairs", param.numContactPairs)) != PFX_OK ||
+      (err = pfxCheckValue(at, "breakDistance", param.breakDistance,
+                           param.breakDistance >= 0 && pfxIsFinite(param.breakDistance),
+                           "finite and not negative")) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
+                                  param.numRigidBodies, "numContactManifolds",
+                                  param.numContactManifolds)) != PFX_OK) {
+    return err;
   }
   pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {

@@ -78,12 +78,28 @@ PfxUInt32 pfxGetWorkBytesOfBuildRayBvh(PfxUInt32 numProxies) {
 PfxInt32 pfxBuildRayBvh(const PfxBuildRayBvhParam& param) {
   const PfxUInt32 n = param.numProxies;
   if (n == 0) return PFX_OK;
-  if (n > PFX_RAY_BVH_MAX_PROXIES) return PFX_ERR_OUT_OF_RANGE;
-  if (!param.proxies || !param.nodes) return PFX_ERR_NULL_POINTER;
+  const PfxParamNames at{"pfxBuildRayBvh", "PfxBuildRayBvhParam"};
+  if (n > PFX_RAY_BVH_MAX_PROXIES) {
+    return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                          "pfxBuildRayBvh: PfxBuildRayBvhParam::numProxies is %u, more than "
+                          "PFX_RAY_BVH_MAX_PROXIES (%u)",
+                          n, PFX_RAY_BVH_MAX_PROXIES);
+  }
+  if (const PfxInt32 err = pfxCheckRequired(
+          at, {{param.proxies, "proxies"}, {param.nodes, "nodes"}}, "numProxies", n);
+      err != PFX_OK) {
+    return err;
+  }
   const PfxUInt32 numNodes = pfxGetNumRayBvhNodes(n);
-  if (param.maxNodes < numNodes) return PFX_ERR_OUT_OF_BUFFER;
+  if (param.maxNodes < numNodes) {
+    return pfxRejectParam(PFX_ERR_OUT_OF_BUFFER,
+                          "pfxBuildRayBvh: PfxBuildRayBvhParam::maxNodes is %u; "
+                          "pfxGetNumRayBvhNodes asks %u",
+                          param.maxNodes, numNodes);
+  }
   const PfxUInt64 orderBytes = PfxUInt64(sizeof(PfxUInt32)) * n;
-  if (const PfxInt32 err = pfxCheckBuffer(param.workBuff, param.workBytes, orderBytes);
+  if (const PfxInt32 err =
+          pfxCheckBuffer(at, "workBuff", param.workBuff, param.workBytes, orderBytes);
       err != PFX_OK) {
     return err;
   }
@@ -92,7 +108,9 @@ PfxInt32 pfxBuildRayBvh(const PfxBuildRayBvhParam& param) {
   if (pfxRangesOverlap(param.nodes, nodeBytes, param.workBuff, orderBytes) ||
       pfxRangesOverlap(param.nodes, nodeBytes, param.proxies, proxyBytes) ||
       pfxRangesOverlap(param.workBuff, orderBytes, param.proxies, proxyBytes)) {
-    return PFX_ERR_INVALID_VALUE;
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxBuildRayBvh: PfxBuildRayBvhParam::nodes, workBuff and proxies share "
+                          "bytes");
   }
   PfxUInt32* order = static_cast<PfxUInt32*>(param.workBuff);
   for (PfxUInt32 i = 0; i < n; ++i) order[i] = i;

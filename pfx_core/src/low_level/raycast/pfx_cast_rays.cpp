@@ -37,23 +37,37 @@ const PfxBroadphaseProxy* proxiesFor(const PfxRayCastParam& param, WalkDirection
   return arrays[walk.axis + (walk.forward ? 0 : 3)];
 }
 
-PfxInt32 checkParam(const PfxRayCastParam& param) {
+PfxInt32 checkParam(const PfxParamNames& at, const PfxRayCastParam& param) {
   if (!pfxIsFinite(param.rangeCenter) || !pfxIsFinite(param.rangeExtent) ||
       !(param.rangeExtent.minCoeff() > 0)) {
-    return PFX_ERR_INVALID_VALUE;
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "%s: PfxRayCastParam::rangeCenter and rangeExtent must be finite, the "
+                          "extent positive",
+                          at.stage);
   }
-  if (param.numProxies > 0 && (!param.offsetRigidStates || !param.offsetCollidables ||
-                               (param.bvhNodes && !param.bvhProxies))) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  return PFX_OK;
+  return pfxCheckRequired(at,
+                          {{param.offsetRigidStates, "offsetRigidStates"},
+                           {param.offsetCollidables, "offsetCollidables"},
+                           {param.bvhNodes && !param.bvhProxies ? nullptr : &param,
+                            "bvhProxies (bvhNodes is set)"}},
+                          "numProxies", param.numProxies);
 }
 
-PfxInt32 checkRay(const PfxRayInput& ray, const PfxRayCastParam& param) {
-  if (const PfxInt32 err = pfxCheckRayInput(ray); err != PFX_OK) return err;
+PfxInt32 checkRay(const PfxParamNames& at, const PfxRayInput& ray, PfxUInt32 index,
+                  const PfxRayCastParam& param) {
+  if (const PfxInt32 err = pfxCheckRayInput(ray); err != PFX_OK) {
+    return pfxRejectParam(err,
+                          "%s: ray %u has a non-finite start or direction, or a zero direction",
+                          at.stage, index);
+  }
   if (param.numProxies > 0 && !param.bvhNodes &&
       !proxiesFor(param, chooseWalk(ray.m_direction))) {
-    return PFX_ERR_NULL_POINTER;
+    static const char* const arrayFields[6] = {"proxiesX",  "proxiesY",  "proxiesZ",
+                                               "proxiesXb", "proxiesYb", "proxiesZb"};
+    const WalkDirection walk = chooseWalk(ray.m_direction);
+    return pfxRejectParam(PFX_ERR_NULL_POINTER,
+                          "%s: PfxRayCastParam::%s is null, but ray %u walks it", at.stage,
+                          arrayFields[walk.axis + (walk.forward ? 0 : 3)], index);
   }
   return PFX_OK;
 }
@@ -259,35 +273,49 @@ PfxUInt32 pfxGetWorkBytesOfCastRays(PfxUInt32 numRays) {
 }
 
 PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRayCastParam& param) {
-  if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
-  if (const PfxInt32 err = checkRay(in, param); err != PFX_OK) return err;
+  const PfxParamNames at{"pfxCastSingleRay", "PfxRayCastParam"};
+  if (const PfxInt32 err = checkParam(at, param); err != PFX_OK) return err;
+  if (const PfxInt32 err = checkRay(at, in, 0, param); err != PFX_OK) return err;
   castCheckedRay(in, out, param);
   return PFX_OK;
 }
 
 PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays,
                      const PfxRayCastParam& param, PfxTaskManager* taskManager) {
-  if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
+  const PfxParamNames at{"pfxCastRays", "PfxRayCastParam"};
+  if (const PfxInt32 err = checkParam(at, param); err != PFX_OK) return err;
   if (numRays == 0) return PFX_OK;
-  if (!in || !out) return PFX_ERR_NULL_POINTER;
+  if (!in || !out) {
+    return pfxRejectParam(PFX_ERR_NULL_POINTER, "pfxCastRays: %s is null, but numRays is %u",
+                          in ? "out" : "in", numRays);
+  }
   const PfxUInt64 inBytes = PfxUInt64(sizeof(PfxRayInput)) * numRays;
   const PfxUInt64 outBytes = PfxUInt64(sizeof(PfxRayOutput)) * numRays;
-  if (pfxRangesOverlap(in, inBytes, out, outBytes)) return PFX_ERR_INVALID_VALUE;
+  if (pfxRangesOverlap(in, inBytes, out, outBytes)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE, "pfxCastRays: in and out share bytes");
+  }
   const bool ordered = param.workBuff != nullptr;
   if (ordered) {
-    if (numRays > PFX_CAST_RAYS_MAX_ORDERED) return PFX_ERR_OUT_OF_RANGE;
+    if (numRays > PFX_CAST_RAYS_MAX_ORDERED) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxCastRays: numRays is %u, more than PFX_CAST_RAYS_MAX_ORDERED "
+                            "(%u) cast with PfxRayCastParam::workBuff",
+                            numRays, PFX_CAST_RAYS_MAX_ORDERED);
+    }
     const PfxUInt64 workBytes = orderedWorkBytes(numRays);
-    if (const PfxInt32 err = pfxCheckBuffer(param.workBuff, param.workBytes, workBytes);
+    if (const PfxInt32 err =
+            pfxCheckBuffer(at, "workBuff", param.workBuff, param.workBytes, workBytes);
         err != PFX_OK) {
       return err;
     }
     if (pfxRangesOverlap(param.workBuff, workBytes, out, outBytes) ||
         pfxRangesOverlap(param.workBuff, workBytes, in, inBytes)) {
-      return PFX_ERR_INVALID_VALUE;
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxCastRays: PfxRayCastParam::workBuff shares bytes with in or out");
     }
   }
   for (PfxUInt32 i = 0; i < numRays; ++i) {
-    if (const PfxInt32 err = checkRay(in[i], param); err != PFX_OK) return err;
+    if (const PfxInt32 err = checkRay(at, in[i], i, param); err != PFX_OK) return err;
   }
   // Each ray writes only its own output, so tasks may take any of them.
   constexpr PfxUInt32 kRaysPerTask = 64;

@@ -1,5 +1,7 @@
 #include "pfx/low_level/rigidbody/pfx_apply_external_force.h"
 
+#include "low_level/pfx_param_checks.h"
+
 namespace pfx {
 
 namespace {
@@ -29,7 +31,10 @@ PfxInt32 pfxApplyExternalForce(PfxRigidState& state, const PfxRigidBody& body,
                                const PfxVector3& force, const PfxVector3& torque,
                                const PfxVector3& gravity, PfxFloat timeStep) {
   if (!validStep(gravity, timeStep) || !pfxIsFinite(force) || !pfxIsFinite(torque)) {
-    return PFX_ERR_INVALID_VALUE;
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxApplyExternalForce: force, torque and gravity must be finite, "
+                          "timeStep (%g) positive and finite",
+                          double(timeStep));
   }
   if (movedByForces(state)) applyForce(state, body, force, torque, gravity, timeStep);
   return PFX_OK;
@@ -37,12 +42,28 @@ PfxInt32 pfxApplyExternalForce(PfxRigidState& state, const PfxRigidBody& body,
 
 PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param,
                                PfxTaskManager* taskManager) {
-  if (param.numRigidBodies > 0 && (!param.states || !param.bodies)) return PFX_ERR_NULL_POINTER;
-  if (!validStep(param.gravity, param.timeStep)) return PFX_ERR_INVALID_VALUE;
+  const PfxParamNames at{"pfxApplyExternalForce", "PfxApplyExternalForceParam"};
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at, {{param.states, "states"}, {param.bodies, "bodies"}},
+                              "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
+                           "positive and finite")) != PFX_OK) {
+    return err;
+  }
+  if (!pfxIsFinite(param.gravity)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "pfxApplyExternalForce: PfxApplyExternalForceParam::gravity is not "
+                          "finite");
+  }
   for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
     if ((param.forces && !pfxIsFinite(param.forces[i])) ||
         (param.torques && !pfxIsFinite(param.torques[i]))) {
-      return PFX_ERR_INVALID_VALUE;
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxApplyExternalForce: PfxApplyExternalForceParam::%s[%u] is not "
+                            "finite",
+                            param.forces && !pfxIsFinite(param.forces[i]) ? "forces" : "torques",
+                            i);
     }
   }
   const PfxVector3 zero = PfxVector3::Zero();

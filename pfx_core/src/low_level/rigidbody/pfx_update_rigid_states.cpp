@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "low_level/pfx_param_checks.h"
+
 namespace pfx {
 
 namespace {
@@ -106,8 +108,15 @@ void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeS
 
 PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,
                               PfxTaskManager* taskManager) {
-  if (param.numRigidBodies > 0 && (!param.states || !param.bodies)) return PFX_ERR_NULL_POINTER;
-  if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep)) return PFX_ERR_INVALID_VALUE;
+  const PfxParamNames at{"pfxUpdateRigidStates", "PfxUpdateRigidStatesParam"};
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at, {{param.states, "states"}, {param.bodies, "bodies"}},
+                              "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
+                           "positive and finite")) != PFX_OK) {
+    return err;
+  }
   pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {

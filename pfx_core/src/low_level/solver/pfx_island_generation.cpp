@@ -1,6 +1,7 @@
 #include "pfx/low_level/solver/pfx_island_generation.h"
 
 #include <limits>
+#include <utility>
 
 #include "low_level/pfx_buffer_checks.h"
 
@@ -105,47 +106,68 @@ void groupByIsland(PfxUInt32 numItems, PfxUInt32 numIslands, PfxUInt32* start,
 }
 
 PfxInt32 checkInput(const PfxGenerateIslandParam& param, const IslandLayout& layout) {
-  if ((param.numRigidBodies > 0 && !param.offsetRigidStates) ||
-      (param.numContactPairs > 0 && !param.contactPairs) ||
-      (param.numJoints > 0 && !param.offsetJoints) ||
-      (param.numJointCouplings > 0 && !param.offsetJointCouplings)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (const PfxInt32 err = pfxCheckBuffer(param.islandBuff, param.islandBytes, layout.total);
-      err != PFX_OK) {
+  const PfxParamNames at{"pfxGenerateIsland", "PfxGenerateIslandParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at, {{param.offsetRigidStates, "offsetRigidStates"}},
+                              "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.contactPairs, "contactPairs"}}, "numContactPairs",
+                              param.numContactPairs)) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.offsetJoints, "offsetJoints"}}, "numJoints",
+                              param.numJoints)) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.offsetJointCouplings, "offsetJointCouplings"}},
+                              "numJointCouplings", param.numJointCouplings)) != PFX_OK ||
+      (err = pfxCheckBuffer(at, "islandBuff", param.islandBuff, param.islandBytes,
+                            layout.total)) != PFX_OK) {
     return err;
   }
   const auto overlaps = [&](const void* input, PfxUInt64 bytes) {
     return pfxRangesOverlap(param.islandBuff, layout.total, input, bytes);
   };
-  if (overlaps(param.offsetRigidStates, PfxUInt64(sizeof(PfxRigidState)) * param.numRigidBodies) ||
-      overlaps(param.contactPairs, PfxUInt64(sizeof(PfxConstraintPair)) * param.numContactPairs) ||
-      overlaps(param.offsetJoints, PfxUInt64(sizeof(PfxJoint)) * param.numJoints) ||
-      overlaps(param.offsetJointCouplings,
-               PfxUInt64(sizeof(PfxJointCoupling)) * param.numJointCouplings)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  const PfxUInt32 n = param.numRigidBodies;
-  for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
-    if (pfxGetObjectIdA(param.contactPairs[i]) >= n || pfxGetObjectIdB(param.contactPairs[i]) >= n) {
-      return PFX_ERR_OUT_OF_RANGE;
+  const std::pair<bool, const char*> inputs[] = {
+      {overlaps(param.offsetRigidStates, PfxUInt64(sizeof(PfxRigidState)) * param.numRigidBodies),
+       "offsetRigidStates"},
+      {overlaps(param.contactPairs, PfxUInt64(sizeof(PfxConstraintPair)) * param.numContactPairs),
+       "contactPairs"},
+      {overlaps(param.offsetJoints, PfxUInt64(sizeof(PfxJoint)) * param.numJoints), "offsetJoints"},
+      {overlaps(param.offsetJointCouplings,
+                PfxUInt64(sizeof(PfxJointCoupling)) * param.numJointCouplings),
+       "offsetJointCouplings"}};
+  for (const auto& [overlapping, field] : inputs) {
+    if (overlapping) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxGenerateIsland: PfxGenerateIslandParam::islandBuff shares bytes "
+                            "with %s",
+                            field);
     }
   }
+  if ((err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
+                                  param.numRigidBodies, "", 0)) != PFX_OK) {
+    return err;
+  }
+  const PfxUInt32 n = param.numRigidBodies;
   for (PfxUInt32 j = 0; j < param.numJoints; ++j) {
     if (param.offsetJoints[j].m_rigidBodyIdA >= n || param.offsetJoints[j].m_rigidBodyIdB >= n) {
-      return PFX_ERR_OUT_OF_RANGE;
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxGenerateIsland: PfxGenerateIslandParam::offsetJoints[%u] joins "
+                            "bodies %u and %u, but numRigidBodies is %u",
+                            j, param.offsetJoints[j].m_rigidBodyIdA,
+                            param.offsetJoints[j].m_rigidBodyIdB, n);
     }
   }
   for (PfxUInt32 c = 0; c < param.numJointCouplings; ++c) {
     const PfxJointCoupling& coupling = param.offsetJointCouplings[c];
     if (coupling.m_leaderJointId >= param.numJoints ||
         coupling.m_followerJointId >= param.numJoints) {
-      return PFX_ERR_OUT_OF_RANGE;
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxGenerateIsland: PfxGenerateIslandParam::offsetJointCouplings[%u] "
+                            "names joints %u and %u, but numJoints is %u",
+                            c, coupling.m_leaderJointId, coupling.m_followerJointId,
+                            param.numJoints);
     }
   }
   return PFX_OK;
 }
-
 }  // namespace
 
 PfxUInt32 pfxGetIslandBytes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "low_level/pfx_param_checks.h"
 #include "low_level/solver/pfx_constraint_row_solver.h"
 
 namespace pfx {
@@ -118,18 +119,29 @@ void setupPair(const PfxSetupContactConstraintsParam& param, const PfxConstraint
 
 PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param,
                                     PfxTaskManager* taskManager) {
-  if (param.numContactPairs > 0 &&
-      (!param.contactPairs || !param.offsetContactManifolds || !param.offsetRigidStates ||
-       !param.offsetRigidBodies || !param.offsetSolverBodies)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep) || !(param.separateBias >= 0) ||
-      !(param.contactSlop >= 0) || !(param.warmStartFactor >= 0)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
-                       param.numContactManifolds)) {
-    return PFX_ERR_OUT_OF_RANGE;
+  const PfxParamNames at{"pfxSetupContactConstraints", "PfxSetupContactConstraintsParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at,
+                              {{param.contactPairs, "contactPairs"},
+                               {param.offsetContactManifolds, "offsetContactManifolds"},
+                               {param.offsetRigidStates, "offsetRigidStates"},
+                               {param.offsetRigidBodies, "offsetRigidBodies"},
+                               {param.offsetSolverBodies, "offsetSolverBodies"}},
+                              "numContactPairs", param.numContactPairs)) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
+                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckValue(at, "separateBias", param.separateBias, param.separateBias >= 0,
+                           "not negative")) != PFX_OK ||
+      (err = pfxCheckValue(at, "contactSlop", param.contactSlop, param.contactSlop >= 0,
+                           "not negative")) != PFX_OK ||
+      (err = pfxCheckValue(at, "warmStartFactor", param.warmStartFactor,
+                           param.warmStartFactor >= 0, "not negative")) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
+                                  param.numRigidBodies, "numContactManifolds",
+                                  param.numContactManifolds)) != PFX_OK) {
+    return err;
   }
 
   pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,

@@ -1,8 +1,10 @@
 #include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "low_level/pfx_param_checks.h"
 #include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 
@@ -89,18 +91,39 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   if (gap < 0) c.m_pushRhs = -c.m_bias * gap / timeStep * c.m_constraintRow.m_jacDiagInv;
 }
 
+// The velocities along an axis that keep it within its limits over the step (beyond a
+// limit: that take it no further out). Only for an axis whose limit row measures the
+// drive's own coordinate.
+struct AllowedVelocities {
+  PfxFloat lower = -kInfinity;
+  PfxFloat upper = kInfinity;
+};
+
+AllowedVelocities allowedVelocities(const PfxJointConstraint& c, PfxFloat timeStep) {
+  AllowedVelocities allowed;
+  if (c.m_rowType == kPfxJointRowNone) return allowed;
+  allowed.lower = std::min(PfxFloat(0), (c.m_movableLowerLimit - c.m_position) / timeStep);
+  allowed.upper = std::max(PfxFloat(0), (c.m_movableUpperLimit - c.m_position) / timeStep);
+  return allowed;
+}
+
 // The drive row: a drive toward its target, or friction and damping against the motion.
+// A drive's target velocity stays within `allowed`: a drive asking to go past a limit and
+// the limit row would both be met only by impulses growing without bound, and with no
+// force limit the row solved last would win (a hinge driven 0.9 rad through its stop, its
+// neighbours pulled open). Within the limits, both rows ask for the same velocity.
 void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
-                   PfxFloat timeStep, PfxFloat warmStartFactor, const JointBodies& bodies) {
+                   const AllowedVelocities& allowed, PfxFloat timeStep,
+                   PfxFloat warmStartFactor, const JointBodies& bodies) {
   PfxJointConstraint& c = joint.m_constraints[axis];
   const bool movable = c.m_lock != kPfxJointLockLocked;
   PfxFloat target = 0;
   PfxFloat bound = kInfinity;
   if (movable && c.m_drive == kPfxJointDriveVelocity) {
-    target = c.m_driveTarget;
+    target = std::clamp(c.m_driveTarget, allowed.lower, allowed.upper);
     bound = c.m_driveMaxForce * timeStep;
   } else if (movable && c.m_drive == kPfxJointDrivePosition) {
-    target = (c.m_driveTarget - c.m_position) / timeStep;
+    target = std::clamp((c.m_driveTarget - c.m_position) / timeStep, allowed.lower, allowed.upper);
     bound = c.m_driveMaxForce * timeStep;
   } else if (movable && (c.m_damping > 0 || c.m_friction > 0)) {
     // Damping alone takes its fraction of the velocity away. Friction tries to stop the
@@ -178,7 +201,8 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
     PfxFloat lower = c.m_movableLowerLimit;
     PfxFloat upper = c.m_movableUpperLimit;
     PfxVector3 direction = joint.m_axes[axis];
-    if (joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1) {
+    const bool cone = joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1;
+    if (cone) {
       // The cone: the swing angle, about the axis the swing turns about, below the limit.
       const PfxFloat s1 = c.m_position;
       const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
@@ -189,7 +213,9 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
     }
     setupLockRow(joint, axis, direction, position, lower, upper, timeStep, warmStartFactor,
                  bodies);
-    setupDriveRow(joint, axis, direction, timeStep, warmStartFactor, bodies);
+    // The cone's limit row measures the swing angle, not the drive's coordinate.
+    const AllowedVelocities allowed = cone ? AllowedVelocities() : allowedVelocities(c, timeStep);
+    setupDriveRow(joint, axis, direction, allowed, timeStep, warmStartFactor, bodies);
   }
 }
 
@@ -212,35 +238,59 @@ void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVecto
 
 PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
                                   PfxTaskManager* taskManager) {
-  if (param.numJointCouplings > 0 && (!param.offsetJointCouplings || !param.offsetJoints ||
-                                      !param.offsetRigidStates || !param.offsetSolverBodies)) {
-    return PFX_ERR_NULL_POINTER;
+  const PfxParamNames at{"pfxSetupJointConstraints", "PfxSetupJointConstraintsParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at,
+                              {{param.offsetJointCouplings, "offsetJointCouplings"},
+                               {param.offsetJoints, "offsetJoints"},
+                               {param.offsetRigidStates, "offsetRigidStates"},
+                               {param.offsetSolverBodies, "offsetSolverBodies"}},
+                              "numJointCouplings", param.numJointCouplings)) != PFX_OK ||
+      (err = pfxCheckRequired(at,
+                              {{param.jointPairs, "jointPairs"},
+                               {param.offsetJoints, "offsetJoints"},
+                               {param.offsetRigidStates, "offsetRigidStates"},
+                               {param.offsetRigidBodies, "offsetRigidBodies"},
+                               {param.offsetSolverBodies, "offsetSolverBodies"}},
+                              "numJointPairs", param.numJointPairs)) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
+                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckValue(at, "warmStartFactor", param.warmStartFactor,
+                           param.warmStartFactor >= 0 && param.warmStartFactor <= 1,
+                           "within [0, 1]")) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "jointPairs", param.jointPairs, param.numJointPairs,
+                                  param.numRigidBodies, "numJoints", param.numJoints)) != PFX_OK) {
+    return err;
   }
-  if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints ||
-                                  !param.offsetRigidStates || !param.offsetRigidBodies ||
-                                  !param.offsetSolverBodies)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (!(param.timeStep > 0) || !pfxIsFinite(param.timeStep) ||
-      !(param.warmStartFactor >= 0 && param.warmStartFactor <= 1)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  if (!pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
-                       param.numJoints)) {
-    return PFX_ERR_OUT_OF_RANGE;
-  }
+  // A coupling names joints by id, which only the count of joints can vouch for.
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
     const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
     if (coupling.m_leaderJointId >= param.numJoints ||
-        coupling.m_followerJointId >= param.numJoints || coupling.m_leaderAxis > 5 ||
-        coupling.m_followerAxis > 5) {
-      return PFX_ERR_OUT_OF_RANGE;
+        coupling.m_followerJointId >= param.numJoints) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxSetupJointConstraints: PfxSetupJointConstraintsParam::"
+                            "offsetJointCouplings[%u] names joints %u and %u, but numJoints is %u",
+                            i, coupling.m_leaderJointId, coupling.m_followerJointId,
+                            param.numJoints);
+    }
+    if (coupling.m_leaderAxis > 5 || coupling.m_followerAxis > 5) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxSetupJointConstraints: PfxSetupJointConstraintsParam::"
+                            "offsetJointCouplings[%u] names axes %u and %u; an axis is 0 to 5",
+                            i, PfxUInt32(coupling.m_leaderAxis),
+                            PfxUInt32(coupling.m_followerAxis));
     }
     for (const PfxUInt32 jointId : {coupling.m_leaderJointId, coupling.m_followerJointId}) {
       const PfxJoint& joint = param.offsetJoints[jointId];
       if (joint.m_rigidBodyIdA >= param.numRigidBodies ||
           joint.m_rigidBodyIdB >= param.numRigidBodies) {
-        return PFX_ERR_OUT_OF_RANGE;
+        return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                              "pfxSetupJointConstraints: PfxSetupJointConstraintsParam::"
+                              "offsetJoints[%u] joins bodies %u and %u, but numRigidBodies is %u",
+                              jointId, joint.m_rigidBodyIdA, joint.m_rigidBodyIdB,
+                              param.numRigidBodies);
       }
     }
   }

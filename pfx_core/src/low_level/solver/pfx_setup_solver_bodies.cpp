@@ -1,5 +1,7 @@
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 
+#include "low_level/pfx_param_checks.h"
+
 namespace pfx {
 
 namespace {
@@ -27,8 +29,14 @@ void setupSolverBody(const PfxRigidState& state, const PfxRigidBody& body,
 
 PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param,
                               PfxTaskManager* taskManager) {
-  if (param.numRigidBodies > 0 && (!param.states || !param.bodies || !param.solverBodies)) {
-    return PFX_ERR_NULL_POINTER;
+  const PfxParamNames at{"pfxSetupSolverBodies", "PfxSetupSolverBodiesParam"};
+  if (const PfxInt32 err = pfxCheckRequired(at,
+                                            {{param.states, "states"},
+                                             {param.bodies, "bodies"},
+                                             {param.solverBodies, "solverBodies"}},
+                                            "numRigidBodies", param.numRigidBodies);
+      err != PFX_OK) {
+    return err;
   }
   pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {

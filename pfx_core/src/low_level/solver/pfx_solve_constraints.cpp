@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "low_level/pfx_param_checks.h"
 #include "low_level/solver/pfx_constraint_batches.h"
 #include "low_level/solver/pfx_constraint_row_solver.h"
 #include "low_level/solver/pfx_contact_tree_solver.h"
@@ -341,40 +342,64 @@ PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 
 }
 
 PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManager* taskManager) {
-  if (param.numContactPairs > 0 && (!param.contactPairs || !param.offsetContactManifolds)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (param.numRigidBodies > 0 && (!param.offsetRigidStates || !param.offsetSolverBodies)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (!(param.restitutionThreshold >= 0) || !pfxIsFinite(param.restitutionThreshold) ||
-      !(param.timeStep > 0) || !pfxIsFinite(param.timeStep)) {
-    return PFX_ERR_INVALID_VALUE;
-  }
-  if (!pfxPairsInRange(param.contactPairs, param.numContactPairs, param.numRigidBodies,
-                       param.numContactManifolds) ||
-      !pfxPairsInRange(param.jointPairs, param.numJointPairs, param.numRigidBodies,
-                       param.numJoints)) {
-    return PFX_ERR_OUT_OF_RANGE;
-  }
-  if (param.numJointPairs > 0 && (!param.jointPairs || !param.offsetJoints)) {
-    return PFX_ERR_NULL_POINTER;
-  }
-  if (param.numJointCouplings > 0 && (!param.offsetJointCouplings || !param.offsetSolverBodies)) {
-    return PFX_ERR_NULL_POINTER;
+  const PfxParamNames at{"pfxSolveConstraints", "PfxSolveConstraintsParam"};
+  // Checked in turn, so that the detail names the first field that is wrong.
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckRequired(at,
+                              {{param.contactPairs, "contactPairs"},
+                               {param.offsetContactManifolds, "offsetContactManifolds"}},
+                              "numContactPairs", param.numContactPairs)) != PFX_OK ||
+      (err = pfxCheckRequired(at,
+                              {{param.offsetRigidStates, "offsetRigidStates"},
+                               {param.offsetSolverBodies, "offsetSolverBodies"}},
+                              "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
+      (err = pfxCheckValue(at, "restitutionThreshold", param.restitutionThreshold,
+                           param.restitutionThreshold >= 0 &&
+                               pfxIsFinite(param.restitutionThreshold),
+                           "finite and not negative")) != PFX_OK ||
+      (err = pfxCheckValue(at, "timeStep", param.timeStep,
+                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
+                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
+                                  param.numRigidBodies, "numContactManifolds",
+                                  param.numContactManifolds)) != PFX_OK ||
+      (err = pfxCheckRequired(at,
+                              {{param.jointPairs, "jointPairs"},
+                               {param.offsetJoints, "offsetJoints"}},
+                              "numJointPairs", param.numJointPairs)) != PFX_OK ||
+      (err = pfxCheckPairsInRange(at, "jointPairs", param.jointPairs, param.numJointPairs,
+                                  param.numRigidBodies, "numJoints", param.numJoints)) != PFX_OK ||
+      (err = pfxCheckRequired(at,
+                              {{param.offsetJointCouplings, "offsetJointCouplings"},
+                               {param.offsetSolverBodies, "offsetSolverBodies"}},
+                              "numJointCouplings", param.numJointCouplings)) != PFX_OK) {
+    return err;
   }
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
     const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
+    if (coupling.m_numBodies > PFX_JOINT_COUPLING_MAX_BODIES) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "pfxSolveConstraints: PfxSolveConstraintsParam::"
+                            "offsetJointCouplings[%u] has %u bodies, more than "
+                            "PFX_JOINT_COUPLING_MAX_BODIES (%u)",
+                            i, PfxUInt32(coupling.m_numBodies), PFX_JOINT_COUPLING_MAX_BODIES);
+    }
     for (PfxUInt32 b = 0; b < coupling.m_numBodies; ++b) {
-      if (coupling.m_numBodies > PFX_JOINT_COUPLING_MAX_BODIES ||
-          coupling.m_bodies[b].m_rigidBodyId >= param.numRigidBodies) {
-        return PFX_ERR_OUT_OF_RANGE;
+      if (coupling.m_bodies[b].m_rigidBodyId >= param.numRigidBodies) {
+        return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                              "pfxSolveConstraints: PfxSolveConstraintsParam::"
+                              "offsetJointCouplings[%u] names body %u, but numRigidBodies is %u",
+                              i, coupling.m_bodies[b].m_rigidBodyId, param.numRigidBodies);
       }
     }
   }
   const SolverWorkLayout layout(param.numRigidBodies, param.numContactPairs, param.numJointPairs);
   if (layout.total() > 0 && (!param.workBuff || param.workBytes < layout.total())) {
-    return PFX_ERR_OUT_OF_BUFFER;
+    return pfxRejectParam(PFX_ERR_OUT_OF_BUFFER,
+                          "pfxSolveConstraints: PfxSolveConstraintsParam::workBuff holds %u "
+                          "bytes; pfxGetWorkBytesOfSolveConstraints asks %llu",
+                          param.workBuff ? param.workBytes : 0,
+                          static_cast<unsigned long long>(layout.total()));
   }
   unsigned char* cursor = static_cast<unsigned char*>(param.workBuff);
   PfxJointTreeSolver tree;

@@ -21,12 +21,23 @@ inline PfxUInt32 digitOf(PfxUInt64 key, int digit) {
 template <class Record>
 PfxInt32 validateSort(const Record* data, PfxUInt32 numData, const void* workBuff,
                       PfxUInt32 workBytes) {
-  if (numData > 0 && !data) return PFX_ERR_NULL_POINTER;
-  if (!pfxIsAligned(data)) return PFX_ERR_INVALID_ALIGNMENT;
+  const PfxParamNames at{"pfxParallelSort", ""};
+  if (const PfxInt32 err = pfxCheckRequired(at, {{data, "data"}}, "numData", numData);
+      err != PFX_OK) {
+    return err;
+  }
+  if (!pfxIsAligned(data)) {
+    return pfxRejectParam(PFX_ERR_INVALID_ALIGNMENT,
+                          "pfxParallelSort: data is not 16-byte aligned");
+  }
   const PfxUInt64 dataBytes = PfxUInt64(numData) * sizeof(Record);
-  const PfxInt32 err = pfxCheckBuffer(workBuff, workBytes, dataBytes);
-  if (err != PFX_OK) return err;
-  if (pfxRangesOverlap(data, dataBytes, workBuff, dataBytes)) return PFX_ERR_INVALID_VALUE;
+  if (const PfxInt32 err = pfxCheckBuffer(at, "workBuff", workBuff, workBytes, dataBytes);
+      err != PFX_OK) {
+    return err;
+  }
+  if (pfxRangesOverlap(data, dataBytes, workBuff, dataBytes)) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE, "pfxParallelSort: data and workBuff share bytes");
+  }
   return PFX_OK;
 }
 

@@ -13,6 +13,8 @@ struct PfxDetectCollisionParam {
   PfxConstraintPair* contactPairs = nullptr;
   PfxUInt32 numContactPairs = 0;
   PfxContactManifold* offsetContactManifolds = nullptr;  // indexed by pfxGetContactId(pair)
+  // Length of offsetContactManifolds, to check the pairs' contact ids against; 0 (the
+  // seed's programs give none) checks nothing, and each pair's id must index the array.
   PfxUInt32 numContactManifolds = 0;
   const PfxRigidState* offsetRigidStates = nullptr;
   const PfxCollidable* offsetCollidables = nullptr;
@@ -22,9 +24,10 @@ struct PfxDetectCollisionParam {
   // fast bodies from passing through thin walls.
   PfxFloat contactMargin = 0.02f;
   PfxFloat timeStep = 0;
-  // Squared distance within which a new point takes over an old point's impulses (the
-  // stable pipeline); 0 starts every point afresh (the simple pipeline).
-  PfxFloat matchDistanceSq = 0;
+  // Squared distance within which a new point takes over an old point's impulses: what
+  // carries the solver's work from one frame to the next (warm starting, the stable
+  // pipeline). 0 starts every point afresh, as if the manifold had just been reset.
+  PfxFloat matchDistanceSq = PfxFloat(0.02 * 0.02);
 };
 
 // Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints);

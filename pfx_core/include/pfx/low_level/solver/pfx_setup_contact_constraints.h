@@ -15,6 +15,8 @@ struct PfxSetupContactConstraintsParam {
   PfxConstraintPair* contactPairs = nullptr;
   PfxUInt32 numContactPairs = 0;
   PfxContactManifold* offsetContactManifolds = nullptr;
+  // Length of offsetContactManifolds, to check the pairs' contact ids against; 0 (the
+  // seed's programs give none) checks nothing, and each pair's id must index the array.
   PfxUInt32 numContactManifolds = 0;
   const PfxRigidState* offsetRigidStates = nullptr;
   const PfxRigidBody* offsetRigidBodies = nullptr;

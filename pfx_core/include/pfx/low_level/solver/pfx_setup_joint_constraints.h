@@ -14,6 +14,8 @@ struct PfxSetupJointConstraintsParam {
   PfxConstraintPair* jointPairs = nullptr;  // from pfxUpdateJointPairs
   PfxUInt32 numJointPairs = 0;
   PfxJoint* offsetJoints = nullptr;  // indexed by pfxGetConstraintId(pair)
+  // To check the pairs' joint ids against; 0 (the seed gives none) checks nothing, and each
+  // pair's id must index offsetJoints. Couplings need it: they name joints by id.
   PfxUInt32 numJoints = 0;
   // Couplings between the joints' coordinates, set up after the joints.
   PfxJointCoupling* offsetJointCouplings = nullptr;

@@ -25,18 +25,22 @@ struct PfxSolveConstraintsParam {
   PfxConstraintPair* contactPairs = nullptr;
   PfxUInt32 numContactPairs = 0;
   PfxContactManifold* offsetContactManifolds = nullptr;
+  // Length of offsetContactManifolds, to check the pairs' contact ids against; 0 (the
+  // seed's programs give none) checks nothing, and each pair's id must index the array.
   PfxUInt32 numContactManifolds = 0;
   PfxConstraintPair* jointPairs = nullptr;
   PfxUInt32 numJointPairs = 0;
   PfxJoint* offsetJoints = nullptr;  // set up by pfxSetupJointConstraints
-  PfxUInt32 numJoints = 0;
+  PfxUInt32 numJoints = 0;  // to check the pairs' joint ids against; 0 checks nothing
   PfxJointCoupling* offsetJointCouplings = nullptr;  // set up by pfxSetupJointConstraints
   PfxUInt32 numJointCouplings = 0;
   PfxRigidState* offsetRigidStates = nullptr;
   PfxSolverBody* offsetSolverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
   PfxUInt32 iteration = 10;
-  PfxFloat timeStep = 0;  // over which the split impulses push overlapping bodies apart
+  // The step given to pfxSetupContactConstraints; it only scales how far a speculative
+  // point that bounces is carried (the seed's solver takes none, hence a default).
+  PfxFloat timeStep = PfxFloat(1) / 60;
   // Approach speeds below this do not bounce, so that resting contacts stay at rest.
   PfxFloat restitutionThreshold = 0.2f;
 };
