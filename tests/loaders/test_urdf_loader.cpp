@@ -535,37 +535,54 @@ TEST(UrdfLoader, CollapsedJointStatesReportRatesOfTheUrdfAngles) {
   EXPECT_NEAR(v[2], 0, 1e-6);
 }
 
-TEST(UrdfLoader, MasslessLinksThatCannotCollapseAreErrorsNamingTheLink) {
+TEST(UrdfLoader, MasslessLinksThatCannotCollapseBecomeLightBodiesWithAWarning) {
   struct Case {
     const char* what;
     std::string xml;
-    PfxUrdfLoadParam param;
+    PfxUInt32 joints;  // world joints
     const char* expected;
   };
-  const PfxUrdfLoadParam fixed = fixedBaseParam();
-  PfxUrdfLoadParam noCollapse = fixed;
-  noCollapse.collapseMasslessChains = false;
   const Case cases[] = {
-      {"offset joints", chainUrdf({"1 0 0", "0 0 1"}, "0 0 -0.05"), fixed,
-       "link 'helper0': no mass, and joints 'j0' and 'j1' do not meet at one point"},
-      {"parallel axes", chainUrdf({"1 0 0", "1 0 0"}), fixed,
+      {"offset joints", chainUrdf({"1 0 0", "0 0 1"}, "0 0 -0.05"), 2,
+       "link 'helper0': no mass, and joints 'j0' and 'j1' do not meet at one point (0.05 m "
+       "apart), so its joints cannot become one; loaded as a light body of 0.1 kg (a tenth of "
+       "link 'top''s mass)"},
+      {"parallel axes", chainUrdf({"1 0 0", "1 0 0"}), 2,
        "link 'helper0': no mass, and the axes of joints 'j0' and 'j1' are not perpendicular"},
-      {"four joints", chainUrdf({"1 0 0", "0 0 1", "0 1 0", "1 0 0"}), fixed,
-       "link 'helper0': no mass (no <inertial>, or mass 0) and not a leaf"},
-      {"collapse off", chainUrdf({"1 0 0", "0 0 1"}), noCollapse,
-       "link 'helper0': no mass (no <inertial>, or mass 0) and joints below it, and "
-       "collapseMasslessChains is off"},
+      // The first helper becomes a body; the three joints below it meet and make a ball.
+      {"four joints", chainUrdf({"1 0 0", "0 0 1", "0 1 0", "1 0 0"}), 2,
+       "link 'helper0': no mass, and it is not a helper between two or three revolute joints "
+       "meeting at one point"},
   };
   for (const Case& c : cases) {
     PfxWorld world;
     initZUpWorld(world);
     PfxUrdfModel model;
-    std::string message;
-    EXPECT_EQ(pfxLoadUrdfString(world, c.xml, ".", c.param, model, &message), PFX_ERR_INVALID_VALUE)
-        << c.what;
-    EXPECT_NE(message.find(c.expected), std::string::npos) << c.what << ": " << message;
-    EXPECT_EQ(world.getNumRigidBodies(), 0u) << c.what;
+    ASSERT_NO_FATAL_FAILURE(loadText(world, c.xml, fixedBaseParam(), model));
+    EXPECT_TRUE(hasWarningWith(model, c.expected)) << c.what << ": " << model.warnings[0];
+    EXPECT_EQ(model.numBodies, 3u) << c.what;
+    EXPECT_EQ(model.numJoints, c.joints) << c.what;
+    const PfxUInt32 helper = linkNamed(model, "helper0").bodyId;
+    EXPECT_NE(helper, linkNamed(model, "top").bodyId);
+    EXPECT_NEAR(world.getRigidBody(helper).getMass(), 0.1, 1e-6) << c.what;
   }
+}
+
+TEST(UrdfLoader, MasslessChainsAreErrorsWhenCollapsingIsOff) {
+  PfxUrdfLoadParam noCollapse = fixedBaseParam();
+  noCollapse.collapseMasslessChains = false;
+  PfxWorld world;
+  initZUpWorld(world);
+  PfxUrdfModel model;
+  std::string message;
+  EXPECT_EQ(pfxLoadUrdfString(world, chainUrdf({"1 0 0", "0 0 1"}), ".", noCollapse, model,
+                              &message),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(message.find("link 'helper0': no mass (no <inertial>, or mass 0) and joints below "
+                         "it, and collapseMasslessChains is off"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(world.getNumRigidBodies(), 0u);
 }
 
 TEST(UrdfLoader, MasslessLeafOnAMovingJointIsAFrameWithAWarning) {
@@ -647,14 +664,6 @@ TEST(UrdfLoader, MalformedFilesFailNamingTheElementAndChangeNothing) {
              "link>"),
        PFX_ERR_INVALID_VALUE,
        "link 'a': mesh 'package://pfx/urdf/meshes/no_such_mesh.stl' not found"},
-      {"zero mass in a chain",
-       robot(linkXml("upper_arm") + linkXml("forearm", "0") + linkXml("hand") +
-             jointXml("elbow", "revolute", "upper_arm", "forearm",
-                      "<origin xyz=\"0 0 -0.3\"/>" + kHingeLimits) +
-             jointXml("wrist", "revolute", "forearm", "hand",
-                      "<origin xyz=\"0 0 -0.25\"/>" + kHingeLimits)),
-       PFX_ERR_INVALID_VALUE,
-       "link 'forearm': no mass, and joints 'elbow' and 'wrist' do not meet at one point"},
       {"negative mass",
        robot(linkXml("a") + linkXml("forearm", "-2") + jointXml("j", "fixed", "a", "forearm")),
        PFX_ERR_INVALID_VALUE, "link 'forearm': mass -2 is negative"},
@@ -664,10 +673,6 @@ TEST(UrdfLoader, MalformedFilesFailNamingTheElementAndChangeNothing) {
        "link 'forearm': mass 'heavy' is not a number"},
       {"inertia not positive definite", robot(linkXml("forearm", "1", "-0.01")),
        PFX_ERR_INVALID_VALUE, "link 'forearm': inertia is not positive definite"},
-      {"floating root without mass",
-       robot("<link name=\"root\"/>" + linkXml("b") +
-             jointXml("j", "revolute", "root", "b", kHingeLimits)),
-       PFX_ERR_INVALID_VALUE, "link 'root': the root link has no mass, so it cannot float"},
       {"unknown joint type", robot(linkXml("a") + linkXml("b") + jointXml("j", "ball", "a", "b")),
        PFX_ERR_INVALID_FLAG, "joint 'j': unknown type 'ball'"},
       {"cycle",

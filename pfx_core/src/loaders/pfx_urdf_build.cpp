@@ -26,6 +26,12 @@ using Pose = Eigen::Isometry3d;
 // below anything a designer means.
 constexpr double kCoincidentDistance = 1e-5;
 constexpr double kPerpendicularCosine = 1e-3;
+// A massless link between joints that cannot become one joint is a light body: this share
+// of its lighter neighbour's mass, or, with no neighbour of mass, this mass and radius of
+// gyration.
+constexpr double kLightBodyMassFraction = 0.1;
+constexpr double kLightBodyFallbackMass = 0.01;
+constexpr double kLightBodyFallbackGyration = 0.01;
 // Radius of the sphere a body without collision geometry carries (its filters match nothing).
 constexpr PfxFloat kPlaceholderRadius = PfxFloat(0.01);
 
@@ -319,10 +325,10 @@ class UrdfBuilder {
       Group& group = m_groups[g];
       if (group.parentJoint < 0) {
         if (group.mass == 0 && !m_fixedRoot) {
-          return fail(PFX_ERR_INVALID_VALUE,
-                      "link " + quoted(linkName(m_root)) +
-                          ": the root link has no mass, so it cannot float (give it an "
-                          "<inertial> or load the robot with a fixed base)");
+          m_fixedRoot = true;
+          warn("link " + quoted(linkName(m_root)) +
+               ": the root link has no mass, so it cannot float; the robot is loaded with a "
+               "fixed base (give the root an <inertial> to let it float)");
         }
         group.role = Role::kBody;
         continue;
@@ -343,7 +349,14 @@ class UrdfBuilder {
         }
         continue;
       }
-      if (const PfxInt32 err = makeChain(g); err != PFX_OK) return err;
+      if (!m_param.collapseMasslessChains) {
+        return fail(PFX_ERR_INVALID_VALUE,
+                    "link " + quoted(linkName(group.links[0])) +
+                        ": no mass (no <inertial>, or mass 0) and joints below it, "
+                        "and collapseMasslessChains is off");
+      }
+      std::string whyNotCollapsed;
+      if (!makeChain(g, whyNotCollapsed)) makeLightBody(g, whyNotCollapsed);
     }
     for (Group& group : m_groups) {
       for (const int link : group.links) {
@@ -356,7 +369,7 @@ class UrdfBuilder {
       }
       if (group.role == Role::kHelper) {
         for (const int link : group.links) {
-          if (!m_links[link].link->collision_array.empty()) {
+          if (!collisionsOf(link).empty()) {
             warn("link " + quoted(linkName(link)) +
                  ": collision geometry left out, since the link has no mass and no body (it "
                  "is a helper of a collapsed joint)");
@@ -367,20 +380,10 @@ class UrdfBuilder {
     return PFX_OK;
   }
 
-  // Group `g` has no mass and joints below it: it must be the first helper of a chain of
-  // two or three revolute joints meeting at one point.
-  PfxInt32 makeChain(int g) {
-    const std::string top = quoted(linkName(m_groups[g].links[0]));
-    const std::string notMergeable =
-        top +
-        ": no mass (no <inertial>, or mass 0) and not a leaf, nor part of a fixed "
-        "group, nor a helper between two or three revolute joints meeting at one point";
-    if (!m_param.collapseMasslessChains) {
-      return fail(PFX_ERR_INVALID_VALUE,
-                  "link " + top +
-                      ": no mass (no <inertial>, or mass 0) and joints below it, "
-                      "and collapseMasslessChains is off");
-    }
+  // Group `g` has no mass and joints below it. When it is the first helper of a chain of two
+  // or three revolute joints meeting at one point with perpendicular axes, makes the chain
+  // and returns true; else says why not.
+  bool makeChain(int g, std::string& whyNot) {
     Chain chain;
     chain.parentGroup = m_groups[g].parentGroup;
     chain.joints.push_back(m_groups[g].parentJoint);
@@ -390,7 +393,9 @@ class UrdfBuilder {
       const Group& group = m_groups[current];
       if (!isRotational(m_joints[chain.joints.back()].type) || group.childJoints.size() != 1 ||
           !isRotational(m_joints[group.childJoints[0]].type) || chain.joints.size() == 3) {
-        return fail(PFX_ERR_INVALID_VALUE, "link " + notMergeable);
+        whyNot =
+            "it is not a helper between two or three revolute joints meeting at one point";
+        return false;
       }
       chain.joints.push_back(group.childJoints[0]);
       const int next = m_links[m_joints[group.childJoints[0]].child].group;
@@ -406,19 +411,16 @@ class UrdfBuilder {
       const JointNode& joint = m_joints[chain.joints[i]];
       const double distance = (joint.origin - first.origin).norm();
       if (distance > kCoincidentDistance) {
-        return fail(PFX_ERR_INVALID_VALUE,
-                    "link " + top + ": no mass, and joints " + quoted(first.joint->name) + " and " +
-                        quoted(joint.joint->name) + " do not meet at one point (" +
-                        number(distance) + " m apart), so they cannot become one joint");
+        whyNot = "joints " + quoted(first.joint->name) + " and " + quoted(joint.joint->name) +
+                 " do not meet at one point (" + number(distance) + " m apart)";
+        return false;
       }
       for (std::size_t k = 0; k < i; ++k) {
         const JointNode& other = m_joints[chain.joints[k]];
         if (std::abs(joint.axis.dot(other.axis)) > kPerpendicularCosine) {
-          return fail(PFX_ERR_INVALID_VALUE,
-                      "link " + top + ": no mass, and the axes of joints " +
-                          quoted(other.joint->name) + " and " + quoted(joint.joint->name) +
-                          " are not perpendicular, so they cannot become one universal or "
-                          "ball joint");
+          whyNot = "the axes of joints " + quoted(other.joint->name) + " and " +
+                   quoted(joint.joint->name) + " are not perpendicular";
+          return false;
         }
       }
     }
@@ -438,7 +440,55 @@ class UrdfBuilder {
       helper.chain = index;
       helper.chainDepth = static_cast<int>(depth) + 1;
     }
-    return PFX_OK;
+    return true;
+  }
+
+  // Makes massless group g, which cannot collapse, a light body that carries its joints as
+  // the URDF places them: a tenth of the mass of its lighter massive neighbour (the body
+  // above it or a body right below it), with that neighbour's smallest radius of gyration
+  // as an even inertia, at the centre of its joints' origins.
+  void makeLightBody(int g, const std::string& whyNotCollapsed) {
+    Group& group = m_groups[g];
+    std::vector<int> neighbours{group.parentGroup};
+    for (const int j : group.childJoints) neighbours.push_back(m_links[m_joints[j].child].group);
+    int lighter = -1;
+    for (const int n : neighbours) {
+      if (m_groups[n].mass > 0 && (lighter < 0 || m_groups[n].mass < m_groups[lighter].mass)) {
+        lighter = n;
+      }
+    }
+    double mass = kLightBodyFallbackMass;
+    double gyration = kLightBodyFallbackGyration;
+    if (lighter >= 0) {
+      mass = kLightBodyMassFraction * m_groups[lighter].mass;
+      double squared = std::numeric_limits<double>::max();
+      for (const int link : m_groups[lighter].links) {
+        const LinkNode& node = m_links[link];
+        if (node.mass <= 0) continue;
+        const Eigen::SelfAdjointEigenSolver<Mat3> eigen(node.inertia, Eigen::EigenvaluesOnly);
+        squared = std::min(squared, std::max(eigen.eigenvalues()[0], 0.0) / node.mass);
+      }
+      gyration = std::sqrt(squared);
+    }
+    const int top = group.links[0];
+    LinkNode& node = m_links[top];
+    const Pose toLink = node.pose.inverse();
+    Vec3 center = Vec3::Zero();  // the joint into the link is at its frame's origin
+    for (const int j : group.childJoints) center += toLink * m_joints[j].origin;
+    center /= double(group.childJoints.size() + 1);
+    node.massless = false;
+    node.mass = mass;
+    node.centerOfMass = center;
+    node.inertia = mass * gyration * gyration * Mat3::Identity();
+    group.mass = mass;
+    group.role = Role::kBody;
+    warn("link " + quoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
+         ", so its joints cannot become one; loaded as a light body of " + number(mass) +
+         " kg" +
+         (lighter >= 0 ? " (a tenth of link " + quoted(linkName(m_groups[lighter].links[0])) +
+                             "'s mass)"
+                       : std::string()) +
+         " so that each of its joints turns where the URDF puts it");
   }
 
   PfxInt32 makeBodies() {
@@ -517,11 +567,9 @@ class UrdfBuilder {
       if (group.role == Role::kHelper) continue;
       const BodyNode& body = m_bodies[group.body];
       const Pose linkInBody = body.pose.inverse() * m_links[link].pose;
-      const auto& collisions = m_links[link].link->collision_array;
-      for (std::size_t i = 0; i < collisions.size(); ++i) {
-        if (!collisions[i] || !collisions[i]->geometry) continue;
-        const Pose shapePose = linkInBody * toPose(collisions[i]->origin);
-        if (const PfxInt32 err = addShape(link, *collisions[i]->geometry, shapePose, body.fixed,
+      for (const PfxUrdfCollision& collision : collisionsOf(link)) {
+        const Pose shapePose = linkInBody * toPose(collision.origin);
+        if (const PfxInt32 err = addShape(link, collision, shapePose, body.fixed,
                                           m_build.bodies[group.body].shapes);
             err != PFX_OK) {
           return err;
@@ -555,51 +603,61 @@ class UrdfBuilder {
     return PFX_OK;
   }
 
-  PfxInt32 addShape(int link, const urdf::Geometry& geometry, const Pose& pose, bool fixedBody,
+  const std::vector<PfxUrdfCollision>& collisionsOf(int link) const {
+    static const std::vector<PfxUrdfCollision> kNone;
+    const auto found = m_order.collisions.find(linkName(link));
+    return found == m_order.collisions.end() ? kNone : found->second;
+  }
+
+  PfxInt32 addShape(int link, const PfxUrdfCollision& collision, const Pose& pose, bool fixedBody,
                     std::vector<PfxShape>& shapes) {
     const std::string subject = "link " + quoted(linkName(link)) + ": ";
+    const std::string& geometry = collision.geometry;
     Pose placed = pose;
     PfxShape shape;
-    switch (geometry.type) {
-      case urdf::Geometry::SPHERE: {
-        const double radius = static_cast<const urdf::Sphere&>(geometry).radius;
-        if (!(radius > 0))
-          return fail(PFX_ERR_DEGENERATE, subject + "sphere radius is not positive");
-        shape = pfxMakeShape(PfxSphere(static_cast<PfxFloat>(radius)));
-        break;
+    // URDF's cylinders and capsules lie along Z, the shapes' along X.
+    const Mat3 zToX = Eigen::AngleAxisd(-PFX_PI / 2, Vec3::UnitY()).toRotationMatrix();
+    if (geometry == "sphere") {
+      if (!(collision.radius > 0)) {
+        return fail(PFX_ERR_DEGENERATE, subject + "sphere radius is not positive");
       }
-      case urdf::Geometry::BOX: {
-        const urdf::Vector3& size = static_cast<const urdf::Box&>(geometry).dim;
-        if (!(size.x > 0 && size.y > 0 && size.z > 0)) {
-          return fail(PFX_ERR_DEGENERATE, subject + "box size is not positive");
-        }
-        shape = pfxMakeShape(PfxBox(PfxVector3(Vec3(size.x, size.y, size.z).cast<PfxFloat>() / 2)));
-        break;
+      shape = pfxMakeShape(PfxSphere(static_cast<PfxFloat>(collision.radius)));
+    } else if (geometry == "box") {
+      const Vec3 size(collision.size[0], collision.size[1], collision.size[2]);
+      if (!(size.minCoeff() > 0)) {
+        return fail(PFX_ERR_DEGENERATE, subject + "box size is not positive");
       }
-      case urdf::Geometry::CYLINDER: {
-        const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
-        if (!(cylinder.radius > 0 && cylinder.length > 0)) {
-          return fail(PFX_ERR_DEGENERATE, subject + "cylinder radius or length is not positive");
-        }
-        shape = pfxMakeShape(PfxCylinder(static_cast<PfxFloat>(cylinder.length / 2),
-                                         static_cast<PfxFloat>(cylinder.radius)));
-        // URDF's cylinder lies along Z, the shape's along X.
-        placed.linear() =
-            pose.linear() * Eigen::AngleAxisd(-PFX_PI / 2, Vec3::UnitY()).toRotationMatrix();
-        break;
+      shape = pfxMakeShape(PfxBox(PfxVector3(size.cast<PfxFloat>() / 2)));
+    } else if (geometry == "cylinder") {
+      if (!(collision.radius > 0 && collision.length > 0)) {
+        return fail(PFX_ERR_DEGENERATE, subject + "cylinder radius or length is not positive");
       }
-      case urdf::Geometry::MESH: {
-        const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
-        bool missing = false;
-        if (const PfxInt32 err = makeMeshShape(subject, mesh, fixedBody, shape, missing);
-            err != PFX_OK) {
-          return err;
-        }
-        if (missing) return PFX_OK;
-        break;
+      shape = pfxMakeShape(PfxCylinder(static_cast<PfxFloat>(collision.length / 2),
+                                       static_cast<PfxFloat>(collision.radius)));
+      placed.linear() = pose.linear() * zToX;
+    } else if (geometry == "capsule") {
+      // `length` is the cylinder part between the centres of the two hemispheres, as Bullet's
+      // URDF importer reads it: the capsule is length + 2 radius long; length 0 is a sphere.
+      if (!(collision.radius > 0 && collision.length >= 0)) {
+        return fail(PFX_ERR_DEGENERATE,
+                    subject + "capsule radius is not positive or its length is negative");
       }
-      default:
-        return fail(PFX_ERR_INVALID_FLAG, subject + "unknown collision geometry");
+      shape = pfxMakeShape(PfxCapsule(static_cast<PfxFloat>(collision.length / 2),
+                                      static_cast<PfxFloat>(collision.radius)));
+      placed.linear() = pose.linear() * zToX;
+    } else if (geometry == "mesh") {
+      bool missing = false;
+      if (const PfxInt32 err = makeMeshShape(subject, collision, fixedBody, shape, missing);
+          err != PFX_OK) {
+        return err;
+      }
+      if (missing) return PFX_OK;
+    } else {
+      warn(subject + "<collision> on line " + std::to_string(collision.line) + " left out: " +
+           (geometry.empty() ? std::string("it has no geometry")
+                             : "unknown geometry <" + geometry + ">") +
+           " (pfx knows box, sphere, cylinder, capsule and mesh)");
+      return PFX_OK;
     }
     shape.setOffsetPosition(placed.translation().cast<PfxFloat>());
     shape.setOffsetOrientation(toQuat(placed.linear()));
@@ -607,17 +665,20 @@ class UrdfBuilder {
     return PFX_OK;
   }
 
-  PfxInt32 makeMeshShape(const std::string& subject, const urdf::Mesh& mesh, bool fixedBody,
+  PfxInt32 makeMeshShape(const std::string& subject, const PfxUrdfCollision& mesh, bool fixedBody,
                          PfxShape& shape, bool& missing) {
-    const Vec3 scale(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+    const Vec3 scale(mesh.scale[0], mesh.scale[1], mesh.scale[2]);
     if (!scale.allFinite() || !(scale.minCoeff() > 0)) {
       return fail(PFX_ERR_INVALID_VALUE, subject + "mesh " + quoted(mesh.filename) +
                                              ": scale must be positive and finite");
     }
     std::string path, searched;
-    if (!pfxResolveUrdfMeshUri(mesh.filename, m_folder, m_param.packageRoot, path, searched)) {
+    if (mesh.filename.empty() ||
+        !pfxResolveUrdfMeshUri(mesh.filename, m_folder, m_param.packageRoot, path, searched)) {
       const std::string text =
-          subject + "mesh " + quoted(mesh.filename) + " not found (" + searched + ")";
+          subject + (mesh.filename.empty()
+                         ? "<mesh> on line " + std::to_string(mesh.line) + " has no filename"
+                         : "mesh " + quoted(mesh.filename) + " not found (" + searched + ")");
       if (!m_param.allowMissingMeshes) return fail(PFX_ERR_INVALID_VALUE, text);
       warn(text + "; left out");
       missing = true;
@@ -865,6 +926,7 @@ class UrdfBuilder {
   void describeModel() {
     PfxUrdfModel& model = m_build.model;
     model.name = m_model.getName();
+    model.fixedBase = m_fixedRoot;
     std::map<std::string, int> jointIndex;
     for (int j = 0; j < static_cast<int>(m_joints.size()); ++j) jointIndex[jointName(j)] = j;
     for (std::size_t l = 0; l < m_links.size(); ++l) {

@@ -7,6 +7,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -118,6 +119,94 @@ PfxInt32 checkInertial(const TiXmlElement* link, const Subject& subject, PfxUrdf
                 subject.describe() + ": inertia is not positive definite (principal moments " +
                     number(principal[0]) + ", " + number(principal[1]) + ", " +
                     number(principal[2]) + ")");
+  }
+  return PFX_OK;
+}
+
+// Reads `attribute`, which the geometry needs, as `count` finite numbers.
+bool readRequired(const TiXmlElement* element, const char* attribute, int count, double* values,
+                  const Subject& subject, const std::string& what, PfxUrdfError& error) {
+  if (!element->Attribute(attribute)) {
+    fail(error, PFX_ERR_INVALID_VALUE,
+         subject.describe() + ": <" + element->ValueStr() + "> on line " +
+             std::to_string(element->Row()) + " has no " + attribute);
+    return false;
+  }
+  return readFinite(element, attribute, count, values, subject, what, error);
+}
+
+// The link's <collision> elements: their origins and the numbers of the geometries pfx
+// knows (box, sphere, cylinder, capsule, mesh). Another geometry, or none, is kept by name
+// for the builder to warn about.
+PfxInt32 readCollisions(const TiXmlElement* link, const Subject& subject,
+                        std::vector<PfxUrdfCollision>& out, PfxUrdfError& error) {
+  for (const TiXmlElement* element = link->FirstChildElement("collision"); element;
+       element = element->NextSiblingElement("collision")) {
+    PfxUrdfCollision collision;
+    collision.line = element->Row();
+    if (const TiXmlElement* origin = element->FirstChildElement("origin")) {
+      double xyz[3] = {0, 0, 0}, rpy[3] = {0, 0, 0};
+      if (!readFinite(origin, "xyz", 3, xyz, subject, "collision origin xyz", error) ||
+          !readFinite(origin, "rpy", 3, rpy, subject, "collision origin rpy", error)) {
+        return error.code;
+      }
+      collision.origin.position = urdf::Vector3(xyz[0], xyz[1], xyz[2]);
+      collision.origin.rotation.setFromRPY(rpy[0], rpy[1], rpy[2]);
+    }
+    const TiXmlElement* geometry = element->FirstChildElement("geometry");
+    const TiXmlElement* shape = geometry ? geometry->FirstChildElement() : nullptr;
+    if (shape) collision.geometry = shape->ValueStr();
+    bool read = true;
+    if (collision.geometry == "box") {
+      read = readRequired(shape, "size", 3, collision.size, subject, "box size", error);
+    } else if (collision.geometry == "sphere") {
+      read = readRequired(shape, "radius", 1, &collision.radius, subject, "sphere radius", error);
+    } else if (collision.geometry == "cylinder" || collision.geometry == "capsule") {
+      read = readRequired(shape, "radius", 1, &collision.radius, subject,
+                          collision.geometry + " radius", error) &&
+             readRequired(shape, "length", 1, &collision.length, subject,
+                          collision.geometry + " length", error);
+    } else if (collision.geometry == "mesh") {
+      if (const char* filename = shape->Attribute("filename")) collision.filename = filename;
+      if (const char* scale = shape->Attribute("scale")) {
+        double uniform = 1;
+        if (parseNumbers(scale, 1, &uniform)) {
+          std::fill(collision.scale, collision.scale + 3, uniform);
+        } else {
+          read = readFinite(shape, "scale", 3, collision.scale, subject, "mesh scale", error);
+        }
+      }
+    }
+    if (!read) return error.code;
+    out.push_back(collision);
+  }
+  return PFX_OK;
+}
+
+// xacro's macros, properties and substitutions left in the text: urdfdom would answer
+// "Unable to parse component" or take "${...}" for a name.
+PfxInt32 checkNoXacro(const TiXmlElement* element, PfxUrdfError& error) {
+  const std::string tag = element->ValueStr();
+  std::string found;
+  if (tag.compare(0, 6, "xacro:") == 0) {
+    found = "element <" + tag + ">";
+  } else {
+    for (const TiXmlAttribute* a = element->FirstAttribute(); a && found.empty(); a = a->Next()) {
+      const std::string value = a->ValueStr();
+      if (value.find("${") != std::string::npos || value.find("$(") != std::string::npos) {
+        found = "<" + tag + "> " + a->Name() + "=" + quoted(value);
+      }
+    }
+  }
+  if (!found.empty()) {
+    return fail(error, PFX_ERR_INVALID_VALUE,
+                "line " + std::to_string(element->Row()) + ": unexpanded xacro (" + found +
+                    "); this is a xacro file: expand it into a URDF first (xacro robot.urdf.xacro "
+                    "> robot.urdf, or rosrun xacro xacro ...)");
+  }
+  for (const TiXmlElement* child = element->FirstChildElement(); child;
+       child = child->NextSiblingElement()) {
+    if (checkNoXacro(child, error) != PFX_OK) return error.code;
   }
   return PFX_OK;
 }
@@ -344,6 +433,7 @@ PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, Pf
   if (!robot || robot->ValueStr() != "robot") {
     return fail(error, PFX_ERR_INVALID_VALUE, "robot: the top element is not <robot>");
   }
+  if (checkNoXacro(robot, error) != PFX_OK) return error.code;
   if (!robot->Attribute("name")) return fail(error, PFX_ERR_INVALID_VALUE, "robot: no name");
 
   PfxUrdfDocumentOrder found;
@@ -352,7 +442,11 @@ PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, Pf
   for (const TiXmlElement* link = robot->FirstChildElement("link"); link;
        link = link->NextSiblingElement("link")) {
     if (readName(link, linkLines, name, error) != PFX_OK) return error.code;
-    if (checkInertial(link, Subject{"link", name}, error) != PFX_OK) return error.code;
+    const Subject subject{"link", name};
+    if (checkInertial(link, subject, error) != PFX_OK ||
+        readCollisions(link, subject, found.collisions[name], error) != PFX_OK) {
+      return error.code;
+    }
     found.links.push_back(name);
   }
   if (found.links.empty()) return fail(error, PFX_ERR_INVALID_VALUE, "robot: no links");

@@ -6,6 +6,7 @@
 #include <urdf_model/model.h>
 #include <urdf_world/types.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,15 +21,32 @@ struct PfxUrdfError {
   std::string text;
 };
 
-// The URDF's links and joints in the order the file gives them.
+// One <collision> of a link as the file gives it. urdfdom drops every collision element of
+// a link when one of them has a geometry it does not know (such as <capsule>), so the
+// loader reads them itself.
+struct PfxUrdfCollision {
+  std::string geometry;  // the element inside <geometry>: box, sphere, ...; "" when none
+  urdf::Pose origin;
+  double size[3] = {0, 0, 0};  // box
+  double radius = 0;           // sphere, cylinder, capsule
+  double length = 0;           // cylinder, capsule (the capsule's cylinder part)
+  std::string filename;        // mesh
+  double scale[3] = {1, 1, 1};
+  int line = 0;
+};
+
+// The URDF's links and joints in the order the file gives them, and each link's collision
+// elements in file order.
 struct PfxUrdfDocumentOrder {
   std::vector<std::string> links;
   std::vector<std::string> joints;
+  std::map<std::string, std::vector<PfxUrdfCollision>> collisions;
 };
 
 // Checks what urdfdom either accepts silently or rejects without naming the element:
-// XML syntax, names, joint types, dangling and duplicate references, cycles, mimic leaders,
-// and the numbers of masses, inertias, limits, axes and dynamics. PFX_OK or the error.
+// unexpanded xacro, XML syntax, names, joint types, dangling and duplicate references,
+// cycles, mimic leaders, and the numbers of masses, inertias, limits, axes, dynamics and
+// collision geometry. PFX_OK or the error.
 PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, PfxUrdfError& error);
 
 // urdfdom's model of the text, or null with urdfdom's own words in `error`.

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "loaders/pfx_urdf_internal.h"
@@ -28,12 +29,34 @@ PfxInt32 checkParam(const PfxUrdfLoadParam& param, PfxUrdfError& error) {
   } else if (!(param.friction >= 0) || !pfxIsFinite(param.friction) ||
              !(param.restitution >= 0 && param.restitution <= 1)) {
     error.text = "load parameters: friction must be finite and >= 0, restitution in [0, 1]";
+  } else if (param.placeAboveGround &&
+             (!pfxIsFinite(param.groundHeight) || !pfxIsFinite(param.groundClearance))) {
+    error.text = "load parameters: groundHeight and groundClearance must be finite";
   } else if (param.disableSelfCollision && param.selfCollisionGroup == 0) {
     error.text = "load parameters: disableSelfCollision needs a non-zero selfCollisionGroup";
   } else {
     error.code = PFX_OK;
   }
   return error.code;
+}
+
+// Moves the built robot along Z so that its lowest collision point lies at `height`; the
+// joints hold their bodies in the bodies' frames, so a move of every body keeps them.
+void placeLowestPointAt(PfxUrdfBuild& build, PfxFloat height) {
+  PfxFloat lowest = std::numeric_limits<PfxFloat>::infinity();
+  for (const PfxUrdfBuildBody& body : build.bodies) {
+    const PfxRigidState& state = body.state;
+    if (state.getContactFilterSelf() == 0 && state.getContactFilterTarget() == 0) continue;
+    for (const PfxShape& shape : body.shapes) {
+      const PfxVector3 point = pfxGetSupportPoint(
+          shape, state.getTransform() * shape.getOffsetTransform(), PfxVector3(0, 0, -1));
+      lowest = std::min(lowest, point.z());
+    }
+  }
+  if (!pfxIsFinite(lowest)) return;  // nothing to place
+  for (PfxUrdfBuildBody& body : build.bodies) {
+    body.state.setPosition(body.state.getPosition() + PfxVector3(0, 0, height - lowest));
+  }
 }
 
 // Adds what was built; on a refusal removes what it added and returns the refusal.
@@ -97,8 +120,13 @@ PfxInt32 load(PfxWorld& world, const std::string& xml, const std::string& file,
   const PfxWorldParam& worldParam = world.getParam();
   PfxUrdfBuild build;
   if (pfxBuildUrdf(*parsed, order, folder, param,
-                   worldParam.timeStep / PfxFloat(worldParam.subStep), build, error) != PFX_OK ||
-      addToWorld(world, build, error) != PFX_OK) {
+                   worldParam.timeStep / PfxFloat(worldParam.subStep), build, error) != PFX_OK) {
+    return report(error.code, file, error.text, message);
+  }
+  if (param.placeAboveGround) {
+    placeLowestPointAt(build, param.groundHeight + param.groundClearance);
+  }
+  if (addToWorld(world, build, error) != PFX_OK) {
     return report(error.code, file, error.text, message);
   }
   model = std::move(build.model);

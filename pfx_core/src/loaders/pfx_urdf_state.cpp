@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "pfx/loaders/pfx_urdf_loader.h"
 
@@ -111,8 +112,57 @@ void pfxGetUrdfJointStates(const PfxWorld& world, const PfxUrdfModel& model,
   }
 }
 
+PfxFloat pfxGetUrdfLowestPoint(const PfxWorld& world, const PfxUrdfModel& model) {
+  PfxFloat lowest = std::numeric_limits<PfxFloat>::infinity();
+  const PfxUInt32 end = std::min(model.firstBodyId + model.numBodies, world.getNumRigidBodies());
+  for (PfxUInt32 id = model.firstBodyId; id < end; ++id) {
+    const PfxRigidState& state = world.getRigidState(id);
+    // The placeholder of a body without geometry meets nothing.
+    if (state.getContactFilterSelf() == 0 && state.getContactFilterTarget() == 0) continue;
+    const PfxTransform3 body = state.getTransform();
+    const PfxCollidable& collidable = world.getCollidable(id);
+    for (PfxUInt32 i = 0; i < collidable.getNumShapes(); ++i) {
+      const PfxShape& shape = collidable.getShape(i);
+      const PfxVector3 point =
+          pfxGetSupportPoint(shape, body * shape.getOffsetTransform(), PfxVector3(0, 0, -1));
+      lowest = std::min(lowest, point.z());
+    }
+  }
+  return lowest;
+}
+
+PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive, PfxFloat target,
+                                 std::string* note) {
+  PfxFloat lower = -std::numeric_limits<PfxFloat>::infinity();
+  PfxFloat upper = std::numeric_limits<PfxFloat>::infinity();
+  const char* what = "limit";
+  if (drive == kPfxJointDrivePosition &&
+      (joint.type == kPfxUrdfRevolute || joint.type == kPfxUrdfPrismatic)) {
+    lower = joint.lowerLimit;
+    upper = joint.upperLimit;
+  } else if (drive == kPfxJointDriveVelocity && joint.velocityLimit > 0) {
+    lower = -joint.velocityLimit;
+    upper = joint.velocityLimit;
+    what = "velocity limit";
+  }
+  const PfxFloat clamped = std::clamp(target, lower, upper);
+  if (note) {
+    note->clear();
+    if (clamped != target) {
+      std::ostringstream text;
+      text << "joint '" << joint.name << "': " << (drive == kPfxJointDrivePosition ? "position" : "velocity")
+           << " target " << target << " cut to its " << (target < lower ? "lower " : "upper ")
+           << what << " " << clamped;
+      *note = text.str();
+    }
+  }
+  return clamped;
+}
+
 PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxUInt32 jointIndex,
-                                PfxJointDrive drive, PfxFloat target, PfxFloat maxForce) {
+                                PfxJointDrive drive, PfxFloat target, PfxFloat maxForce,
+                                std::string* note) {
+  if (note) note->clear();
   if (jointIndex >= model.joints.size()) return PFX_ERR_OUT_OF_RANGE;
   const PfxUrdfJoint& urdfJoint = model.joints[jointIndex];
   if (drive > kPfxJointDrivePosition) return PFX_ERR_INVALID_FLAG;
@@ -129,16 +179,17 @@ PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxU
     axis.m_driveMaxForce = 0;
     return world.setJoint(urdfJoint.jointId, joint);
   }
-  if (drive == kPfxJointDriveVelocity && urdfJoint.velocityLimit > 0) {
-    target = std::clamp(target, -urdfJoint.velocityLimit, urdfJoint.velocityLimit);
-  }
+  std::string cut;
+  target = pfxClampUrdfJointTarget(urdfJoint, drive, target, &cut);
   axis.m_driveTarget = drive == kPfxJointDrivePosition
                            ? (target - urdfJoint.offset) / urdfJoint.sign
                            : target / urdfJoint.sign;
   axis.m_driveMaxForce = maxForce > 0                ? maxForce
                          : urdfJoint.effortLimit > 0 ? urdfJoint.effortLimit
                                                      : std::numeric_limits<PfxFloat>::max();
-  return world.setJoint(urdfJoint.jointId, joint);
+  const PfxInt32 err = world.setJoint(urdfJoint.jointId, joint);
+  if (err == PFX_OK && note) *note = cut;
+  return err;
 }
 
 }  // namespace pfx

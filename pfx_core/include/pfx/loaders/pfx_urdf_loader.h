@@ -10,10 +10,15 @@
 //   inertia tensor turned by the inertial origin. Links joined by fixed joints are lumped
 //   into one body (masses, centres and inertias added with the parallel-axis theorem).
 // - <collision> elements are the body's shapes (several make a compound): box, sphere,
-//   cylinder (turned from URDF's Z onto the shape's X) and mesh, which becomes a convex hull
-//   on a moving body and a large triangle mesh on a fixed one (the fixed base and the links
-//   lumped into it). A body without collision geometry carries a small sphere whose contact
-//   filters match nothing, so neither bodies nor rays ever meet it.
+//   cylinder and capsule (both along the link's Z, turned onto the shape's X; a capsule's
+//   length is its cylinder part between the hemispheres' centres, as Bullet's URDF importer
+//   reads it) and mesh, which becomes a convex hull on a moving body and a large triangle
+//   mesh on a fixed one (the fixed base and the links lumped into it). The loader reads the
+//   collision elements itself, since urdfdom drops all of a link's when it does not know one;
+//   a geometry pfx does not know, or none, is left out with a warning naming the link and
+//   line, and a mesh without a filename is a missing mesh. A body without collision geometry
+//   carries a small sphere whose contact filters match nothing, so neither bodies nor rays
+//   ever meet it.
 // - revolute: hinge with limits (limits beyond +-pi are cut to +-pi with a warning, since
 //   the hinge's angle wraps there); continuous: hinge without limits (its angle reads in
 //   (-pi, pi]); prismatic: slider with limits; fixed: lumped, or a fixed joint;
@@ -35,8 +40,16 @@
 //     rotations as Euler angles along the chain's axes; see PfxUrdfJoint::collapsed;
 //   * with no joint below it (a leaf), it is carried by its parent's body as a frame, its
 //     joint held at zero, and a warning says so;
-//   * anywhere else the load fails, naming the link.
-// - A root link named "world" (Gazebo's convention) fixes the base like fixedBase.
+//   * anywhere else (two joints whose axes do not meet, such as an ankle of two hinges
+//     4 cm apart, or a slider below it) it becomes a light body, so that every joint acts
+//     where the URDF puts it: a tenth of the mass of its lighter massive neighbour, an even
+//     inertia with that neighbour's smallest radius of gyration, its centre amid its
+//     joints' origins; a warning says so. With collapseMasslessChains off it is an error.
+// - A root link named "world" (Gazebo's convention) fixes the base like fixedBase; so does a
+//   root without mass (which cannot float), with a warning. PfxUrdfModel::fixedBase says
+//   which the robot got.
+// - Text with xacro left in it (<xacro:...> elements, ${...} or $(...) in attributes) is
+//   refused with a message that says to run xacro first.
 #pragma once
 
 #include <memory>
@@ -53,6 +66,13 @@ struct PfxUrdfLoadParam {
   // Pose of the root link in the world.
   PfxVector3 rootPosition = PfxVector3::Zero();
   PfxQuat rootOrientation = PfxQuat::Identity();
+  // Set: the root's height (world Z) is chosen instead, so that the lowest point of the
+  // robot's collision shapes in its load pose lies groundClearance above z = groundHeight
+  // (rootPosition's x and y and rootOrientation stay). For a free robot dropped onto a
+  // ground, or a fixed one standing on it, instead of starting inside it.
+  bool placeAboveGround = false;
+  PfxFloat groundHeight = 0;
+  PfxFloat groundClearance = PfxFloat(0.05);
   // A fixed root (an arm bolted to a table) instead of a free-floating one (a ragdoll).
   bool fixedBase = false;
   // Links joined by fixed joints become one compound body; false keeps fixed joints.
@@ -143,6 +163,7 @@ struct PfxLargeTriMeshRelease {
 // alive as long as the world holds the robot.
 struct PfxUrdfModel {
   std::string name;
+  bool fixedBase = false;  // the root is fixed: asked for, a root named "world", or no mass
   std::vector<PfxUrdfLink> links;     // in the order of the URDF file
   std::vector<PfxUrdfJoint> joints;   // likewise
   std::vector<std::string> warnings;  // e.g. a link with no inertial and no child joint
@@ -175,13 +196,22 @@ PfxInt32 pfxFindUrdfJoint(const PfxUrdfModel& model, const std::string& name);
 // without a coordinate (fixed, floating, planar, held at zero).
 void pfxGetUrdfJointStates(const PfxWorld& world, const PfxUrdfModel& model,
                            std::vector<double>& positions, std::vector<double>& velocities);
-// Motor command on one joint: a target position or velocity (a velocity beyond the joint's
-// velocity limit is cut to it), with the force limited by the joint's effort limit (or
-// maxForce when that is > 0; unlimited when neither is given), or kPfxJointDriveNone to
-// let the joint go. Rejects an index out of range (PFX_ERR_OUT_OF_RANGE), joints without
-// a coordinate, mimic followers, NaN targets and a negative or NaN maxForce
-// (PFX_ERR_INVALID_VALUE); nothing changes then.
+// Lowest point (world z) of the robot's collision shapes in their current poses; +infinity
+// for a robot without any.
+PfxFloat pfxGetUrdfLowestPoint(const PfxWorld& world, const PfxUrdfModel& model);
+// A target the joint can reach: a position target outside the joint's URDF limits is cut to
+// the nearer limit, a velocity target to +-the velocity limit (when the URDF gives one).
+// When it cuts, writes into *note which joint, which limit and the target asked for.
+PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive, PfxFloat target,
+                                 std::string* note = nullptr);
+// Motor command on one joint: a target position or velocity, cut by pfxClampUrdfJointTarget
+// (*note says so, and is cleared when nothing was cut), with the force limited by maxForce
+// when that is > 0, else by the joint's URDF effort limit (unlimited when neither is
+// given), or kPfxJointDriveNone to let the joint go. Rejects an index out of range
+// (PFX_ERR_OUT_OF_RANGE), joints without a coordinate, mimic followers, NaN targets and a
+// negative or NaN maxForce (PFX_ERR_INVALID_VALUE); nothing changes then.
 PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxUInt32 jointIndex,
-                                PfxJointDrive drive, PfxFloat target, PfxFloat maxForce = 0);
+                                PfxJointDrive drive, PfxFloat target, PfxFloat maxForce = 0,
+                                std::string* note = nullptr);
 
 }  // namespace pfx
