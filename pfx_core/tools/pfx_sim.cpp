@@ -1,13 +1,11 @@
 // pfx_sim: loads a URDF robot (optionally onto a ground plane and an OctoMap), simulates it
 // headless under gravity along -Z, prints per-step statistics as TSV on standard output
 // and, on request, writes a picture of the final scene.
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <limits>
 #include <memory>
 #include <string>
 
@@ -35,11 +33,15 @@ const char* const kUsage =
     "  --iterations N     solver iterations per sub-step (default 10)\n"
     "  --ground           a ground plane at z = 0\n"
     "  --octomap FILE     static geometry from an OctoMap (.bt or .ot)\n"
-    "  --fixed-base       bolt the robot's root link to the world\n"
+    "  --fixed-base       bolt the robot's root link to the world (a root without mass\n"
+    "                     gets a fixed base anyway, with a warning)\n"
+    "  --no-self-collision  the robot's links never collide with each other (by default\n"
+    "                     only links joined by a joint do not)\n"
     "  --sleep            let bodies at rest fall asleep (off: the statistics measure the\n"
     "                     solver on every step)\n"
-    "  --drop-height H    start with the robot's lowest point H m above z = 0 (default: as\n"
-    "                     the URDF places it, or 0.05 m above the ground with --ground)\n"
+    "  --drop-height H    start with the lowest point of the robot's collision shapes H m\n"
+    "                     above z = 0 (default: as the URDF places it, or 0.05 m above the\n"
+    "                     ground with --ground, free or fixed base)\n"
     "  --png OUT.png      write a picture of the final scene\n"
     "  --png-size WxH     size of the picture in pixels (default 1280x960)\n"
     "  --every N          print every N-th step only (default 1)\n"
@@ -58,6 +60,7 @@ struct Options {
   bool ground = false;
   std::string octomap;
   bool fixedBase = false;
+  bool selfCollision = true;
   bool sleep = false;
   bool hasDropHeight = false;
   double dropHeight = 0;
@@ -106,6 +109,8 @@ int parseArguments(int argc, char** argv, Options& options) {
       options.sleep = true;
     } else if (arg == "--fixed-base") {
       options.fixedBase = true;
+    } else if (arg == "--no-self-collision") {
+      options.selfCollision = false;
     } else if (arg == "--quiet") {
       options.quiet = true;
     } else if (arg == "--seconds" || arg == "--dt" || arg == "--drop-height") {
@@ -155,27 +160,6 @@ int parseArguments(int argc, char** argv, Options& options) {
   return -1;
 }
 
-// Lowest point (z) of the bodies from `first` on.
-PfxFloat lowestPoint(const PfxWorld& world, PfxUInt32 first) {
-  PfxFloat lowest = std::numeric_limits<PfxFloat>::max();
-  for (PfxUInt32 id = first; id < world.getNumRigidBodies(); ++id) {
-    PfxVector3 center, half;
-    world.getCollidable(id).getWorldAabb(world.getRigidState(id).getTransform(), center, half);
-    lowest = std::min(lowest, center.z() - half.z());
-  }
-  return lowest;
-}
-
-// Moves the bodies from `first` on up by `lift` (m): a rigid move keeps every joint as it is.
-PfxInt32 liftBodies(PfxWorld& world, PfxUInt32 first, PfxFloat lift) {
-  for (PfxUInt32 id = first; id < world.getNumRigidBodies(); ++id) {
-    PfxRigidState state = world.getRigidState(id);
-    state.setPosition(state.getPosition() + PfxVector3(0, 0, lift));
-    if (const PfxInt32 err = world.setRigidState(id, state); err != PFX_OK) return err;
-  }
-  return PFX_OK;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -219,6 +203,9 @@ int main(int argc, char** argv) {
 
   PfxUrdfLoadParam load;
   load.fixedBase = options.fixedBase;
+  load.disableSelfCollision = !options.selfCollision;
+  load.placeAboveGround = options.hasDropHeight || options.ground;
+  if (options.hasDropHeight) load.groundClearance = PfxFloat(options.dropHeight);
   PfxUrdfModel model;
   std::string message;
   if (const PfxInt32 err = pfxLoadUrdfFile(world, options.urdf, load, model, &message);
@@ -229,15 +216,6 @@ int main(int argc, char** argv) {
   for (const std::string& warning : model.warnings) {
     std::fprintf(stderr, "pfx_sim: warning: %s\n", warning.c_str());
   }
-  if (options.hasDropHeight || (options.ground && !options.fixedBase)) {
-    const PfxFloat height = options.hasDropHeight ? PfxFloat(options.dropHeight) : PfxFloat(0.05);
-    const PfxFloat lift = height - lowestPoint(world, model.firstBodyId);
-    if (model.numBodies > 0 && liftBodies(world, model.firstBodyId, lift) != PFX_OK) {
-      std::fprintf(stderr, "pfx_sim: cannot place the robot at --drop-height %g\n", height);
-      return 1;
-    }
-  }
-
   const long steps = std::lround(options.seconds / options.dt);
   if (!options.quiet) {
     std::printf("step\ttime\tstep_s\tpairs\tcontacts\tmax_penetration\tmax_joint_gap\t"

@@ -135,6 +135,25 @@ TEST(PfxSim, SleepIsAnOption) {
   }
 }
 
+#ifdef PFX_RAGDOLL_URDF
+// The ragdoll bolted by its root, whose URDF pose has its legs below z = 0, starts above the
+// ground with --ground instead of inside it: no step finds a deep overlap. Without
+// self-collision it runs too.
+TEST(PfxSim, FixedBaseRobotStartsAboveTheGround) {
+  for (const std::string extra : {"", " --no-self-collision"}) {
+    const SimRun run = runSim(std::string("\"") + PFX_RAGDOLL_URDF +
+                                  "\" --fixed-base --ground --seconds 0.5 --dt 0.004" + extra,
+                              "fixed_base");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const auto rows = tsvRows(run.out);
+    ASSERT_EQ(rows.size(), 126u);
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      ASSERT_LT(std::stod(rows[i][5]), 0.01) << "deepest overlap at step " << i << extra;
+    }
+  }
+}
+#endif
+
 TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
   const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
   SimRun run = runSim("--help", "help");
