@@ -272,7 +272,14 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
       err != PFX_OK) {
     return reject(res, service, pfxErrorString(err));
   }
-  return accept(res);
+  // The targets were cut to the joints' limits where they lay beyond; say which.
+  std::string cut;
+  for (std::size_t i = 0; needTargets && i < n; ++i) {
+    std::string note;
+    pfxClampUrdfJointTarget(model.joints[joints[i]], drive, targets[i], &note);
+    if (!note.empty()) cut += (cut.empty() ? "" : "; ") + note;
+  }
+  return accept(res, cut);
 }
 
 bool PfxNodeServices::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {

@@ -105,6 +105,8 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   PfxUrdfLoadParam urdfParam;
   urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
   urdfParam.fixedBase = config.fixedBase;
+  urdfParam.placeAboveGround = config.placeAboveGround;
+  urdfParam.disableSelfCollision = !config.selfCollision;
   urdfParam.allowMissingMeshes = config.allowMissingMeshes;
   std::string why;
   if (const PfxInt32 err = pfxLoadUrdfString(

@@ -562,6 +562,8 @@ class UrdfBuilder {
   }
 
   PfxInt32 makeShapes() {
+    std::vector<std::vector<PfxInt32>>& shapeLinks = m_build.model.shapeLinks;
+    shapeLinks.assign(m_build.bodies.size(), std::vector<PfxInt32>());
     for (const int link : m_treeOrder) {
       const Group& group = m_groups[m_links[link].group];
       if (group.role == Role::kHelper) continue;
@@ -574,6 +576,7 @@ class UrdfBuilder {
             err != PFX_OK) {
           return err;
         }
+        shapeLinks[group.body].resize(m_build.bodies[group.body].shapes.size(), link);
       }
     }
     for (std::size_t b = 0; b < m_build.bodies.size(); ++b) {
@@ -587,6 +590,7 @@ class UrdfBuilder {
       }
       if (out.shapes.empty()) {
         out.shapes.push_back(pfxMakeShape(PfxSphere(kPlaceholderRadius)));
+        shapeLinks[b].push_back(-1);
         out.state.setContactFilterSelf(0);
         out.state.setContactFilterTarget(0);
       } else if (m_param.disableSelfCollision) {

@@ -27,6 +27,12 @@ struct PfxNodeSimulationConfig {
   PfxUInt32 iterations = 10;
   bool fixedBase = false;
   PfxFloat initialHeight = 0;  // z of the root link's frame at the start (m)
+  // Instead of initialHeight: the lowest point of the robot's collision shapes starts
+  // 5 cm above z = 0 (PfxUrdfLoadParam::placeAboveGround).
+  bool placeAboveGround = false;
+  // false: no two links of the robot collide (by default only links joined by a joint do
+  // not).
+  bool selfCollision = true;
   // A collision mesh whose file is missing is left out (with a warning) instead of failing
   // the load.
   bool allowMissingMeshes = false;

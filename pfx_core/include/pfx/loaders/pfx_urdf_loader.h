@@ -167,6 +167,12 @@ struct PfxUrdfModel {
   std::vector<PfxUrdfLink> links;     // in the order of the URDF file
   std::vector<PfxUrdfJoint> joints;   // likewise
   std::vector<std::string> warnings;  // e.g. a link with no inertial and no child joint
+  // The link whose <collision> each shape came from, as an index into links:
+  // shapeLinks[bodyId - firstBodyId][shape index], the index that contact points
+  // (m_shapeIdA, m_shapeIdB) and ray hits (m_shapeId) carry. A body that lumps several
+  // links holds the shapes of all of them; the placeholder sphere of a body without
+  // geometry has -1. See pfxFindUrdfShapeLink.
+  std::vector<std::vector<PfxInt32>> shapeLinks;
   PfxUInt32 firstBodyId = 0;          // bodies, joints and couplings the load added, contiguous
   PfxUInt32 numBodies = 0;
   PfxUInt32 firstJointId = 0;
@@ -192,6 +198,17 @@ PfxTransform3 pfxGetUrdfLinkPose(const PfxWorld& world, const PfxUrdfLink& link)
 // Index of a link or joint by name, or -1.
 PfxInt32 pfxFindUrdfLink(const PfxUrdfModel& model, const std::string& name);
 PfxInt32 pfxFindUrdfJoint(const PfxUrdfModel& model, const std::string& name);
+// Index into model.links of the link that gave body `bodyId` its shape `shapeIndex` (the
+// link whose collision element a contact point or a ray hit lies on), or -1 for a body or
+// shape the model did not make, or the placeholder of a body without geometry.
+inline PfxInt32 pfxFindUrdfShapeLink(const PfxUrdfModel& model, PfxUInt32 bodyId,
+                                     PfxUInt32 shapeIndex) {
+  if (bodyId < model.firstBodyId || bodyId - model.firstBodyId >= model.shapeLinks.size()) {
+    return -1;
+  }
+  const std::vector<PfxInt32>& links = model.shapeLinks[bodyId - model.firstBodyId];
+  return shapeIndex < links.size() ? links[shapeIndex] : -1;
+}
 // Position (rad or m) and velocity of every joint in model.joints order; 0 for joints
 // without a coordinate (fixed, floating, planar, held at zero).
 void pfxGetUrdfJointStates(const PfxWorld& world, const PfxUrdfModel& model,
