@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pfx {
 
@@ -22,6 +23,27 @@ ros::WallDuration periodOf(double rate) {
 bool positiveFinite(double x) { return std::isfinite(x) && x > 0; }
 bool nonNegativeFinite(double x) { return std::isfinite(x) && x >= 0; }
 
+// ~initial_height: a number of metres (true), or unset or "auto" (false: the robot is
+// placed above the ground).
+bool readInitialHeight(const ros::NodeHandle& nh, double& height) {
+  XmlRpc::XmlRpcValue value;
+  if (!nh.getParam("initial_height", value)) return false;
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      height = static_cast<double>(value);
+      return true;
+    case XmlRpc::XmlRpcValue::TypeInt:
+      height = static_cast<int>(value);
+      return true;
+    case XmlRpc::XmlRpcValue::TypeString:
+      if (static_cast<std::string>(value) == "auto") return false;
+      [[fallthrough]];
+    default:
+      height = std::numeric_limits<double>::quiet_NaN();  // refused below
+      return true;
+  }
+}
+
 }  // namespace
 
 PfxNode::PfxNode() = default;
@@ -38,15 +60,16 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param("ground_plane", p.simulation.groundPlane, true);
   nh.param("fixed_base", p.simulation.fixedBase, false);
   nh.param("allow_missing_meshes", p.simulation.allowMissingMeshes, false);
+  nh.param("self_collision", p.simulation.selfCollision, true);
   nh.param<std::string>("fixed_frame", p.fixedFrame, "world");
   nh.param("paused", p.paused, false);
-  double groundSize, dt, initialHeight;
+  double groundSize, dt, initialHeight = 0;
   int subSteps, iterations;
   nh.param("ground_size", groundSize, 20.0);
   nh.param("dt", dt, 0.004);
   nh.param("substeps", subSteps, 1);
   nh.param("iterations", iterations, 10);
-  nh.param("initial_height", initialHeight, 0.0);
+  const bool heightGiven = readInitialHeight(nh, initialHeight);
   nh.param("real_time_factor", p.realTimeFactor, 1.0);
   nh.param("publish_rate", p.publishRate, 100.0);
   nh.param("marker_rate", p.markerRate, 10.0);
@@ -58,7 +81,9 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   if (subSteps < 1) invalid = "~substeps must be at least 1";
   if (iterations < 1) invalid = "~iterations must be at least 1";
   if (!positiveFinite(groundSize)) invalid = "~ground_size must be a positive number of metres";
-  if (!std::isfinite(initialHeight)) invalid = "~initial_height must be finite";
+  if (!std::isfinite(initialHeight)) {
+    invalid = "~initial_height must be a finite number of metres, or auto";
+  }
   if (!nonNegativeFinite(p.realTimeFactor)) invalid = "~real_time_factor must be >= 0";
   if (!nonNegativeFinite(p.publishRate) || !nonNegativeFinite(p.markerRate) ||
       !nonNegativeFinite(p.diagnosticsRate)) {
@@ -75,6 +100,7 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   p.simulation.subSteps = PfxUInt32(subSteps);
   p.simulation.iterations = PfxUInt32(iterations);
   p.simulation.initialHeight = PfxFloat(initialHeight);
+  p.simulation.placeAboveGround = !heightGiven;
   return true;
 }
 
