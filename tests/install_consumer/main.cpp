@@ -1,9 +1,10 @@
-// Drops a box onto a fixed box through the installed headers and library; exits 0 when it
-// comes to rest on top.
+// Drops a box onto a fixed box through the installed umbrella header and library; exits 0
+// when it comes to rest on top and a low-level stage given no time step names the field.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
-#include "pfx/high_level/pfx_body_init.h"
+#include "pfx/pfx.h"
 
 int main() {
   using namespace pfx;
@@ -18,5 +19,9 @@ int main() {
   for (int i = 0; i < 120; ++i) world.step();
   const PfxFloat y = world.getRigidState(id).getPosition().y();
   std::printf("box rests at y = %.4f\n", y);
-  return std::abs(y - 1.0f) < 0.01f ? 0 : 1;
+  PfxUpdateRigidStatesParam update;
+  const bool named = pfxUpdateRigidStates(update) == SCE_PFX_ERR_INVALID_VALUE &&
+                     std::strstr(pfxGetLastErrorDetail(), "timeStep") != nullptr;
+  std::printf("a stage without its time step: %s\n", pfxGetLastErrorDetail());
+  return std::abs(y - 1.0f) < 0.01f && named ? 0 : 1;
 }
