@@ -669,5 +669,30 @@ TEST_F(ContactMesh, RotatingTheWholeSceneRotatesTheAnswer) {
   }
 }
 
+// A thin cylinder lying on a 100 m slab (the pose where it was caught): the slab's far side
+// faces must not stand in for its top. The whole slab gave no contact 1 and 2 cm deep and,
+// a millimetre lower, nine points 50 m deep along a side face.
+TEST(ContactCylinder, SmallCylinderOnAHugeSlabMeetsItsTop) {
+  const PfxShape slab = makeBox(50, 0.5f, 50);
+  const PfxTransform3 slabPose = pose(PfxVector3(0, -0.5f, 0));
+  const PfxShape cylinder = makeCylinder(0.143f, 0.028f);
+  const PfxQuat lying = PfxQuat(0.0162796583f, 0.693896532f, -0.0176124498f, 0.719675303f).normalized();
+  const PfxVector3 axis = lying * PfxVector3::UnitX();
+  const PfxFloat reachBelowCentre =
+      std::abs(axis.y()) * 0.143f + 0.028f * std::sqrt(1 - axis.y() * axis.y());
+  for (const PfxFloat height : {-0.0017f, 0.0f, 0.01f, 0.02f, 0.03f}) {
+    SCOPED_TRACE(height);
+    const PfxFloat trueDistance = height - reachBelowCentre;
+    const Contacts r = collide(slab, slabPose, cylinder, pose(PfxVector3(-0.06f, height, -0.07f), lying));
+    ASSERT_GE(r.n, 1u);
+    PfxFloat deepest = 1;
+    for (PfxUInt32 i = 0; i < r.n; ++i) {
+      EXPECT_GT(r.c[i].m_normal.y(), 0.99f);
+      deepest = std::min(deepest, r.c[i].m_distance);
+    }
+    EXPECT_NEAR(deepest, trueDistance, kIterative);
+  }
+}
+
 }  // namespace
 }  // namespace pfx_test

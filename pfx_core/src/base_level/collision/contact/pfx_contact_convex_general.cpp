@@ -216,6 +216,32 @@ PfxVector3 snappedNormal(const PfxConvexCore& a, const PfxConvexCore& b, const F
   return best;
 }
 
+// A box many times the size of the other shape (a ground slab under a wheel) is cut down,
+// in its own frame, to a cube around the other shape: an exact stand-in near it, as every
+// face there is the box's own. GJK and EPA on the full slab work on a Minkowski difference
+// tens of metres across with tolerances to match: a lying cylinder on a 100 m slab got no
+// contact 2 cm deep, and a step later one 50 m deep along a far side face. The cube's cut
+// faces lie further out than the nearest real face by the other shape's bounding radius
+// and more, so the way out through a real face is always the shorter one. Returns false
+// when the other shape cannot reach the box.
+constexpr PfxFloat kLargeBoxRatio = 4;
+
+bool cropLargeBox(PfxConvexCore& box, const PfxConvexCore& other, PfxFloat threshold) {
+  if (box.m_type != kPfxShapeBox) return true;
+  const PfxFloat otherRadius = other.boundingRadius();
+  if (box.boundingRadius() <= kLargeBoxRatio * otherRadius) return true;
+  const PfxVector3 centre = box.m_rotation.transpose() * (other.m_position - box.m_position);
+  const PfxFloat nearestFace = (box.m_size - centre.cwiseAbs()).minCoeff();
+  const PfxFloat reach =
+      2 * otherRadius + std::max(threshold, PfxFloat(0)) + std::max(nearestFace, PfxFloat(0));
+  const PfxVector3 lower = (centre.array() - reach).max(-box.m_size.array()).matrix();
+  const PfxVector3 upper = (centre.array() + reach).min(box.m_size.array()).matrix();
+  if ((upper.array() < lower.array()).any()) return false;
+  box.m_size = (upper - lower) / 2;
+  box.m_position += box.m_rotation * ((upper + lower) / 2);
+  return true;
+}
+
 }  // namespace
 
 void pfxContactConvexGeneral(const PfxShape& shapeA, const PfxTransform3& transformA,
@@ -224,8 +250,9 @@ void pfxContactConvexGeneral(const PfxShape& shapeA, const PfxTransform3& transf
   PfxConvexCore a, b;
   a.set(shapeA, transformA);
   b.set(shapeB, transformB);
-  const PfxFloat scale = a.boundingRadius() + b.boundingRadius() + PFX_EPSILON;
   const PfxFloat threshold = sink.getThreshold();
+  if (!cropLargeBox(a, b, threshold) || !cropLargeBox(b, a, threshold)) return;
+  const PfxFloat scale = a.boundingRadius() + b.boundingRadius() + PFX_EPSILON;
 
   Contact deepest;
   if (!deepestContact(a, b, scale, threshold, deepest)) return;
