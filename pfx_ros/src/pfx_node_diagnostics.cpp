@@ -102,8 +102,11 @@ void PfxNodeDiagnostics::publish(const PfxNodeSimulation& simulation, bool pause
   addValue(status, "max energy change per step (J)", m_maxEnergyChange);
   addValue(status, "max linear momentum change per step (kg m/s)", m_maxLinearMomentumChange);
   addValue(status, "max angular momentum change per step (kg m^2/s)", m_maxAngularMomentumChange);
+  // Sleeping bodies' contacts included, as get_contacts and the contact markers list them.
   addValue(status, "contact pairs", last.numContactPairs);
   addValue(status, "contact points", last.numContactPoints);
+  addValue(status, "bodies asleep", last.numSleepingBodies);
+  addValue(status, "bodies awake", last.numAwakeBodies);
   addValue(status, "bodies", simulation.getWorld().getNumRigidBodies());
   addValue(status, "joints", simulation.getWorld().getNumJoints());
 

@@ -70,7 +70,7 @@ PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulati
 
 std::string PfxNodeServices::hitName(const PfxRayOutput& hit) const {
   if (!hit.m_contactFlag || hit.m_objectId == PFX_RAY_NO_OBJECT) return "";
-  return m_simulation.getBodyName(hit.m_objectId);
+  return m_simulation.getShapeName(hit.m_objectId, hit.m_shapeId);
 }
 
 bool PfxNodeServices::raycast(Raycast::Request& req, Raycast::Response& res) {
@@ -136,19 +136,19 @@ bool PfxNodeServices::raycastBatch(RaycastBatch::Request& req, RaycastBatch::Res
 }
 
 bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Response& res) {
-  PfxInt64 body = -1;
-  if (!req.link.empty()) {
-    body = m_simulation.findBody(req.link);
-    if (body < 0) return reject(res, "get_contacts", unknownLink(req.link));
+  if (!req.link.empty() && m_simulation.findBody(req.link) < 0) {
+    return reject(res, "get_contacts", unknownLink(req.link));
   }
   m_simulation.getContacts(m_contacts);
   for (const PfxNodeContact& c : m_contacts) {
-    if (body >= 0 && c.bodyA != body && c.bodyB != body) continue;
+    const std::string& nameA = m_simulation.getShapeName(c.bodyA, c.shapeA);
+    const std::string& nameB = m_simulation.getShapeName(c.bodyB, c.shapeB);
+    if (!req.link.empty() && nameA != req.link && nameB != req.link) continue;
     // The link asked about comes first, the normal pointing away from it.
-    const bool swap = body >= 0 && c.bodyA != body;
+    const bool swap = !req.link.empty() && nameA != req.link;
     Contact msg;
-    msg.link_a = m_simulation.getBodyName(swap ? c.bodyB : c.bodyA);
-    msg.link_b = m_simulation.getBodyName(swap ? c.bodyA : c.bodyB);
+    msg.link_a = swap ? nameB : nameA;
+    msg.link_b = swap ? nameA : nameB;
     msg.position = pfxToPointMsg(c.position);
     msg.normal = pfxToVector3Msg(swap ? PfxVector3(-c.normal) : c.normal);
     msg.depth = c.depth;

@@ -21,6 +21,10 @@ namespace {
 
 const char* const kGroundName = "ground";
 const char* const kOctomapName = "octomap";
+// A contact point this close (m) touches, whatever impulse the last sub-step gave it: a body
+// at rest on several points spreads its weight over them differently from one sub-step to
+// the next, and a sleeping body keeps the spread of the sub-step it fell asleep in.
+const PfxFloat kTouchingDistance = PfxFloat(1e-3);
 
 std::string folderOf(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -171,6 +175,11 @@ PfxInt32 PfxNodeSimulation::step() {
   return err;
 }
 
+const std::string& PfxNodeSimulation::getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const {
+  const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex);
+  return link < 0 ? getBodyName(bodyId) : m_scene->model.links[link].name;
+}
+
 const PfxWorld& PfxNodeSimulation::getWorld() const { return *m_scene->world; }
 
 const PfxUrdfModel& PfxNodeSimulation::getModel() const { return m_scene->model; }
@@ -218,10 +227,12 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
       const PfxContactPoint& point = manifold.getContactPoint(i);
       const PfxFloat impulse = point.m_constraintRow[0].m_accumImpulse;
-      if (point.m_distance > 0 && impulse <= 0) continue;
+      if (point.m_distance > kTouchingDistance && impulse <= 0) continue;
       PfxNodeContact contact;
       contact.bodyA = idA;
       contact.bodyB = idB;
+      contact.shapeA = point.m_shapeIdA;
+      contact.shapeB = point.m_shapeIdB;
       contact.position = (transformA * point.m_localPointA + transformB * point.m_localPointB) / 2;
       contact.normal = point.getNormal();
       contact.depth = -point.m_distance;

@@ -37,15 +37,18 @@ void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
   }
   m_linkPoses.resize(model.links.size());
 
-  m_movableJoints.clear();
+  m_publishedJoints.clear();
   m_jointState.name.clear();
   for (std::size_t j = 0; j < model.joints.size(); ++j) {
-    if (model.joints[j].jointId == kPfxUrdfNoJoint) continue;
-    m_movableJoints.push_back(PfxUInt32(j));
+    const PfxUrdfJointType type = model.joints[j].type;
+    if (type != kPfxUrdfRevolute && type != kPfxUrdfContinuous && type != kPfxUrdfPrismatic) {
+      continue;
+    }
+    m_publishedJoints.push_back(PfxUInt32(j));
     m_jointState.name.push_back(model.joints[j].name);
   }
-  m_jointState.position.resize(m_movableJoints.size());
-  m_jointState.velocity.resize(m_movableJoints.size());
+  m_jointState.position.resize(m_publishedJoints.size());
+  m_jointState.velocity.resize(m_publishedJoints.size());
 }
 
 void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
@@ -63,9 +66,9 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
   m_broadcaster.sendTransform(m_transforms);
 
   pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(), m_positions, m_velocities);
-  for (std::size_t k = 0; k < m_movableJoints.size(); ++k) {
-    m_jointState.position[k] = m_positions[m_movableJoints[k]];
-    m_jointState.velocity[k] = m_velocities[m_movableJoints[k]];
+  for (std::size_t k = 0; k < m_publishedJoints.size(); ++k) {
+    m_jointState.position[k] = m_positions[m_publishedJoints[k]];
+    m_jointState.velocity[k] = m_velocities[m_publishedJoints[k]];
   }
   m_jointState.header.stamp = stamp;
   m_jointStates.publish(m_jointState);

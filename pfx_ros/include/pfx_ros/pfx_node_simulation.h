@@ -42,6 +42,8 @@ struct PfxNodeSimulationConfig {
 struct PfxNodeContact {
   PfxUInt32 bodyA = 0;
   PfxUInt32 bodyB = 0;
+  PfxUInt32 shapeA = 0;  // which shape of each body's compound (getShapeName)
+  PfxUInt32 shapeB = 0;
   PfxVector3 position = PfxVector3::Zero();  // midway between the two surfaces
   PfxVector3 normal = PfxVector3::Zero();    // from A to B
   PfxFloat depth = 0;                        // overlap, > 0 when interpenetrating
@@ -71,6 +73,11 @@ class PfxNodeSimulation {
   // The link a body carries (the one nearest the URDF root when fixed joints lumped
   // several into it), "ground" or "octomap".
   const std::string& getBodyName(PfxUInt32 bodyId) const;
+  // The link whose <collision> element became shape `shapeIndex` of the body (a contact
+  // point's or a ray hit's shape), so that a body lumping a massless helper with the link
+  // that carries the geometry is named after the latter; getBodyName for the ground, the
+  // OctoMap and a body's placeholder shape.
+  const std::string& getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const;
   // Index into getModel().links, or -1.
   PfxInt32 findLink(const std::string& name) const;
   PfxInt32 findJoint(const std::string& name) const;
@@ -80,8 +87,9 @@ class PfxNodeSimulation {
 
   PfxInt32 castRay(const PfxRayInput& ray, PfxRayOutput& hit);
   PfxInt32 castRays(const PfxRayInput* rays, PfxRayOutput* hits, PfxUInt32 numRays);
-  // The points of the last step where bodies overlap or pushed on each other; speculative
-  // points that did nothing are left out.
+  // The points of the last step where bodies touch (closer than 1 mm) or pushed on each
+  // other, those of sleeping bodies included (they keep the points they had when they fell
+  // asleep); speculative points farther apart that did nothing are left out.
   void getContacts(std::vector<PfxNodeContact>& contacts) const;
 
   // A force at the link's origin plus a torque (world frame), on the link's body for

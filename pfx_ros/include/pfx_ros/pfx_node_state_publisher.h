@@ -1,6 +1,10 @@
 // What the node publishes of the robot's state: TF for every link (the URDF tree, its
-// root under the fixed frame), /joint_states with the URDF joint names, and /clock when
-// the node runs on simulated time (use_sim_time).
+// root under the fixed frame), /joint_states, and /clock when the node runs on simulated
+// time (use_sim_time). Every message of /joint_states names every revolute, continuous and
+// prismatic joint of the URDF, in the file's order: mimic followers, and joints held at zero
+// under a massless leaf (position and velocity 0) too, so that whoever rebuilds the robot
+// from it (robot_state_publisher, MoveIt) finds each joint it knows. Floating and planar
+// joints have no single coordinate; TF gives their child's pose.
 #pragma once
 
 #include <ros/ros.h>
@@ -33,7 +37,7 @@ class PfxNodeStatePublisher {
   std::vector<PfxInt32> m_parentLink;
   std::vector<geometry_msgs::TransformStamped> m_transforms;
   std::vector<PfxTransform3> m_linkPoses;
-  std::vector<PfxUInt32> m_movableJoints;  // indices into the model's joints
+  std::vector<PfxUInt32> m_publishedJoints;  // indices into the model's joints
   std::vector<double> m_positions;
   std::vector<double> m_velocities;
   sensor_msgs::JointState m_jointState;
