@@ -246,6 +246,33 @@ TEST(JointCoupling, FollowerLimitStopsTheLeader) {
   EXPECT_LT(std::abs(rig.world.getRigidState(rig.leaderRod).getAngularVelocity().z()), 1e-2f);
 }
 
+// A position drive without a force limit on the leader, its target beyond both joints'
+// limits, the follower's limit the narrower: the follower's limit stops both, the ratio
+// holds and the rods stay on their pivots (a mimic finger drifted 13 mm).
+TEST(JointCoupling, UnlimitedDrivePastTheLimitsLeavesTheFollowerWithinItsOwn) {
+  for (const PfxFloat target : {2.5f, -2.5f}) {
+    SCOPED_TRACE(target);
+    HingePair rig(-0.5f, 0.5f, -1, 1);
+    rig.drive(rig.leader, kPfxJointDrivePosition, target, std::numeric_limits<PfxFloat>::max());
+    ASSERT_EQ(rig.couple(1, 0), PFX_OK);
+    PfxFloat followerExcursion = 0, worstRatio = 0, worstGap = 0;
+    for (int i = 0; i < 180; ++i) {
+      ASSERT_EQ(rig.world.step(), PFX_OK);
+      ASSERT_TRUE(allFinite(rig.world));
+      followerExcursion = std::max(followerExcursion, std::abs(rig.followerAngle()) - 0.5f);
+      worstRatio = std::max(worstRatio, rig.ratioError(1, 0));
+      worstGap = std::max(worstGap, rig.world.getStats().maxJointGap);
+    }
+    std::printf("target %.1f: follower past its limit by %.2e rad, ratio error %.2e rad, "
+                "joint gap %.2e m\n",
+                target, followerExcursion, worstRatio, worstGap);
+    EXPECT_LT(followerExcursion, 0.01f);
+    EXPECT_LT(worstRatio, 0.01f);
+    EXPECT_LT(worstGap, 1e-3f);
+    EXPECT_NEAR(std::abs(rig.followerAngle()), 0.5f, 0.01f);
+  }
+}
+
 // A drive on the follower far stronger than the rods (it would reach 20 rad/s in one step)
 // pulls the leader into its limit at 0.3 rad. Drive, coupling and limit are iterated
 // together, and their impulses grow to the balance over a few steps with warm starting:
