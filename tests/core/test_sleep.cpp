@@ -153,6 +153,88 @@ TEST(Sleep, StillIslandsFallAsleepWholeAndCostNothing) {
   }
 }
 
+// Sleeping contacts are contacts, and sleeping bodies are in the way of rays: whoever lists
+// the world's contacts (getContactPair) or casts rays gets the same answers from a sleeping
+// pile as from an awake one, and neither query wakes it.
+TEST(Sleep, ASleepingPilesContactsAreListedAndRaysStillHitIt) {
+  TwoStacks s;
+  ASSERT_NO_FATAL_FAILURE(s.settle());
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(s.world.step(), PFX_OK);
+  ASSERT_TRUE(everythingAsleep(s.world));
+  ASSERT_EQ(s.world.getStats().numPairs, 0u) << "asleep, no pair is worked on";
+
+  // Each box rests on the one below or on the ground: its pair is listed with its points,
+  // touching, pushing up, and counted in the statistics.
+  const auto listed = [&](PfxUInt32 below, PfxUInt32 above) -> const PfxContactManifold* {
+    const PfxUInt64 key = pfxCreatePairKey(std::min(below, above), std::max(below, above));
+    for (PfxUInt32 i = 0; i < s.world.getNumContactPairs(); ++i) {
+      const PfxConstraintPair& pair = s.world.getContactPair(i);
+      if (pair.key == key) return &s.world.getContactManifold(pair);
+    }
+    return nullptr;
+  };
+  PfxUInt32 points = 0;
+  for (const std::vector<PfxUInt32>* stack : {&s.a, &s.b}) {
+    for (std::size_t level = 0; level < stack->size(); ++level) {
+      const PfxUInt32 below = level == 0 ? s.ground : (*stack)[level - 1];
+      const PfxContactManifold* manifold = listed(below, (*stack)[level]);
+      ASSERT_NE(manifold, nullptr) << "box " << (*stack)[level] << " on " << below;
+      ASSERT_GE(manifold->getNumContacts(), 3u);
+      points += manifold->getNumContacts();
+      for (PfxUInt32 c = 0; c < manifold->getNumContacts(); ++c) {
+        const PfxContactPoint& point = manifold->getContactPoint(c);
+        EXPECT_LT(point.m_distance, s.world.getParam().contactMargin);
+        EXPECT_GT(std::abs(point.getNormal().y()), 0.99f);
+        EXPECT_GE(point.m_constraintRow[0].m_accumImpulse, 0);
+      }
+    }
+  }
+  EXPECT_EQ(s.world.getStats().numContactPoints, points);
+
+  // Rays down onto each stack meet its top box, sideways ones its middle box, singly and in a
+  // batch large enough to be cast in Morton order.
+  const auto rayDown = [](PfxFloat x, PfxFloat z) {
+    PfxRayInput ray;
+    ray.reset();
+    ray.m_startPosition = PfxVector3(x, 5, z);
+    ray.m_direction = PfxVector3(0, -10, 0);
+    return ray;
+  };
+  PfxRayOutput hit;
+  for (const std::vector<PfxUInt32>* stack : {&s.a, &s.b}) {
+    const PfxVector3 top = s.world.getRigidState(stack->back()).getPosition();
+    ASSERT_EQ(s.world.castRay(rayDown(top.x(), top.z()), hit), PFX_OK);
+    ASSERT_TRUE(hit.m_contactFlag);
+    EXPECT_EQ(hit.m_objectId, stack->back());
+    EXPECT_NEAR(hit.m_contactPoint.y(), top.y() + kHalf, 1e-3f);
+    PfxRayInput side;
+    side.reset();
+    const PfxVector3 middle = s.world.getRigidState((*stack)[1]).getPosition();
+    side.m_startPosition = middle + PfxVector3(0, 0, 5);
+    side.m_direction = PfxVector3(0, 0, -10);
+    ASSERT_EQ(s.world.castRay(side, hit), PFX_OK);
+    ASSERT_TRUE(hit.m_contactFlag);
+    EXPECT_EQ(hit.m_objectId, (*stack)[1]);
+  }
+  std::vector<PfxRayInput> rays;
+  for (int i = 0; i < 100; ++i) {
+    const std::vector<PfxUInt32>& stack = i % 2 ? s.b : s.a;
+    const PfxVector3 top = s.world.getRigidState(stack.back()).getPosition();
+    rays.push_back(rayDown(top.x() + 0.2f * (i % 10 - 4.5f) / 4.5f, top.z() + 0.01f * (i / 10)));
+  }
+  std::vector<PfxRayOutput> hits(rays.size());
+  ASSERT_EQ(s.world.castRays(rays.data(), hits.data(), PfxUInt32(rays.size())), PFX_OK);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_TRUE(hits[i].m_contactFlag) << "ray " << i;
+    EXPECT_EQ(hits[i].m_objectId, (i % 2 ? s.b : s.a).back()) << "ray " << i;
+  }
+
+  // Listing and casting woke nothing, and the next steps keep the same contacts.
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_TRUE(everythingAsleep(s.world));
+  EXPECT_EQ(s.world.getStats().numContactPoints, points);
+}
+
 TEST(Sleep, OffKeepsEverythingAwakeAndIslandsAreStillReported) {
   PfxWorldParam param;
   param.enableSleep = false;
