@@ -65,9 +65,10 @@ std::string loadError(const std::string& xml, const PfxUrdfLoadParam& param = Pf
   return message;
 }
 
+// A warning that contains `text`; a final "\n" in `text` matches the warning's end.
 bool hasWarningWith(const PfxUrdfModel& model, const std::string& text) {
   for (const std::string& warning : model.warnings) {
-    if (warning.find(text) != std::string::npos) return true;
+    if ((warning + "\n").find(text) != std::string::npos) return true;
   }
   return false;
 }
@@ -546,4 +547,74 @@ TEST(UrdfInputs, PlacedAboveTheGroundTheLowestShapeStartsAtTheClearance) {
   EXPECT_NE(message.find("groundHeight and groundClearance must be finite"), std::string::npos)
       << message;
   EXPECT_EQ(empty.getNumRigidBodies(), 0u);
+}
+
+// ---------------------------------------------------------------------------------------
+// Links that overlap where the robot starts.
+
+namespace {
+
+// A fixed palm; two fingers on sliders whose boxes cross each other's at zero (a closed
+// gripper drawn with its fingertips overlapping); a wrist chain whose hand, two hinges
+// below the forearm, reaches back into it; and a massless ankle helper between a shank and
+// a foot that overlap.
+const std::string kOverlapping =
+    "<robot name=\"overlapping\">" +
+    massiveLink("palm", collision("<box size=\"0.1 0.1 0.04\"/>")) +
+    massiveLink("left", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 -0.005 0.06\""),
+                0.1) +
+    massiveLink("right", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 0.005 0.06\""),
+                0.1) +
+    massiveLink("wrist", collision("<sphere radius=\"0.01\"/>"), 0.2) +
+    massiveLink("hand", collision("<box size=\"0.06 0.06 0.1\"/>", "xyz=\"0 0 0.02\""), 0.5) +
+    "<link name=\"ankle_helper\"/>" +
+    massiveLink("foot", collision("<box size=\"0.1 0.1 0.1\"/>"), 0.5) +
+    R"(<joint name="left_finger" type="prismatic"><parent link="palm"/><child link="left"/>
+    <origin xyz="0 0.01 0"/><axis xyz="0 1 0"/><limit lower="-0.01" upper="0.04" effort="5" velocity="1"/></joint>
+  <joint name="right_finger" type="prismatic"><parent link="palm"/><child link="right"/>
+    <origin xyz="0 -0.01 0"/><axis xyz="0 -1 0"/><limit lower="-0.01" upper="0.04" effort="5" velocity="1"/></joint>
+  <joint name="wrist_pitch" type="revolute"><parent link="palm"/><child link="wrist"/>
+    <origin xyz="0.06 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/></joint>
+  <joint name="wrist_roll" type="revolute"><parent link="wrist"/><child link="hand"/>
+    <origin xyz="0 0 0.03"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/></joint>
+  <joint name="ankle_pitch" type="revolute"><parent link="palm"/><child link="ankle_helper"/>
+    <origin xyz="-0.07 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/></joint>
+  <joint name="ankle_roll" type="revolute"><parent link="ankle_helper"/><child link="foot"/>
+    <origin xyz="0 0 0.04"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="5" velocity="1"/></joint>
+</robot>)";
+
+}  // namespace
+
+TEST(UrdfInputs, LinksThatOverlapWhereTheRobotStartsAreNotPushedApart) {
+  PfxWorld world;
+  PfxWorldParam worldParam;
+  worldParam.gravity = PfxVector3::Zero();  // only contacts could move anything
+  worldParam.enableSleep = false;
+  ASSERT_EQ(world.initialize(worldParam), PFX_OK);
+  PfxUrdfModel model;
+  PfxUrdfLoadParam param;
+  param.fixedBase = true;
+  ASSERT_NO_FATAL_FAILURE(loadText(world, kOverlapping, param, model));
+  ASSERT_NO_FATAL_FAILURE(step(world, 1));
+  std::vector<double> q, v;
+  pfxGetUrdfJointStates(world, model, q, v);
+  for (std::size_t j = 0; j < q.size(); ++j) {
+    EXPECT_NEAR(q[j], 0, 1e-4) << model.joints[j].name;
+    EXPECT_NEAR(v[j], 0, 1e-4) << model.joints[j].name;
+  }
+  EXPECT_LT(world.getStats().maxPenetration, 1e-4f);  // no overlapping pair is in contact
+  // Pairs joined through a joint or a light helper body are not listed: they never collide.
+  EXPECT_TRUE(hasWarningWith(model,
+                             "links that overlap where the robot starts never collide with each "
+                             "other: 'palm' and 'hand' (0.02 m), 'left' and 'right' (0.02 m)\n"))
+      << allWarnings(model);
+
+  // Links that do not overlap at the start still collide: the hand put onto the foot meets it.
+  const PfxUInt32 hand = linkNamed(model, "hand").bodyId;
+  PfxRigidState state = world.getRigidState(hand);
+  state.setPosition(world.getRigidState(linkNamed(model, "foot").bodyId).getPosition() +
+                    PfxVector3(0, 0, 0.05f));
+  ASSERT_EQ(world.setRigidState(hand, state), PFX_OK);
+  ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_GT(world.getStats().maxPenetration, 0.01f);
 }

@@ -101,6 +101,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_jointPairs.clear();
   m_jointCouplings.clear();
   m_jointedPairKeys.clear();
+  m_excludedPairKeys.clear();
   m_solverWork.clear();
   m_numSleepingPairs = 0;
   m_numSleepingBodies = 0;
@@ -321,6 +322,16 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
   return PFX_OK;
 }
 
+PfxInt32 PfxWorld::excludeCollision(PfxUInt32 bodyIdA, PfxUInt32 bodyIdB) {
+  if (bodyIdA >= getNumRigidBodies() || bodyIdB >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (bodyIdA == bodyIdB) return PFX_ERR_INVALID_VALUE;
+  const PfxUInt64 key =
+      pfxCreatePairKey(std::min(bodyIdA, bodyIdB), std::max(bodyIdA, bodyIdB));
+  const auto at = std::lower_bound(m_excludedPairKeys.begin(), m_excludedPairKeys.end(), key);
+  if (at == m_excludedPairKeys.end() || *at != key) m_excludedPairKeys.insert(at, key);
+  return PFX_OK;
+}
+
 PfxInt32 PfxWorld::setJoint(PfxUInt32 id, const PfxJoint& joint) {
   if (id >= getNumJoints()) return PFX_ERR_OUT_OF_RANGE;
   const PfxJoint& old = m_joints[id];
@@ -419,6 +430,12 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   }
   m_joints.erase(m_joints.begin() + numJoints, m_joints.end());
   m_jointPairs.erase(m_jointPairs.begin() + numJoints, m_jointPairs.end());
+  // The larger id of a pair is the key's low half.
+  m_excludedPairKeys.erase(std::remove_if(m_excludedPairKeys.begin(), m_excludedPairKeys.end(),
+                                          [numBodies](PfxUInt64 key) {
+                                            return PfxUInt32(key) >= numBodies;
+                                          }),
+                           m_excludedPairKeys.end());
 
   // Pairs stay sorted by key when some are taken out, and the manifolds of the removed
   // ones are reused.
@@ -454,11 +471,12 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
 // Bodies held together by a joint would otherwise push each other apart where their shapes
 // meet at the joint.
 void PfxWorld::dropJointedPairs() {
-  if (m_jointedPairKeys.empty()) return;
+  if (m_jointedPairKeys.empty() && m_excludedPairKeys.empty()) return;
   PfxUInt32 kept = 0;
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
-    if (!std::binary_search(m_jointedPairKeys.begin(), m_jointedPairKeys.end(),
-                            m_foundPairs[i].key)) {
+    const PfxUInt64 key = m_foundPairs[i].key;
+    if (!std::binary_search(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key) &&
+        !std::binary_search(m_excludedPairKeys.begin(), m_excludedPairKeys.end(), key)) {
       m_foundPairs[kept++] = m_foundPairs[i];
     }
   }

@@ -151,6 +151,7 @@ struct Group {
   int body = -1;   // the body carrying the group's links
   int chain = -1;  // a helper: its chain, and how many of the chain's joints turn it
   int chainDepth = 0;
+  bool light = false;  // a massless link given a light body (makeLightBody)
 };
 
 // Revolute joints through massless helper links, meeting at one point.
@@ -193,6 +194,7 @@ class UrdfBuilder {
         makeJoints() != PFX_OK || makeCouplings() != PFX_OK) {
       return m_error.code;
     }
+    keepLightBodiesNeighboursApart();
     describeModel();
     return PFX_OK;
   }
@@ -482,6 +484,7 @@ class UrdfBuilder {
     node.inertia = mass * gyration * gyration * Mat3::Identity();
     group.mass = mass;
     group.role = Role::kBody;
+    group.light = true;
     warn("link " + quoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
          ", so its joints cannot become one; loaded as a light body of " + number(mass) +
          " kg" +
@@ -551,6 +554,25 @@ class UrdfBuilder {
       m_build.bodies.push_back(out);
     }
     return PFX_OK;
+  }
+
+  // The URDF joins the bodies around a light body through one link, as a joint joins two:
+  // none of them collide with each other.
+  void keepLightBodiesNeighboursApart() {
+    for (const Group& group : m_groups) {
+      if (!group.light) continue;
+      std::vector<int> around{m_groups[group.parentGroup].body};
+      for (const int j : group.childJoints) {
+        around.push_back(m_groups[m_links[m_joints[j].child].group].body);
+      }
+      for (std::size_t a = 0; a < around.size(); ++a) {
+        for (std::size_t b = a + 1; b < around.size(); ++b) {
+          if (around[a] != around[b]) {
+            m_build.noCollision.emplace_back(PfxUInt32(around[a]), PfxUInt32(around[b]));
+          }
+        }
+      }
+    }
   }
 
   // The body on the parent side of group g's joint (a chain's parent for its child).

@@ -8,6 +8,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pfx/loaders/pfx_urdf_loader.h"
@@ -72,6 +73,9 @@ struct PfxUrdfBuild {
   std::vector<PfxUrdfBuildBody> bodies;
   std::vector<PfxJoint> joints;
   std::vector<PfxJointCoupling> couplings;
+  // Body pairs that never collide although no joint holds them: the bodies around a light
+  // body made of a massless helper link, which the URDF joins through that link.
+  std::vector<std::pair<PfxUInt32, PfxUInt32>> noCollision;
   PfxUrdfModel model;
 };
 

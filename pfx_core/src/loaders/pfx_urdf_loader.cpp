@@ -3,12 +3,14 @@
 // refused, so a failed load leaves the world and the model as they were.
 #include "pfx/loaders/pfx_urdf_loader.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "loaders/pfx_urdf_internal.h"
+#include "pfx/base_level/collision/pfx_contact_shapes.h"
 
 namespace pfx {
 
@@ -59,8 +61,67 @@ void placeLowestPointAt(PfxUrdfBuild& build, PfxFloat height) {
   }
 }
 
+// Overlaps this shallow are surfaces that touch, drawn to meet.
+constexpr PfxFloat kOverlapTolerance = PfxFloat(1e-4);
+
+// Bodies of the robot that overlap where it starts never collide with each other, as in
+// simulators that let a robot's links overlap (Gazebo's, which does not collide the links
+// of one model): descriptions written for them draw fingertips, wrists and covers into each
+// other, and pushing them apart would fight the joints from the first step. A warning lists
+// the pairs. Bodies already held apart (by a joint, or around a light body) are left alone.
+PfxInt32 excludeOverlappingLinks(PfxWorld& world, PfxUInt32 firstBody, PfxUrdfBuild& build) {
+  const PfxUInt32 numBodies = static_cast<PfxUInt32>(build.bodies.size());
+  std::vector<std::string> names(numBodies);
+  for (const PfxUrdfLink& link : build.model.links) {
+    if (names[link.bodyId].empty()) names[link.bodyId] = link.name;
+  }
+  std::vector<std::pair<PfxUInt32, PfxUInt32>> jointed;
+  for (const PfxJoint& joint : build.joints) {
+    jointed.emplace_back(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
+                         std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
+  }
+  for (const auto& [a, b] : build.noCollision) jointed.emplace_back(std::min(a, b), std::max(a, b));
+  std::sort(jointed.begin(), jointed.end());
+  const auto meets = [&](PfxUInt32 id) {
+    const PfxRigidState& state = world.getRigidState(firstBody + id);
+    return state.getContactFilterSelf() != 0 || state.getContactFilterTarget() != 0;
+  };
+  std::string pairs;
+  PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+  for (PfxUInt32 a = 0; a < numBodies; ++a) {
+    for (PfxUInt32 b = a + 1; b < numBodies; ++b) {
+      if (!meets(a) || !meets(b) ||
+          std::binary_search(jointed.begin(), jointed.end(), std::make_pair(a, b))) {
+        continue;
+      }
+      const PfxTransform3 ta = world.getRigidState(firstBody + a).getTransform();
+      const PfxTransform3 tb = world.getRigidState(firstBody + b).getTransform();
+      const PfxUInt32 found = pfxContactCollidables(
+          world.getCollidable(firstBody + a), ta, world.getCollidable(firstBody + b), tb, 0,
+          candidates, PFX_MAX_CONTACT_CANDIDATES);
+      PfxFloat depth = 0;
+      for (PfxUInt32 i = 0; i < found; ++i) depth = std::max(depth, -candidates[i].m_distance);
+      if (!(depth > kOverlapTolerance)) continue;  // apart, or touching
+      if (const PfxInt32 err = world.excludeCollision(firstBody + a, firstBody + b);
+          err != PFX_OK) {
+        return err;
+      }
+      std::ostringstream text;
+      text << (pairs.empty() ? "" : ", ") << "'" << names[a] << "' and '" << names[b] << "' ("
+           << depth << " m)";
+      pairs += text.str();
+    }
+  }
+  if (!pairs.empty()) {
+    build.model.warnings.push_back(
+        "links that overlap where the robot starts never collide with each other: " + pairs);
+  }
+  return PFX_OK;
+}
+
 // Adds what was built; on a refusal removes what it added and returns the refusal.
-PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, PfxUrdfError& error) {
+PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, bool selfCollision,
+                    PfxUrdfError& error) {
   const PfxUInt32 firstBody = world.getNumRigidBodies();
   const PfxUInt32 firstJoint = world.getNumJoints();
   const PfxUInt32 firstCoupling = world.getNumJointCouplings();
@@ -82,6 +143,11 @@ PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, PfxUrdfError& error) {
     coupling.m_followerJointId += firstJoint;
     err = world.addJointCoupling(coupling);
   }
+  for (std::size_t i = 0; err == PFX_OK && i < build.noCollision.size(); ++i) {
+    err = world.excludeCollision(firstBody + build.noCollision[i].first,
+                                 firstBody + build.noCollision[i].second);
+  }
+  if (err == PFX_OK && selfCollision) err = excludeOverlappingLinks(world, firstBody, build);
   if (err != PFX_OK) {
     world.truncate(firstBody, firstJoint, firstCoupling);
     error.code = err;
@@ -126,7 +192,7 @@ PfxInt32 load(PfxWorld& world, const std::string& xml, const std::string& file,
   if (param.placeAboveGround) {
     placeLowestPointAt(build, param.groundHeight + param.groundClearance);
   }
-  if (addToWorld(world, build, error) != PFX_OK) {
+  if (addToWorld(world, build, !param.disableSelfCollision, error) != PFX_OK) {
     return report(error.code, file, error.text, message);
   }
   model = std::move(build.model);

@@ -199,6 +199,12 @@ class PfxWorld {
   // that a coupling uses cannot be locked (PFX_ERR_INVALID_VALUE).
   PfxInt32 setJoint(PfxUInt32 id, const PfxJoint& joint);
 
+  // Bodies A and B never collide with each other from now on, as if a joint held them (the
+  // links of a robot that overlap where it starts, for one). Rejects unknown ids
+  // (PFX_ERR_OUT_OF_RANGE) and equal ones (PFX_ERR_INVALID_VALUE); the world is unchanged
+  // then. truncate drops the exclusions of the bodies it removes.
+  PfxInt32 excludeCollision(PfxUInt32 bodyIdA, PfxUInt32 bodyIdB);
+
   // Couples two joint axes: follower = multiplier * leader + offset (URDF <mimic>). Rejects
   // what pfxCheckJointCoupling rejects (unknown joints or axes: PFX_ERR_OUT_OF_RANGE; a
   // locked axis, NaN, a bias outside [0, 1]: PFX_ERR_INVALID_VALUE); the world is unchanged
@@ -349,6 +355,7 @@ class PfxWorld {
   std::vector<PfxConstraintPair> m_jointPairs;
   std::vector<PfxJointCoupling> m_jointCouplings;
   std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
+  std::vector<PfxUInt64> m_excludedPairKeys;  // sorted keys of body pairs that never collide
   std::vector<PfxSortData16> m_solverWork;   // the direct solves and the solver's batches
 
   // The proxies that rays find bodies by, then their sort scratch (two blocks of
