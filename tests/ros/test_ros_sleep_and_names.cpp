@@ -8,6 +8,7 @@
 // mirrors the leader.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <sensor_msgs/JointState.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <mutex>
 #include <regex>
@@ -238,6 +239,35 @@ TEST(Sleep, RaysHitTheSleepingRobotAndNameTheLinkHit) {
   // Neither rays nor contact queries woke it.
   ASSERT_TRUE(shared->diagnostics->waitForNextReport(10.0));
   EXPECT_TRUE(shared->diagnostics->robotAsleep());
+}
+
+TEST(Sleep, TheMarkersDrawTheSleepingContacts) {
+  ASSERT_TRUE(shared->diagnostics->robotAsleep());
+  std::mutex mutex;
+  std::size_t contactPoints = 0;
+  bool received = false;
+  ros::Subscriber sub = shared->ros->nh.subscribe<visualization_msgs::MarkerArray>(
+      kNode + "markers", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& msg) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const visualization_msgs::Marker& marker : msg->markers) {
+          if (marker.ns == "contacts" && marker.type == visualization_msgs::Marker::POINTS) {
+            contactPoints = marker.points.size();
+            received = true;
+          }
+        }
+      });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (received || ros::WallTime::now() > deadline) break;
+    }
+    ros::WallDuration(0.02).sleep();
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_TRUE(received) << "no contact markers";
+  // Both ends of every contact point.
+  EXPECT_EQ(contactPoints, 2 * shared->diagnostics->value("contact points"));
 }
 
 TEST(JointStates, EveryJointWithACoordinateInEveryMessageInFileOrder) {
