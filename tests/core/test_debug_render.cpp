@@ -520,3 +520,182 @@ TEST(DebugRender, SettersRejectBadValues) {
   render.resetVisible(10);
   EXPECT_TRUE(render.isVisible(3));
 }
+
+namespace {
+
+template <typename T, typename Same>
+bool sameSequence(const std::vector<T>& a, const std::vector<T>& b, Same same) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!same(a[i], b[i])) return false;
+  }
+  return true;
+}
+
+// Whether two recordings hold the same calls with the same arguments, in the same order.
+bool sameDrawing(const Recorder& a, const Recorder& b) {
+  const auto sameTriangle = [](const Triangle& x, const Triangle& y) {
+    return x.p[0] == y.p[0] && x.p[1] == y.p[1] && x.p[2] == y.p[2] && x.body == y.body;
+  };
+  const auto sameLine = [](const Line& x, const Line& y) { return x.a == y.a && x.b == y.b; };
+  const auto samePoint = [](const PfxVector3& x, const PfxVector3& y) { return x == y; };
+  const auto sameArc = [](const Arc& x, const Arc& y) {
+    return x.position == y.position && x.axis == y.axis && x.dir == y.dir &&
+           x.radius == y.radius && x.start == y.start && x.end == y.end;
+  };
+  const auto sameAabb = [](const Aabb& x, const Aabb& y) {
+    return x.center == y.center && x.half == y.half;
+  };
+  return sameSequence(a.triangles, b.triangles, sameTriangle) &&
+         sameSequence(a.lines, b.lines, sameLine) && sameSequence(a.points, b.points, samePoint) &&
+         sameSequence(a.arcs, b.arcs, sameArc) && sameSequence(a.aabbs, b.aabbs, sameAabb) &&
+         sameSequence(a.boxes, b.boxes, sameAabb);
+}
+
+std::size_t numCalls(const Recorder& r) {
+  return r.triangles.size() + r.lines.size() + r.points.size() + r.arcs.size() + r.aabbs.size() +
+         r.boxes.size();
+}
+
+}  // namespace
+
+// The seed's render functions take the low-level arrays; a world's forms draw the world's
+// arrays through them, so both give the very same calls.
+TEST(DebugRender, ArrayFormsDrawWhatTheWorldFormsDraw) {
+  PfxWorldParam param;
+  param.enableSleep = false;
+  PfxWorld world;
+  world.initialize(param);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -0.5f, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(10, 0.5f, 10)), ground), PFX_OK);
+  addBody(world, pfxMakeShape(PfxBox(0.3f, 0.3f, 0.3f)), PfxVector3(-2, 0.3f, 0), kTilt);
+  addBody(world, pfxMakeShape(PfxCapsule(0.3f, 0.2f)), PfxVector3(2, 0.3f, 0));
+  const PfxUInt32 ballA = addBody(world, pfxMakeShape(PfxSphere(0.1f)), PfxVector3(0, 5, 0));
+  const PfxUInt32 ballB = addBody(world, pfxMakeShape(PfxSphere(0.1f)), PfxVector3(0.5f, 5, 0));
+  PfxSwingTwistJointInitParam swingTwist;
+  swingTwist.anchorPoint = PfxVector3(0.25f, 5, 0);
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeSwingTwistJoint(joint, world.getRigidState(ballA),
+                                         world.getRigidState(ballB), swingTwist),
+            PFX_OK);
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  ASSERT_GT(world.getStats().numContactPoints, 0u);
+
+  const PfxUInt32 n = world.getNumRigidBodies();
+  const PfxRigidState* states = world.getRigidStates();
+  const PfxCollidable* collidables = &world.getCollidable(0);
+  // The world's pairs and manifolds laid out as a pipeline of one's own would hold them.
+  std::vector<PfxConstraintPair> pairs;
+  std::vector<PfxContactManifold> manifolds;
+  for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
+    pairs.push_back(world.getContactPair(i));
+    pfxSetContactId(pairs.back(), i);
+    manifolds.push_back(world.getContactManifold(world.getContactPair(i)));
+  }
+
+  PfxDebugRender render;
+  render.setVisible(ballB, false);  // visibility applies to both forms
+  Recorder fromWorld, fromArrays;
+  const auto compare = [&](const char* what, auto drawWorld, auto drawArrays) {
+    fromWorld.clear();
+    fromWorld.attach(render);
+    drawWorld();
+    fromArrays.clear();
+    fromArrays.attach(render);
+    EXPECT_EQ(drawArrays(), PFX_OK) << what;
+    EXPECT_GT(numCalls(fromWorld), 0u) << what;
+    EXPECT_TRUE(sameDrawing(fromWorld, fromArrays)) << what;
+  };
+  compare("shapes", [&] { render.renderShapes(world); },
+          [&] { return render.renderShapes(states, collidables, n); });
+  compare("world", [&] { render.renderWorld(world); },
+          [&] { return render.renderWorld(param.worldCenter, param.worldExtent); });
+  compare("aabb", [&] { render.renderAabb(world); },
+          [&] { return render.renderAabb(states, collidables, n); });
+  compare("local axis", [&] { render.renderLocalAxis(world, 0.3f); },
+          [&] { return render.renderLocalAxis(states, n, 0.3f); });
+  compare("island", [&] { render.renderIsland(world); },
+          [&] { return render.renderIsland(world.getIsland(), states, collidables, n); });
+  compare("contact", [&] { render.renderContact(world); },
+          [&] {
+            return render.renderContact(pairs.data(), static_cast<PfxUInt32>(pairs.size()),
+                                        manifolds.data(), states, n, param.timeStep);
+          });
+  compare("joint", [&] { render.renderJoint(world); },
+          [&] { return render.renderJoint(&world.getJoint(0), 1, states, n); });
+}
+
+// Arrays of one's own, without a world: drawn where they are; arrays that do not fit their
+// counts, and sizes that are not finite and positive, draw nothing.
+TEST(DebugRender, ArrayFormsTakeThePipelinesArraysAndRefuseBadOnes) {
+  PfxRigidState states[2];
+  PfxCollidable collidables[2];
+  for (PfxUInt32 id = 0; id < 2; ++id) {
+    states[id].reset();
+    states[id].setPosition(PfxVector3(PfxFloat(id), 1, 2));
+    states[id].setOrientation(kTilt);
+    states[id].setMotionType(kPfxMotionTypeActive);
+    states[id].setRigidBodyId(id);
+    PfxShape shape = pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f));
+    collidables[id].reset();
+    collidables[id].addShape(shape);
+    collidables[id].finish();
+  }
+  PfxDebugRender render;
+  Recorder r;
+  r.attach(render);
+  ASSERT_EQ(render.renderLocalAxis(states, 2, 0.5f), PFX_OK);
+  ASSERT_EQ(r.lines.size(), 6u);
+  const PfxMatrix3 rotation = kTilt.toRotationMatrix();
+  for (PfxUInt32 id = 0; id < 2; ++id) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const Line& line = r.lines[3 * id + axis];
+      EXPECT_LT((line.a - states[id].getPosition()).norm(), 1e-6);
+      EXPECT_LT((line.b - line.a - 0.5f * rotation.col(axis)).norm(), 1e-5);
+    }
+  }
+
+  // Joint and contact of body 1 with a body 2 that these arrays do not hold.
+  PfxJoint joint;
+  PfxBallJointInitParam ball;
+  ball.anchorPoint = PfxVector3(0.5f, 1, 2);
+  ASSERT_EQ(pfxInitializeBallJoint(joint, states[0], states[1], ball), PFX_OK);
+  joint.m_rigidBodyIdB = 2;
+  PfxContactManifold manifold;
+  manifold.reset(1, 2);
+  PfxContactCandidate candidate{};
+  candidate.m_normal = PfxVector3::UnitX();
+  candidate.m_pointA = candidate.m_pointB = PfxVector3(0.5f, 1, 2);
+  candidate.m_distance = 0;
+  manifold.update(&candidate, 1, states[0].getTransform(), states[1].getTransform(), 0);
+  ASSERT_EQ(manifold.getNumContacts(), 1u);
+  PfxConstraintPair pair;
+  pfxInitializePair(pair, 1, kPfxMotionTypeActive, 2, kPfxMotionTypeActive);
+  pfxSetContactId(pair, 0);
+  const PfxVector4 planes[6] = {};
+  const PfxVector4 nanPlanes[6] = {
+      PfxVector4::Constant(std::numeric_limits<PfxFloat>::quiet_NaN())};
+
+  r.clear();
+  EXPECT_EQ(render.renderLocalAxis(nullptr, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderLocalAxis(states, 2, 0), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(render.renderShapes(states, nullptr, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderAabb(nullptr, collidables, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderLargeMesh(states, nullptr, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderLargeMeshByFlag(nullptr, collidables, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderLargeMeshInFrustum(states, collidables, 2, nullptr),
+            PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderLargeMeshInFrustum(states, collidables, 2, nanPlanes),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(render.renderWorld(PfxVector3::Zero(), PfxVector3(1, 0, 1)), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(render.renderJoint(&joint, 1, states, 2), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(render.renderJoint(nullptr, 1, states, 2), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(render.renderContact(&pair, 1, &manifold, states, 2, 1.0f / 60), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(render.renderContact(&pair, 1, &manifold, states, 3, 0), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(render.renderContact(&pair, 1, nullptr, states, 3, 1.0f / 60), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(numCalls(r), 0u);
+  EXPECT_EQ(render.renderLargeMeshInFrustum(states, collidables, 2, planes), PFX_OK);
+}

@@ -208,6 +208,17 @@ bool boxMeetsFrustum(const PfxTransform3& transform, const PfxVector3& half,
   return true;
 }
 
+// The arrays every body-wise method reads: both, or no bodies.
+PfxInt32 checkBodies(const PfxRigidState* states, const PfxCollidable* collidables,
+                     PfxUInt32 numRigidBodies) {
+  return numRigidBodies > 0 && (!states || !collidables) ? PFX_ERR_NULL_POINTER : PFX_OK;
+}
+
+// A world keeps its collidables in one array, as it does its states.
+const PfxCollidable* collidablesOf(const PfxWorld& world) {
+  return world.getNumRigidBodies() > 0 ? &world.getCollidable(0) : nullptr;
+}
+
 }  // namespace
 
 void PfxDebugRender::resetVisible(PfxUInt32 numRigidBodies) {
@@ -317,41 +328,67 @@ void PfxDebugRender::drawShape(const PfxShape& shape, const PfxTransform3& trans
   }
 }
 
-void PfxDebugRender::renderShapes(const PfxWorld& world) {
-  if (!m_triangle && !m_line) return;
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+PfxInt32 PfxDebugRender::renderShapes(const PfxRigidState* states,
+                                      const PfxCollidable* collidables, PfxUInt32 numRigidBodies) {
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
+  if (!m_triangle && !m_line) return PFX_OK;
+  for (PfxUInt32 id = 0; id < numRigidBodies; ++id) {
     if (!isVisible(id)) continue;
-    const PfxRigidState& state = world.getRigidState(id);
-    const PfxCollidable& collidable = world.getCollidable(id);
-    const PfxTransform3 transform = state.getTransform();
-    const PfxVector3 color = bodyColor(state);
-    for (PfxUInt32 s = 0; s < collidable.getNumShapes(); ++s) {
-      const PfxShape& shape = collidable.getShape(s);
+    const PfxTransform3 transform = states[id].getTransform();
+    const PfxVector3 color = bodyColor(states[id]);
+    for (PfxUInt32 s = 0; s < collidables[id].getNumShapes(); ++s) {
+      const PfxShape& shape = collidables[id].getShape(s);
       drawShape(shape, transform * shape.getOffsetTransform(), color, id);
     }
   }
+  return PFX_OK;
+}
+
+void PfxDebugRender::renderShapes(const PfxWorld& world) {
+  renderShapes(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
+}
+
+PfxInt32 PfxDebugRender::renderWorld(const PfxVector3& worldCenter,
+                                     const PfxVector3& worldExtent) {
+  if (!pfxIsFinite(worldCenter) || !pfxIsFinite(worldExtent) || !(worldExtent.minCoeff() > 0)) {
+    return PFX_ERR_INVALID_VALUE;
+  }
+  drawAabb(worldCenter, worldExtent, kGrey);
+  return PFX_OK;
 }
 
 void PfxDebugRender::renderWorld(const PfxWorld& world) {
-  drawAabb(world.getParam().worldCenter, world.getParam().worldExtent, kGrey);
+  renderWorld(world.getParam().worldCenter, world.getParam().worldExtent);
+}
+
+PfxInt32 PfxDebugRender::renderAabb(const PfxRigidState* states, const PfxCollidable* collidables,
+                                    PfxUInt32 numRigidBodies) {
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
+  for (PfxUInt32 id = 0; id < numRigidBodies; ++id) {
+    if (!isVisible(id)) continue;
+    PfxVector3 center, half;
+    collidables[id].getWorldAabb(states[id].getTransform(), center, half);
+    drawAabb(center, half, bodyColor(states[id]));
+  }
+  return PFX_OK;
 }
 
 void PfxDebugRender::renderAabb(const PfxWorld& world) {
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
-    if (!isVisible(id)) continue;
-    PfxVector3 center, half;
-    world.getCollidable(id).getWorldAabb(world.getRigidState(id).getTransform(), center, half);
-    drawAabb(center, half, bodyColor(world.getRigidState(id)));
-  }
+  renderAabb(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 
-PfxInt32 PfxDebugRender::renderLocalAxis(const PfxWorld& world, PfxFloat scale) {
+PfxInt32 PfxDebugRender::renderLocalAxis(const PfxRigidState* states, PfxUInt32 numRigidBodies,
+                                         PfxFloat scale) {
+  if (numRigidBodies > 0 && !states) return PFX_ERR_NULL_POINTER;
   if (!(scale > 0) || !pfxIsFinite(scale)) return PFX_ERR_INVALID_VALUE;
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+  for (PfxUInt32 id = 0; id < numRigidBodies; ++id) {
     if (!isVisible(id)) continue;
-    const PfxRigidState& state = world.getRigidState(id);
-    const PfxMatrix3 rotation = state.getOrientation().toRotationMatrix();
-    const PfxVector3& origin = state.getPosition();
+    const PfxMatrix3 rotation = states[id].getOrientation().toRotationMatrix();
+    const PfxVector3& origin = states[id].getPosition();
     drawLine(origin, origin + scale * rotation.col(0), kRed);
     drawLine(origin, origin + scale * rotation.col(1), kGreen);
     drawLine(origin, origin + scale * rotation.col(2), kBlue);
@@ -359,19 +396,34 @@ PfxInt32 PfxDebugRender::renderLocalAxis(const PfxWorld& world, PfxFloat scale) 
   return PFX_OK;
 }
 
-void PfxDebugRender::renderIsland(const PfxWorld& world) {
-  const PfxIsland& island = world.getIsland();
-  for (PfxUInt32 islandId = 0; islandId < pfxGetNumIslands(island); ++islandId) {
+PfxInt32 PfxDebugRender::renderLocalAxis(const PfxWorld& world, PfxFloat scale) {
+  return renderLocalAxis(world.getRigidStates(), world.getNumRigidBodies(), scale);
+}
+
+PfxInt32 PfxDebugRender::renderIsland(const PfxIsland& island, const PfxRigidState* states,
+                                      const PfxCollidable* collidables,
+                                      PfxUInt32 numRigidBodies) {
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
+  const PfxUInt32 numIslands = pfxGetNumIslands(island);
+  for (PfxUInt32 islandId = 0; islandId < numIslands; ++islandId) {
+    PfxUInt32 count = 0;
+    const PfxUInt32* bodies = pfxGetRigidBodiesInIsland(island, islandId, count);
+    for (PfxUInt32 i = 0; i < count; ++i) {
+      if (bodies[i] >= numRigidBodies) return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  for (PfxUInt32 islandId = 0; islandId < numIslands; ++islandId) {
     PfxUInt32 count = 0;
     const PfxUInt32* bodies = pfxGetRigidBodiesInIsland(island, islandId, count);
     PfxVector3 lower = PfxVector3::Zero(), upper = PfxVector3::Zero();
     bool drawn = false;
     for (PfxUInt32 i = 0; i < count; ++i) {
       const PfxUInt32 id = bodies[i];
-      const PfxRigidState& state = world.getRigidState(id);
-      if (!pfxMotionTypeIsDynamic(state.getMotionType()) || !isVisible(id)) continue;
+      if (!pfxMotionTypeIsDynamic(states[id].getMotionType()) || !isVisible(id)) continue;
       PfxVector3 center, half;
-      world.getCollidable(id).getWorldAabb(state.getTransform(), center, half);
+      collidables[id].getWorldAabb(states[id].getTransform(), center, half);
       lower = drawn ? PfxVector3(lower.cwiseMin(center - half)) : PfxVector3(center - half);
       upper = drawn ? PfxVector3(upper.cwiseMax(center + half)) : PfxVector3(center + half);
       drawn = true;
@@ -380,37 +432,80 @@ void PfxDebugRender::renderIsland(const PfxWorld& world) {
     // islands come and go.
     if (drawn) drawAabb((lower + upper) / 2, (upper - lower) / 2, indexColor(bodies[0]));
   }
+  return PFX_OK;
 }
 
-void PfxDebugRender::renderContact(const PfxWorld& world) {
-  const PfxFloat subTimeStep = world.getParam().timeStep / PfxFloat(world.getParam().subStep);
-  for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
-    const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(i));
-    const PfxUInt32 idA = manifold.getRigidBodyIdA(), idB = manifold.getRigidBodyIdB();
-    if (manifold.getNumContacts() == 0 || !isVisible(idA) || !isVisible(idB)) continue;
-    const PfxTransform3 transformA = world.getRigidState(idA).getTransform();
-    const PfxTransform3 transformB = world.getRigidState(idB).getTransform();
-    for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
-      const PfxContactPoint& cp = manifold.getContactPoint(c);
-      const PfxVector3 pointA = transformA * cp.m_localPointA;
-      const PfxVector3 pointB = transformB * cp.m_localPointB;
-      if (m_point) {
-        m_point(pointA, kRed);
-        m_point(pointB, kBlue);
-      }
-      drawLine(pointA, pointA + m_drawLength * cp.getNormal(), kYellow);
-      const PfxFloat force = cp.m_constraintRow[0].m_accumImpulse / subTimeStep;
-      if (force > 0 && m_forceScale > 0) drawLine(pointB, pointB + (force * m_forceScale) * cp.getNormal(), kOrange);
+void PfxDebugRender::renderIsland(const PfxWorld& world) {
+  renderIsland(world.getIsland(), world.getRigidStates(), collidablesOf(world),
+               world.getNumRigidBodies());
+}
+
+void PfxDebugRender::drawContacts(const PfxContactManifold& manifold, const PfxRigidState* states,
+                                  PfxFloat timeStep) const {
+  const PfxUInt32 idA = manifold.getRigidBodyIdA(), idB = manifold.getRigidBodyIdB();
+  if (manifold.getNumContacts() == 0 || !isVisible(idA) || !isVisible(idB)) return;
+  const PfxTransform3 transformA = states[idA].getTransform();
+  const PfxTransform3 transformB = states[idB].getTransform();
+  for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
+    const PfxContactPoint& cp = manifold.getContactPoint(c);
+    const PfxVector3 pointA = transformA * cp.m_localPointA;
+    const PfxVector3 pointB = transformB * cp.m_localPointB;
+    if (m_point) {
+      m_point(pointA, kRed);
+      m_point(pointB, kBlue);
+    }
+    drawLine(pointA, pointA + m_drawLength * cp.getNormal(), kYellow);
+    const PfxFloat force = cp.m_constraintRow[0].m_accumImpulse / timeStep;
+    if (force > 0 && m_forceScale > 0) {
+      drawLine(pointB, pointB + (force * m_forceScale) * cp.getNormal(), kOrange);
     }
   }
 }
 
-void PfxDebugRender::renderJoint(const PfxWorld& world) {
-  for (PfxUInt32 j = 0; j < world.getNumJoints(); ++j) {
-    const PfxJoint& joint = world.getJoint(j);
+PfxInt32 PfxDebugRender::renderContact(const PfxConstraintPair* contactPairs,
+                                       PfxUInt32 numContactPairs,
+                                       const PfxContactManifold* offsetContactManifolds,
+                                       const PfxRigidState* states, PfxUInt32 numRigidBodies,
+                                       PfxFloat timeStep) {
+  if (numContactPairs > 0 && (!contactPairs || !offsetContactManifolds || !states)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  if (!(timeStep > 0) || !pfxIsFinite(timeStep)) return PFX_ERR_INVALID_VALUE;
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxContactManifold& manifold = offsetContactManifolds[pfxGetContactId(contactPairs[i])];
+    if (manifold.getNumContacts() > 0 && (manifold.getRigidBodyIdA() >= numRigidBodies ||
+                                          manifold.getRigidBodyIdB() >= numRigidBodies)) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    drawContacts(offsetContactManifolds[pfxGetContactId(contactPairs[i])], states, timeStep);
+  }
+  return PFX_OK;
+}
+
+// The world keeps its awake and its sleeping pairs apart, so its pairs are drawn one by one.
+void PfxDebugRender::renderContact(const PfxWorld& world) {
+  const PfxFloat subTimeStep = world.getParam().timeStep / PfxFloat(world.getParam().subStep);
+  for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
+    drawContacts(world.getContactManifold(world.getContactPair(i)), world.getRigidStates(),
+                 subTimeStep);
+  }
+}
+
+PfxInt32 PfxDebugRender::renderJoint(const PfxJoint* joints, PfxUInt32 numJoints,
+                                     const PfxRigidState* states, PfxUInt32 numRigidBodies) {
+  if (numJoints > 0 && (!joints || !states)) return PFX_ERR_NULL_POINTER;
+  for (PfxUInt32 j = 0; j < numJoints; ++j) {
+    if (joints[j].m_rigidBodyIdA >= numRigidBodies || joints[j].m_rigidBodyIdB >= numRigidBodies) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  for (PfxUInt32 j = 0; j < numJoints; ++j) {
+    const PfxJoint& joint = joints[j];
     if (!isVisible(joint.m_rigidBodyIdA) && !isVisible(joint.m_rigidBodyIdB)) continue;
-    const PfxRigidState& stateA = world.getRigidState(joint.m_rigidBodyIdA);
-    const PfxRigidState& stateB = world.getRigidState(joint.m_rigidBodyIdB);
+    const PfxRigidState& stateA = states[joint.m_rigidBodyIdA];
+    const PfxRigidState& stateB = states[joint.m_rigidBodyIdB];
     const PfxVector3 anchorA = stateA.getTransform() * joint.m_anchorA;
     const PfxVector3 anchorB = stateB.getTransform() * joint.m_anchorB;
     const PfxMatrix3 frame = stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
@@ -443,13 +538,22 @@ void PfxDebugRender::renderJoint(const PfxWorld& world) {
       drawArc(anchorA, turnAxis, from, m_drawLength, lower, upper, kYellow);
     }
   }
+  return PFX_OK;
 }
 
-void PfxDebugRender::drawLargeMeshIslands(const PfxWorld& world, const PfxVector4* planes) const {
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+void PfxDebugRender::renderJoint(const PfxWorld& world) {
+  renderJoint(world.getNumJoints() > 0 ? &world.getJoint(0) : nullptr, world.getNumJoints(),
+              world.getRigidStates(), world.getNumRigidBodies());
+}
+
+void PfxDebugRender::drawLargeMeshIslands(const PfxRigidState* states,
+                                          const PfxCollidable* collidables,
+                                          PfxUInt32 numRigidBodies,
+                                          const PfxVector4* planes) const {
+  for (PfxUInt32 id = 0; id < numRigidBodies; ++id) {
     if (!isVisible(id)) continue;
-    const PfxCollidable& collidable = world.getCollidable(id);
-    const PfxTransform3 bodyTransform = world.getRigidState(id).getTransform();
+    const PfxCollidable& collidable = collidables[id];
+    const PfxTransform3 bodyTransform = states[id].getTransform();
     for (PfxUInt32 s = 0; s < collidable.getNumShapes(); ++s) {
       const PfxShape& shape = collidable.getShape(s);
       const PfxLargeTriMesh* mesh = shape.getLargeTriMesh();
@@ -474,15 +578,39 @@ void PfxDebugRender::drawLargeMeshIslands(const PfxWorld& world, const PfxVector
   }
 }
 
-void PfxDebugRender::renderLargeMesh(const PfxWorld& world) { drawLargeMeshIslands(world, nullptr); }
+PfxInt32 PfxDebugRender::renderLargeMesh(const PfxRigidState* states,
+                                         const PfxCollidable* collidables,
+                                         PfxUInt32 numRigidBodies) {
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
+  drawLargeMeshIslands(states, collidables, numRigidBodies, nullptr);
+  return PFX_OK;
+}
 
-PfxInt32 PfxDebugRender::renderLargeMeshInFrustum(const PfxWorld& world, const PfxVector4 planes[6]) {
+void PfxDebugRender::renderLargeMesh(const PfxWorld& world) {
+  renderLargeMesh(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
+}
+
+PfxInt32 PfxDebugRender::renderLargeMeshInFrustum(const PfxRigidState* states,
+                                                  const PfxCollidable* collidables,
+                                                  PfxUInt32 numRigidBodies,
+                                                  const PfxVector4 planes[6]) {
   if (!planes) return PFX_ERR_NULL_POINTER;
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
   for (int p = 0; p < 6; ++p) {
     if (!planes[p].allFinite()) return PFX_ERR_INVALID_VALUE;
   }
-  drawLargeMeshIslands(world, planes);
+  drawLargeMeshIslands(states, collidables, numRigidBodies, planes);
   return PFX_OK;
+}
+
+PfxInt32 PfxDebugRender::renderLargeMeshInFrustum(const PfxWorld& world,
+                                                  const PfxVector4 planes[6]) {
+  return renderLargeMeshInFrustum(world.getRigidStates(), collidablesOf(world),
+                                  world.getNumRigidBodies(), planes);
 }
 
 PfxInt32 PfxDebugRender::setLargeMeshFlag(PfxUInt32 rigidBodyId, PfxUInt32 islandId,
@@ -502,11 +630,16 @@ PfxInt32 PfxDebugRender::setLargeMeshFlag(PfxUInt32 rigidBodyId, PfxUInt32 islan
 
 void PfxDebugRender::clearLargeMeshFlags() { m_largeMeshFlags.clear(); }
 
-void PfxDebugRender::renderLargeMeshByFlag(const PfxWorld& world) {
+PfxInt32 PfxDebugRender::renderLargeMeshByFlag(const PfxRigidState* states,
+                                               const PfxCollidable* collidables,
+                                               PfxUInt32 numRigidBodies) {
+  if (const PfxInt32 err = checkBodies(states, collidables, numRigidBodies); err != PFX_OK) {
+    return err;
+  }
   for (const LargeMeshFlag& mark : m_largeMeshFlags) {
-    if (mark.rigidBodyId >= world.getNumRigidBodies() || !isVisible(mark.rigidBodyId)) continue;
-    const PfxCollidable& collidable = world.getCollidable(mark.rigidBodyId);
-    const PfxTransform3 bodyTransform = world.getRigidState(mark.rigidBodyId).getTransform();
+    if (mark.rigidBodyId >= numRigidBodies || !isVisible(mark.rigidBodyId)) continue;
+    const PfxCollidable& collidable = collidables[mark.rigidBodyId];
+    const PfxTransform3 bodyTransform = states[mark.rigidBodyId].getTransform();
     for (PfxUInt32 s = 0; s < collidable.getNumShapes(); ++s) {
       const PfxShape& shape = collidable.getShape(s);
       const PfxLargeTriMesh* mesh = shape.getLargeTriMesh();
@@ -553,6 +686,11 @@ void PfxDebugRender::renderLargeMeshByFlag(const PfxWorld& world) {
       }
     }
   }
+  return PFX_OK;
+}
+
+void PfxDebugRender::renderLargeMeshByFlag(const PfxWorld& world) {
+  renderLargeMeshByFlag(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 
 }  // namespace pfx

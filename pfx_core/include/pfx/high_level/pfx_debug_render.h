@@ -1,6 +1,14 @@
-// Debug rendering (seed chapter 8): the world's shapes and debug information handed to the
+// Debug rendering (seed chapter 8): shapes and debug information handed to the
 // application's drawing callbacks, so that the core depends on no rendering API. The
 // picture of pfx_sim (cairo) and the node's rviz markers are both drawn through it.
+//
+// Every method takes the low-level arrays, as the seed's do (renderLocalAxis(states,
+// numRigidBodies)): the states, collidables, joints, pairs and manifolds of a pipeline driven
+// stage by stage, bodies numbered 0 .. numRigidBodies - 1. Each also takes a PfxWorld, and
+// then draws the world's own arrays through the array form. An array form checks its
+// arguments before it draws anything: a null array with a count (PFX_ERR_NULL_POINTER), an id
+// beyond a count (PFX_ERR_OUT_OF_RANGE), a size or time step that is not finite and positive
+// (PFX_ERR_INVALID_VALUE) draw nothing.
 //
 // Every method draws only through the callbacks that are set; one that would need a callback
 // that is not set falls back to lines where it can (boxes, AABBs and arcs become line
@@ -73,41 +81,65 @@ class PfxDebugRender {
   // Every collision shape of the visible bodies: boxes, spheres, capsules and cylinders (along
   // X), convex meshes and large meshes, compounds at their offsets; as triangles through
   // the triangle callback, or, when none is set, as edges through the line callback.
+  PfxInt32 renderShapes(const PfxRigidState* states, const PfxCollidable* collidables,
+                        PfxUInt32 numRigidBodies);
   void renderShapes(const PfxWorld& world);
-  // The world's bounds (PfxWorldParam::worldCenter, worldExtent).
+  // The world's bounds (PfxWorldParam::worldCenter, worldExtent, as given to the broad phase).
+  PfxInt32 renderWorld(const PfxVector3& worldCenter, const PfxVector3& worldExtent);
   void renderWorld(const PfxWorld& world);
   // The world bounds of each visible body.
+  PfxInt32 renderAabb(const PfxRigidState* states, const PfxCollidable* collidables,
+                      PfxUInt32 numRigidBodies);
   void renderAabb(const PfxWorld& world);
   // Each visible body's frame: its X, Y and Z axes as red, green and blue lines of `scale`
-  // metres. Rejects a scale that is not finite and positive (PFX_ERR_INVALID_VALUE).
+  // metres.
+  PfxInt32 renderLocalAxis(const PfxRigidState* states, PfxUInt32 numRigidBodies,
+                           PfxFloat scale = PfxFloat(0.1));
   PfxInt32 renderLocalAxis(const PfxWorld& world, PfxFloat scale = PfxFloat(0.1));
-  // Simulation islands of the last step (PfxWorld::getIsland): the bounds of the visible
-  // bodies that forces move in each group that contacts (pairs with at least one point),
-  // joints and couplings connect; a fixed or keyframe body joins no group, as it passes no
-  // motion on. One colour per island; bodies added since the last step are not drawn.
+  // Simulation islands (pfxGenerateIsland; for a world, those of its last step): the bounds
+  // of the visible bodies that forces move in each group that contacts (pairs with at least
+  // one point), joints and couplings connect; a fixed or keyframe body joins no group, as it
+  // passes no motion on. One colour per island; a world's bodies added since its last step
+  // are not drawn.
+  PfxInt32 renderIsland(const PfxIsland& island, const PfxRigidState* states,
+                        const PfxCollidable* collidables, PfxUInt32 numRigidBodies);
   void renderIsland(const PfxWorld& world);
-  // Every contact point of the last step between visible bodies: a point on each surface
-  // (the manifold's points on A and on B), the normal from A's point, and a line along the
-  // normal as long as the point's force (last impulse / time step) times the force scale.
+  // Every contact point of the pairs (for a world, of its last step) between visible bodies:
+  // a point on each surface (the manifold's points on A and on B), the normal from A's
+  // point, and a line along the normal as long as the point's force (last impulse /
+  // `timeStep`, the step it was solved over) times the force scale. Manifolds are those the
+  // pairs name (pfxGetContactId), their body ids checked against numRigidBodies.
+  PfxInt32 renderContact(const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
+                         const PfxContactManifold* offsetContactManifolds,
+                         const PfxRigidState* states, PfxUInt32 numRigidBodies,
+                         PfxFloat timeStep);
   void renderContact(const PfxWorld& world);
   // Every joint with a visible body: both anchors and the line between them (the joint's
   // gap), the axes of its frame in body A, a line along each limited translation from its
   // lower to its upper limit, and an arc for each limited rotation (twist about X, swings
   // about Y and Z; a swing-twist joint's cone as two arcs), through the arc callback.
+  PfxInt32 renderJoint(const PfxJoint* joints, PfxUInt32 numJoints, const PfxRigidState* states,
+                       PfxUInt32 numRigidBodies);
   void renderJoint(const PfxWorld& world);
   // Large meshes of the visible bodies: the bounds of each island (box callback) and every
   // triangle's edges.
+  PfxInt32 renderLargeMesh(const PfxRigidState* states, const PfxCollidable* collidables,
+                           PfxUInt32 numRigidBodies);
   void renderLargeMesh(const PfxWorld& world);
   // Only the islands of large meshes whose bounds meet the frustum given by its six planes
   // (inward normal xyz, distance w: inside when dot(n, p) + w >= 0). Rejects NaN planes
   // (PFX_ERR_INVALID_VALUE) and a null array (PFX_ERR_NULL_POINTER) without drawing.
+  PfxInt32 renderLargeMeshInFrustum(const PfxRigidState* states, const PfxCollidable* collidables,
+                                    PfxUInt32 numRigidBodies, const PfxVector4 planes[6]);
   PfxInt32 renderLargeMeshInFrustum(const PfxWorld& world, const PfxVector4 planes[6]);
   // Marks triangle `triangleId` of island `islandId` of the large mesh(es) of a body for
   // renderLargeMeshByFlag; flags of the same triangle add up. Rejects unknown flags
-  // (PFX_ERR_INVALID_FLAG) and no flags (PFX_ERR_INVALID_VALUE). Ids are checked against the
-  // world when drawing: marks naming no triangle draw nothing.
+  // (PFX_ERR_INVALID_FLAG) and no flags (PFX_ERR_INVALID_VALUE). Ids are checked when
+  // drawing: marks naming no triangle draw nothing.
   PfxInt32 setLargeMeshFlag(PfxUInt32 rigidBodyId, PfxUInt32 islandId, PfxUInt32 triangleId, PfxUInt32 flags);
   void clearLargeMeshFlags();
+  PfxInt32 renderLargeMeshByFlag(const PfxRigidState* states, const PfxCollidable* collidables,
+                                 PfxUInt32 numRigidBodies);
   void renderLargeMeshByFlag(const PfxWorld& world);
 
  private:
@@ -121,7 +153,10 @@ class PfxDebugRender {
                PfxFloat radius, PfxFloat start, PfxFloat end, const PfxVector3& color) const;
   void drawShape(const PfxShape& shape, const PfxTransform3& transform, const PfxVector3& color,
                  PfxUInt32 rigidBodyId) const;
-  void drawLargeMeshIslands(const PfxWorld& world, const PfxVector4* planes) const;
+  void drawLargeMeshIslands(const PfxRigidState* states, const PfxCollidable* collidables,
+                            PfxUInt32 numRigidBodies, const PfxVector4* planes) const;
+  void drawContacts(const PfxContactManifold& manifold, const PfxRigidState* states,
+                    PfxFloat timeStep) const;
 
   PfxDebugRenderPointFunc m_point;
   PfxDebugRenderLineFunc m_line;
