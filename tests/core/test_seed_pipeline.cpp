@@ -453,6 +453,7 @@ TEST(SeedPipeline, TheDetailIsThatOfTheCallingThread) {
 TEST(SeedNames, NameWhatPfxNames) {
   static_assert(std::is_same_v<ePfxMotionType, PfxMotionType>);
   static_assert(std::is_same_v<sce::PhysicsEffects::PfxRigidState, PfxRigidState>);
+  EXPECT_EQ(mulPerElem(PfxVector3(1, 2, 3), PfxVector3(4, 5, 6)), PfxVector3(4, 10, 18));
   const PfxFloat vertices[] = {0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 1};
   const PfxUInt32 triangles[] = {0, 2, 1, 1, 2, 3};
   const std::pair<PfxUInt32, PfxUInt32> kinds[] = {

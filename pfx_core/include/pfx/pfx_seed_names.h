@@ -13,6 +13,7 @@
 //   pfxSetUtilityAllocator       meshes are built into the caller's PfxLargeTriMesh and
 //                                released with pfxReleaseLargeTriMesh
 //   SCE_PFX_MESH_FLAG_HTGH_QUALITY (sic)  SCE_PFX_MESH_FLAG_HIGH_QUALITY below
+//   PfxVector3 v(0.0f)           PfxVector3(0, 0, 0) or PfxVector3::Zero() (Eigen)
 #pragma once
 
 #include "pfx/base_level/base/pfx_common.h"
@@ -29,6 +30,10 @@ namespace pfx {
 using ePfxMotionType = PfxMotionType;
 using PfxFloatInVec = PfxFloat;
 using PfxBoolInVec = PfxBool;
+
+// The seed's vector library multiplies element by element thus (chapter 4, the broad phase's
+// choice of axis).
+inline PfxVector3 mulPerElem(const PfxVector3& a, const PfxVector3& b) { return a.cwiseProduct(b); }
 
 // Error codes (seed chapters 4 and 5 name OUT_OF_WORLD and OUT_OF_MAX_PAIRS; the others
 // follow the same pattern).
