@@ -45,11 +45,13 @@ PfxInt32 checkParam(const PfxParamNames& at, const PfxRayCastParam& param) {
                           "extent positive",
                           at.stage);
   }
+  if (param.numProxies > 0 && param.bvhNodes && !param.bvhProxies) {
+    return pfxRejectParam(PFX_ERR_NULL_POINTER,
+                          "%s: PfxRayCastParam::bvhProxies is null, but bvhNodes is set", at.stage);
+  }
   return pfxCheckRequired(at,
                           {{param.offsetRigidStates, "offsetRigidStates"},
-                           {param.offsetCollidables, "offsetCollidables"},
-                           {param.bvhNodes && !param.bvhProxies ? nullptr : &param,
-                            "bvhProxies (bvhNodes is set)"}},
+                           {param.offsetCollidables, "offsetCollidables"}},
                           "numProxies", param.numProxies);
 }
 
