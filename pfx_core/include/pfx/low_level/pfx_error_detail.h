@@ -3,8 +3,8 @@
 // Every low-level stage validates its Param before touching anything and returns an error
 // code (pfx_common.h). The code says what kind of thing went wrong; the detail says where:
 //
-//   pfxSolveConstraints: PfxSolveConstraintsParam::workBuff is null; it needs
-//   pfxGetWorkBytesOfSolveConstraints(...) = 1184 bytes
+//   pfxSetupContactConstraints: PfxSetupContactConstraintsParam::timeStep is 0; it must be
+//   positive and finite
 //
 // A rejected call writes its detail to a buffer of the calling thread and nothing else,
 // so the detail of a call made on another thread never shows here. A call that succeeds
