@@ -17,8 +17,7 @@ using namespace pfx;
 namespace {
 
 // A link of `mass` kg with the inertia of a 0.1 m cube of that mass, and `inside`.
-std::string massiveLink(const std::string& name, const std::string& inside,
-                        double mass = 1) {
+std::string massiveLink(const std::string& name, const std::string& inside, double mass = 1) {
   const std::string m = std::to_string(mass);
   const std::string i = std::to_string(mass * 0.01 / 6);
   return "<link name=\"" + name + "\"><inertial><mass value=\"" + m + "\"/><inertia ixx=\"" + i +
@@ -112,9 +111,9 @@ PfxFloat extremeHeight(const PfxWorld& world, PfxUInt32 body, PfxUInt32 shape, P
 TEST(UrdfInputs, CapsulesLieAlongTheLinksZWithLengthTheirCylinderPart) {
   const std::string xml =
       "<robot name=\"capsules\">" +
-      massiveLink("base", collision("<capsule radius=\"0.05\" length=\"0.3\"/>",
-                                    "xyz=\"0 0 0.5\"") +
-                              collision("<box size=\"0.1 0.1 0.1\"/>", "xyz=\"0.4 0 0\"")) +
+      massiveLink("base",
+                  collision("<capsule radius=\"0.05\" length=\"0.3\"/>", "xyz=\"0 0 0.5\"") +
+                      collision("<box size=\"0.1 0.1 0.1\"/>", "xyz=\"0.4 0 0\"")) +
       "</robot>";
   PfxWorld world;
   initZUpWorld(world);
@@ -136,11 +135,10 @@ TEST(UrdfInputs, CapsulesLieAlongTheLinksZWithLengthTheirCylinderPart) {
 
 TEST(UrdfInputs, ACapsuleLinkDroppedOnItsSideComesToRestOnTheGround) {
   // A capsule turned onto its side (rpy about X) rests with its axis radius above the ground.
-  const std::string xml =
-      "<robot name=\"log\">" +
-      massiveLink("log", collision("<capsule radius=\"0.1\" length=\"0.6\"/>",
-                                   "rpy=\"1.5707963 0 0\"")) +
-      "</robot>";
+  const std::string xml = "<robot name=\"log\">" +
+                          massiveLink("log", collision("<capsule radius=\"0.1\" length=\"0.6\"/>",
+                                                       "rpy=\"1.5707963 0 0\"")) +
+                          "</robot>";
   PfxWorld world;
   initZUpWorld(world);
   addGround(world);
@@ -168,17 +166,18 @@ TEST(UrdfInputs, GeometryThatCannotBeUsedIsNeverDroppedWithoutAWord) {
   PfxUrdfModel model;
   ASSERT_NO_FATAL_FAILURE(loadText(world, xml, PfxUrdfLoadParam(), model));
   EXPECT_EQ(world.getCollidable(model.firstBodyId).getNumShapes(), 1u);
-  EXPECT_TRUE(hasWarningWith(model, "link 'base': <collision> on line 1 left out: unknown "
-                                    "geometry <plane>"))
+  EXPECT_TRUE(hasWarningWith(model,
+                             "link 'base': <collision> on line 1 left out: unknown "
+                             "geometry <plane>"))
       << allWarnings(model);
-  EXPECT_TRUE(hasWarningWith(model, "link 'base': <collision> on line 2 left out: it has no "
-                                    "geometry"))
+  EXPECT_TRUE(hasWarningWith(model,
+                             "link 'base': <collision> on line 2 left out: it has no "
+                             "geometry"))
       << allWarnings(model);
 
   // A mesh without a filename is a missing mesh: an error, or a warning when allowed.
-  const std::string noFile =
-      "<robot name=\"nofile\">" + massiveLink("hand", collision("<mesh filename=\"\"/>")) +
-      "</robot>";
+  const std::string noFile = "<robot name=\"nofile\">" +
+                             massiveLink("hand", collision("<mesh filename=\"\"/>")) + "</robot>";
   EXPECT_NE(loadError(noFile).find("link 'hand': <mesh> on line 1 has no filename"),
             std::string::npos);
   PfxUrdfLoadParam allowMissing;
@@ -195,11 +194,13 @@ TEST(UrdfInputs, BadCapsulesFailNamingTheLink) {
   const auto robotWith = [](const std::string& geometry) {
     return "<robot name=\"bad\">" + massiveLink("arm", collision(geometry)) + "</robot>";
   };
-  EXPECT_NE(loadError(robotWith("<capsule length=\"0.2\"/>")).find("link 'arm': <capsule> on "
-                                                                    "line 1 has no radius"),
+  EXPECT_NE(loadError(robotWith("<capsule length=\"0.2\"/>"))
+                .find("link 'arm': <capsule> on "
+                      "line 1 has no radius"),
             std::string::npos);
-  EXPECT_NE(loadError(robotWith("<capsule radius=\"0.1\"/>")).find("link 'arm': <capsule> on "
-                                                                   "line 1 has no length"),
+  EXPECT_NE(loadError(robotWith("<capsule radius=\"0.1\"/>"))
+                .find("link 'arm': <capsule> on "
+                      "line 1 has no length"),
             std::string::npos);
   EXPECT_NE(loadError(robotWith("<capsule radius=\"0.1\" length=\"-1\"/>"))
                 .find("link 'arm': capsule radius is not positive or its length is negative"),
@@ -207,8 +208,9 @@ TEST(UrdfInputs, BadCapsulesFailNamingTheLink) {
   EXPECT_NE(loadError(robotWith("<capsule radius=\"nan\" length=\"1\"/>"))
                 .find("link 'arm': capsule radius 'nan' is not finite"),
             std::string::npos);
-  EXPECT_NE(loadError(robotWith("<box size=\"1 1\"/>")).find("link 'arm': box size '1 1' is not 3 "
-                                                             "numbers"),
+  EXPECT_NE(loadError(robotWith("<box size=\"1 1\"/>"))
+                .find("link 'arm': box size '1 1' is not 3 "
+                      "numbers"),
             std::string::npos);
 }
 
@@ -246,10 +248,11 @@ TEST(UrdfInputs, UnexpandedXacroIsRefusedWithAMessageToRunXacro) {
 // A root without mass.
 
 TEST(UrdfInputs, ARootWithoutMassGetsAFixedBaseWithAWarning) {
-  const std::string xml = R"(<robot name="arm">
+  const std::string xml =
+      R"(<robot name="arm">
   <link name="base_link"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
 )" + massiveLink("upper", collision("<box size=\"0.05 0.05 0.4\"/>", "xyz=\"0 0 0.2\"")) +
-                          R"(<joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
+      R"(<joint name="shoulder" type="revolute"><parent link="base_link"/><child link="upper"/>
     <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
 </robot>)";
   PfxWorld world;
@@ -270,9 +273,9 @@ TEST(UrdfInputs, ARootWithoutMassGetsAFixedBaseWithAWarning) {
   PfxWorld free;
   initZUpWorld(free);
   PfxUrdfModel floating;
-  ASSERT_NO_FATAL_FAILURE(
-      loadText(free, "<robot name=\"ball\">" + massiveLink("ball", "") + "</robot>",
-               PfxUrdfLoadParam(), floating));
+  ASSERT_NO_FATAL_FAILURE(loadText(free,
+                                   "<robot name=\"ball\">" + massiveLink("ball", "") + "</robot>",
+                                   PfxUrdfLoadParam(), floating));
   EXPECT_FALSE(floating.fixedBase);
   EXPECT_TRUE(floating.warnings.empty()) << allWarnings(floating);
   EXPECT_EQ(free.getRigidState(floating.firstBodyId).getMotionType(), kPfxMotionTypeActive);
@@ -346,11 +349,11 @@ TEST(UrdfInputs, AMasslessLinkBetweenOffsetJointsBecomesALightBodyWithTheUrdfsKi
   const PfxUrdfLink& foot = linkNamed(model, "foot");
   const double angles[][2] = {{0, 0}, {0.4, -0.2}, {-0.7, 0.35}, {0.2, 0.3}};
   for (const auto& q : angles) {
-    const Eigen::Isometry3d helperPose = Eigen::Translation3d(0, 0, -0.3) *
-                                         Eigen::AngleAxisd(q[0], Eigen::Vector3d::UnitY());
+    const Eigen::Isometry3d helperPose =
+        Eigen::Translation3d(0, 0, -0.3) * Eigen::AngleAxisd(q[0], Eigen::Vector3d::UnitY());
     const Eigen::Isometry3d footPose = footPoseOfUrdf(q[0], q[1]);
-    for (const auto& [link, pose] : {std::make_pair(&helperLink, helperPose),
-                                     std::make_pair(&foot, footPose)}) {
+    for (const auto& [link, pose] :
+         {std::make_pair(&helperLink, helperPose), std::make_pair(&foot, footPose)}) {
       const Eigen::Isometry3d body = pose * link->linkInBody.inverse().cast<double>();
       PfxRigidState state = world.getRigidState(link->bodyId);
       state.setPosition(body.translation().cast<PfxFloat>());
@@ -384,12 +387,12 @@ TEST(UrdfInputs, TheOffsetAnkleReachesDrivenPosesAndStopsAtItsLimits) {
     initZUpWorld(world);
     PfxUrdfModel model;
     ASSERT_NO_FATAL_FAILURE(loadText(world, kOffsetAnkle, param, model));
-    ASSERT_EQ(pfxSetUrdfJointCommand(world, model, pitchIndex, kPfxJointDrivePosition,
-                                     PfxFloat(q[0])),
-              PFX_OK);
-    ASSERT_EQ(pfxSetUrdfJointCommand(world, model, rollIndex, kPfxJointDrivePosition,
-                                     PfxFloat(q[1])),
-              PFX_OK);
+    ASSERT_EQ(
+        pfxSetUrdfJointCommand(world, model, pitchIndex, kPfxJointDrivePosition, PfxFloat(q[0])),
+        PFX_OK);
+    ASSERT_EQ(
+        pfxSetUrdfJointCommand(world, model, rollIndex, kPfxJointDrivePosition, PfxFloat(q[1])),
+        PFX_OK);
     ASSERT_NO_FATAL_FAILURE(step(world, 2));
     expectPose(pfxGetUrdfLinkPose(world, linkNamed(model, "foot")), footPoseOfUrdf(q[0], q[1]),
                0.005, 0.02, "driven foot");
@@ -416,8 +419,7 @@ namespace {
 
 // A fixed palm and two prismatic fingers, the right one mimicking the left.
 const std::string kGripper =
-    "<robot name=\"gripper\">" +
-    massiveLink("palm", collision("<box size=\"0.1 0.2 0.04\"/>")) +
+    "<robot name=\"gripper\">" + massiveLink("palm", collision("<box size=\"0.1 0.2 0.04\"/>")) +
     massiveLink("left", collision("<box size=\"0.02 0.02 0.08\"/>", "xyz=\"0 0 0.04\""), 0.1) +
     massiveLink("right", collision("<box size=\"0.02 0.02 0.08\"/>", "xyz=\"0 0 0.04\""), 0.1) +
     R"(<joint name="left_finger" type="prismatic"><parent link="palm"/><child link="left"/>
@@ -486,8 +488,9 @@ namespace {
 const std::string kStander =
     "<robot name=\"stander\">" +
     massiveLink("torso", collision("<box size=\"0.3 0.2 0.4\"/>"), 10) +
-    massiveLink("leg", collision("<cylinder radius=\"0.04\" length=\"0.9\"/>", "xyz=\"0 0 -0.45\"") +
-                           collision("<sphere radius=\"0.05\"/>", "xyz=\"0 0 -0.95\""),
+    massiveLink("leg",
+                collision("<cylinder radius=\"0.04\" length=\"0.9\"/>", "xyz=\"0 0 -0.45\"") +
+                    collision("<sphere radius=\"0.05\"/>", "xyz=\"0 0 -0.95\""),
                 3) +
     R"(<joint name="hip" type="revolute"><parent link="torso"/><child link="leg"/>
     <origin xyz="0 0 -0.2"/><axis xyz="0 1 0"/><limit lower="-0.5" upper="0.5" effort="100" velocity="2"/></joint>
@@ -561,10 +564,8 @@ namespace {
 const std::string kOverlapping =
     "<robot name=\"overlapping\">" +
     massiveLink("palm", collision("<box size=\"0.1 0.1 0.04\"/>")) +
-    massiveLink("left", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 -0.005 0.06\""),
-                0.1) +
-    massiveLink("right", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 0.005 0.06\""),
-                0.1) +
+    massiveLink("left", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 -0.005 0.06\""), 0.1) +
+    massiveLink("right", collision("<box size=\"0.02 0.03 0.08\"/>", "xyz=\"0 0.005 0.06\""), 0.1) +
     massiveLink("wrist", collision("<sphere radius=\"0.01\"/>"), 0.2) +
     massiveLink("hand", collision("<box size=\"0.06 0.06 0.1\"/>", "xyz=\"0 0 0.02\""), 0.5) +
     "<link name=\"ankle_helper\"/>" +

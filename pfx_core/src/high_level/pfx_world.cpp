@@ -325,8 +325,7 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
 PfxInt32 PfxWorld::excludeCollision(PfxUInt32 bodyIdA, PfxUInt32 bodyIdB) {
   if (bodyIdA >= getNumRigidBodies() || bodyIdB >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
   if (bodyIdA == bodyIdB) return PFX_ERR_INVALID_VALUE;
-  const PfxUInt64 key =
-      pfxCreatePairKey(std::min(bodyIdA, bodyIdB), std::max(bodyIdA, bodyIdB));
+  const PfxUInt64 key = pfxCreatePairKey(std::min(bodyIdA, bodyIdB), std::max(bodyIdA, bodyIdB));
   const auto at = std::lower_bound(m_excludedPairKeys.begin(), m_excludedPairKeys.end(), key);
   if (at == m_excludedPairKeys.end() || *at != key) m_excludedPairKeys.insert(at, key);
   return PFX_OK;
@@ -431,11 +430,10 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_joints.erase(m_joints.begin() + numJoints, m_joints.end());
   m_jointPairs.erase(m_jointPairs.begin() + numJoints, m_jointPairs.end());
   // The larger id of a pair is the key's low half.
-  m_excludedPairKeys.erase(std::remove_if(m_excludedPairKeys.begin(), m_excludedPairKeys.end(),
-                                          [numBodies](PfxUInt64 key) {
-                                            return PfxUInt32(key) >= numBodies;
-                                          }),
-                           m_excludedPairKeys.end());
+  m_excludedPairKeys.erase(
+      std::remove_if(m_excludedPairKeys.begin(), m_excludedPairKeys.end(),
+                     [numBodies](PfxUInt64 key) { return PfxUInt32(key) >= numBodies; }),
+      m_excludedPairKeys.end());
 
   // Pairs stay sorted by key when some are taken out, and the manifolds of the removed
   // ones are reused.
@@ -775,6 +773,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   param.workBuff = m_solverWork.data();
   param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
   bindJoints(param);
+  bindContacts(param);
   param.offsetRigidStates = m_states.data();
   param.offsetRigidBodies = m_bodies.data();
   param.offsetSolverBodies = m_solverBodies.data();

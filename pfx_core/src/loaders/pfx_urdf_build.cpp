@@ -395,8 +395,7 @@ class UrdfBuilder {
       const Group& group = m_groups[current];
       if (!isRotational(m_joints[chain.joints.back()].type) || group.childJoints.size() != 1 ||
           !isRotational(m_joints[group.childJoints[0]].type) || chain.joints.size() == 3) {
-        whyNot =
-            "it is not a helper between two or three revolute joints meeting at one point";
+        whyNot = "it is not a helper between two or three revolute joints meeting at one point";
         return false;
       }
       chain.joints.push_back(group.childJoints[0]);
@@ -486,11 +485,10 @@ class UrdfBuilder {
     group.role = Role::kBody;
     group.light = true;
     warn("link " + quoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
-         ", so its joints cannot become one; loaded as a light body of " + number(mass) +
-         " kg" +
-         (lighter >= 0 ? " (a tenth of link " + quoted(linkName(m_groups[lighter].links[0])) +
-                             "'s mass)"
-                       : std::string()) +
+         ", so its joints cannot become one; loaded as a light body of " + number(mass) + " kg" +
+         (lighter >= 0
+              ? " (a tenth of link " + quoted(linkName(m_groups[lighter].links[0])) + "'s mass)"
+              : std::string()) +
          " so that each of its joints turns where the URDF puts it");
   }
 
@@ -593,8 +591,8 @@ class UrdfBuilder {
       const Pose linkInBody = body.pose.inverse() * m_links[link].pose;
       for (const PfxUrdfCollision& collision : collisionsOf(link)) {
         const Pose shapePose = linkInBody * toPose(collision.origin);
-        if (const PfxInt32 err = addShape(link, collision, shapePose, body.fixed,
-                                          m_build.bodies[group.body].shapes);
+        if (const PfxInt32 err =
+                addShape(link, collision, shapePose, body.fixed, m_build.bodies[group.body].shapes);
             err != PFX_OK) {
           return err;
         }

@@ -96,9 +96,9 @@ PfxInt32 excludeOverlappingLinks(PfxWorld& world, PfxUInt32 firstBody, PfxUrdfBu
       }
       const PfxTransform3 ta = world.getRigidState(firstBody + a).getTransform();
       const PfxTransform3 tb = world.getRigidState(firstBody + b).getTransform();
-      const PfxUInt32 found = pfxContactCollidables(
-          world.getCollidable(firstBody + a), ta, world.getCollidable(firstBody + b), tb, 0,
-          candidates, PFX_MAX_CONTACT_CANDIDATES);
+      const PfxUInt32 found = pfxContactCollidables(world.getCollidable(firstBody + a), ta,
+                                                    world.getCollidable(firstBody + b), tb, 0,
+                                                    candidates, PFX_MAX_CONTACT_CANDIDATES);
       PfxFloat depth = 0;
       for (PfxUInt32 i = 0; i < found; ++i) depth = std::max(depth, -candidates[i].m_distance);
       if (!(depth > kOverlapTolerance)) continue;  // apart, or touching
@@ -120,8 +120,7 @@ PfxInt32 excludeOverlappingLinks(PfxWorld& world, PfxUInt32 firstBody, PfxUrdfBu
 }
 
 // Adds what was built; on a refusal removes what it added and returns the refusal.
-PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, bool selfCollision,
-                    PfxUrdfError& error) {
+PfxInt32 addToWorld(PfxWorld& world, PfxUrdfBuild& build, bool selfCollision, PfxUrdfError& error) {
   const PfxUInt32 firstBody = world.getNumRigidBodies();
   const PfxUInt32 firstJoint = world.getNumJoints();
   const PfxUInt32 firstCoupling = world.getNumJointCouplings();

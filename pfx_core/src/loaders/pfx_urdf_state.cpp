@@ -150,9 +150,10 @@ PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive,
     note->clear();
     if (clamped != target) {
       std::ostringstream text;
-      text << "joint '" << joint.name << "': " << (drive == kPfxJointDrivePosition ? "position" : "velocity")
-           << " target " << target << " cut to its " << (target < lower ? "lower " : "upper ")
-           << what << " " << clamped;
+      text << "joint '" << joint.name
+           << "': " << (drive == kPfxJointDrivePosition ? "position" : "velocity") << " target "
+           << target << " cut to its " << (target < lower ? "lower " : "upper ") << what << " "
+           << clamped;
       *note = text.str();
     }
   }
