@@ -3,10 +3,13 @@
 // solve leaves every locked axis moving consistently, but a step along those velocities
 // turns the bodies and opens each joint by about w^2 r dt^2 / 2; measuring the joints
 // again at the new poses and projecting that error away, exactly for the trees of locked
-// axes, keeps the gap of a swinging chain far below a millimetre.
+// axes, keeps the gap of a swinging chain far below a millimetre. Given the step's
+// contacts, the correction moves no two bodies deeper into each other at a contact point:
+// a joint pulled back into place must not undo what the contacts' split impulses did.
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
@@ -29,7 +32,12 @@ struct PfxCorrectJointPositionsParam {
   PfxSolverBody* offsetSolverBodies = nullptr;  // scratch, overwritten
   PfxUInt32 numRigidBodies = 0;
   PfxFloat timeStep = 0;
-  PfxUInt32 iteration = 10;  // for the rows solved iteratively (limits, loops)
+  PfxUInt32 iteration = 10;  // for the rows solved iteratively (limits, loops, contacts)
+  // Optional: the step's contact pairs and manifolds, as the solver set them up.
+  PfxConstraintPair* contactPairs = nullptr;
+  PfxUInt32 numContactPairs = 0;
+  PfxContactManifold* offsetContactManifolds = nullptr;
+  PfxUInt32 numContactManifolds = 0;
 };
 
 PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
