@@ -12,7 +12,8 @@ core=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libgtest-dev lib
   libbenchmark-dev)
 packages=("${core[@]}")
 if [ "$set_name" = all ]; then
-  packages+=(liburdfdom-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
+  # The URDF loader reads what urdfdom cannot (capsules) with urdfdom's TinyXML itself.
+  packages+=(liburdfdom-dev libtinyxml-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
   # ROS1 from Debian: the message packages come twice, as C++ headers (lib*-dev) and as
   # the .msg definitions that message generation reads (ros-*).
   packages+=(catkin libroscpp-dev libtf2-ros-dev liburdf-dev ros-message-generation
