@@ -81,8 +81,7 @@ TEST(UrdfShapeLinks, RayHitsNameTheLinkWhoseCollisionWasHit) {
   PfxUrdfLoadParam param;
   param.rootPosition = PfxVector3(0, 0, 1);
   std::string message;
-  ASSERT_EQ(pfxLoadUrdfString(world, kHelperRobot, ".", param, model, &message), PFX_OK)
-      << message;
+  ASSERT_EQ(pfxLoadUrdfString(world, kHelperRobot, ".", param, model, &message), PFX_OK) << message;
   ASSERT_EQ(model.numBodies, 2u);
   ASSERT_EQ(model.shapeLinks.size(), model.numBodies);
 
@@ -115,8 +114,7 @@ TEST(UrdfShapeLinks, ContactsOnTheGroundNameTheLinksThatTouchIt) {
   PfxUrdfLoadParam param;
   param.rootPosition = PfxVector3(0, 0, PfxFloat(0.1));
   std::string message;
-  ASSERT_EQ(pfxLoadUrdfString(world, kHelperRobot, ".", param, model, &message), PFX_OK)
-      << message;
+  ASSERT_EQ(pfxLoadUrdfString(world, kHelperRobot, ".", param, model, &message), PFX_OK) << message;
   for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
 
   std::set<std::string> touching;

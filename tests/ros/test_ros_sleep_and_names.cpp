@@ -43,7 +43,9 @@ class DiagnosticsWatcher {
     const auto it = m_values.find(key);
     return it == m_values.end() ? std::nan("") : std::stod(it->second);
   }
-  bool robotAsleep() const { return value("bodies awake") == 0 && value("bodies asleep") >= kRobotBodies; }
+  bool robotAsleep() const {
+    return value("bodies awake") == 0 && value("bodies asleep") >= kRobotBodies;
+  }
   // Waits for a report after the one seen now; false after `wallSeconds`.
   bool waitForNextReport(double wallSeconds) const {
     const int seen = reports();
@@ -272,8 +274,8 @@ TEST(Sleep, TheMarkersDrawTheSleepingContacts) {
 
 TEST(JointStates, EveryJointWithACoordinateInEveryMessageInFileOrder) {
   const std::vector<std::string> expected = jointsWithACoordinateInFileOrder();
-  ASSERT_EQ(expected, (std::vector<std::string>{"arm_joint", "finger_joint",
-                                                "finger_mimic_joint", "sensor_pan"}))
+  ASSERT_EQ(expected, (std::vector<std::string>{"arm_joint", "finger_joint", "finger_mimic_joint",
+                                                "sensor_pan"}))
       << "tests/ros/data/sleeper.urdf changed";
   ASSERT_GT(shared->joints->messages(), 10);
   EXPECT_EQ(shared->joints->firstNames(), expected);
@@ -303,8 +305,8 @@ TEST(JointStates, AGripperDrivenPastItsLimitStopsThereAndItsMimicFollows) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
   while (!reached() && ros::WallTime::now() < deadline) {
     const std::map<std::string, double> q = shared->joints->positions();
-    worstExcursion = std::max({worstExcursion, q.at("finger_joint") - 0.5,
-                               -0.5 - q.at("finger_mimic_joint")});
+    worstExcursion =
+        std::max({worstExcursion, q.at("finger_joint") - 0.5, -0.5 - q.at("finger_mimic_joint")});
     ros::WallDuration(0.01).sleep();
   }
   const std::map<std::string, double> q = shared->joints->positions();
