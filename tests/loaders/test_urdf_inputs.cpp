@@ -619,3 +619,37 @@ TEST(UrdfInputs, LinksThatOverlapWhereTheRobotStartsAreNotPushedApart) {
   ASSERT_EQ(world.step(), PFX_OK);
   EXPECT_GT(world.getStats().maxPenetration, 0.01f);
 }
+
+// ---------------------------------------------------------------------------------------
+// bullet3's humanoid (urdf/zoo), written for Bullet: capsule limbs and ankles of two hinges
+// 4 cm apart through massless links. It loads whole, and stands dropped onto the ground.
+
+TEST(UrdfInputs, BulletsHumanoidKeepsItsCapsulesAndItsOffsetAnkles) {
+  PfxWorld world;
+  initZUpWorld(world);
+  addGround(world);
+  PfxUrdfModel model;
+  PfxUrdfLoadParam param;
+  param.placeAboveGround = true;
+  std::string message;
+  ASSERT_EQ(pfxLoadUrdfFile(world, std::string(PFX_SOURCE_DIR) + "/urdf/zoo/humanoid.urdf", param,
+                            model, &message),
+            PFX_OK)
+      << message;
+  PfxUInt32 capsules = 0;
+  for (PfxUInt32 b = model.firstBodyId; b < model.firstBodyId + model.numBodies; ++b) {
+    const PfxCollidable& collidable = world.getCollidable(b);
+    for (PfxUInt32 s = 0; s < collidable.getNumShapes(); ++s) {
+      capsules += collidable.getShape(s).getType() == kPfxShapeCapsule;
+    }
+  }
+  EXPECT_EQ(capsules, 16u);  // every <capsule> of the file
+  EXPECT_FALSE(hasWarningWith(model, "left out")) << allWarnings(model);
+  for (const char* helper : {"link1_13", "link1_22"}) {
+    EXPECT_TRUE(hasWarningWith(model, std::string("link '") + helper + "': no mass, and joints"))
+        << allWarnings(model);
+  }
+  ASSERT_NO_FATAL_FAILURE(step(world, 1));
+  EXPECT_GT(pfxGetUrdfLowestPoint(world, model), -0.02f);
+  EXPECT_LT(world.getStats().maxJointGap, 0.01f);
+}
