@@ -36,7 +36,7 @@ const char* const kUsage =
     "  --fixed-base       bolt the robot's root link to the world (a root without mass\n"
     "                     gets a fixed base anyway, with a warning)\n"
     "  --no-self-collision  the robot's links never collide with each other (by default\n"
-    "                     only links joined by a joint do not)\n"
+    "                     only links joined by a joint or overlapping at the start do not)\n"
     "  --sleep            let bodies at rest fall asleep (off: the statistics measure the\n"
     "                     solver on every step)\n"
     "  --drop-height H    start with the lowest point of the robot's collision shapes H m\n"

@@ -30,8 +30,8 @@ struct PfxNodeSimulationConfig {
   // Instead of initialHeight: the lowest point of the robot's collision shapes starts
   // 5 cm above z = 0 (PfxUrdfLoadParam::placeAboveGround).
   bool placeAboveGround = false;
-  // false: no two links of the robot collide (by default only links joined by a joint do
-  // not).
+  // false: no two links of the robot collide (by default only links joined by a joint or
+  // overlapping at the start do not).
   bool selfCollision = true;
   // A collision mesh whose file is missing is left out (with a warning) instead of failing
   // the load.

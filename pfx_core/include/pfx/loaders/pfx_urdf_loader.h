@@ -78,12 +78,15 @@ struct PfxUrdfLoadParam {
   // Links joined by fixed joints become one compound body; false keeps fixed joints.
   bool lumpFixedJoints = true;
   // Massless helper links between revolute joints meeting at one point become one
-  // universal or ball joint; false makes such links an error.
+  // universal or ball joint, other massless links with joints below them light bodies;
+  // false makes every massless link with joints below it an error.
   bool collapseMasslessChains = true;
-  // Links joined by a joint never collide with each other; this also stops every other
-  // pair of links of the robot from colliding, through the contact filters: the robot's
-  // bodies get self = selfCollisionGroup and target = ~selfCollisionGroup. Bodies of other
-  // robots loaded with the same group do not meet them either; give each its own bit.
+  // Links joined by a joint (or through a light helper body) never collide with each other,
+  // nor do links that overlap where the robot is loaded (PfxWorld::excludeCollision, listed
+  // in a warning); this stops every other pair of links of the robot from colliding too,
+  // through the contact filters: the robot's bodies get self = selfCollisionGroup and
+  // target = ~selfCollisionGroup. Bodies of other robots loaded with the same group do not
+  // meet them either; give each its own bit.
   bool disableSelfCollision = false;
   PfxUInt32 selfCollisionGroup = 1u << 31;
   PfxFloat friction = PfxFloat(0.6);
