@@ -35,6 +35,8 @@ const char* const kUsage =
     "  --octomap FILE     static geometry from an OctoMap (.bt or .ot)\n"
     "  --fixed-base       bolt the robot's root link to the world (a root without mass\n"
     "                     gets a fixed base anyway, with a warning)\n"
+    "  --allow-missing-meshes  leave out collision meshes whose files are missing (with a\n"
+    "                     warning) instead of failing\n"
     "  --no-self-collision  the robot's links never collide with each other (by default\n"
     "                     only links joined by a joint or overlapping at the start do not)\n"
     "  --sleep            let bodies at rest fall asleep (off: the statistics measure the\n"
@@ -61,6 +63,7 @@ struct Options {
   std::string octomap;
   bool fixedBase = false;
   bool selfCollision = true;
+  bool allowMissingMeshes = false;
   bool sleep = false;
   bool hasDropHeight = false;
   double dropHeight = 0;
@@ -111,6 +114,8 @@ int parseArguments(int argc, char** argv, Options& options) {
       options.fixedBase = true;
     } else if (arg == "--no-self-collision") {
       options.selfCollision = false;
+    } else if (arg == "--allow-missing-meshes") {
+      options.allowMissingMeshes = true;
     } else if (arg == "--quiet") {
       options.quiet = true;
     } else if (arg == "--seconds" || arg == "--dt" || arg == "--drop-height") {
@@ -204,6 +209,7 @@ int main(int argc, char** argv) {
   PfxUrdfLoadParam load;
   load.fixedBase = options.fixedBase;
   load.disableSelfCollision = !options.selfCollision;
+  load.allowMissingMeshes = options.allowMissingMeshes;
   load.placeAboveGround = options.hasDropHeight || options.ground;
   if (options.hasDropHeight) load.groundClearance = PfxFloat(options.dropHeight);
   PfxUrdfModel model;

@@ -154,6 +154,21 @@ TEST(PfxSim, FixedBaseRobotStartsAboveTheGround) {
 }
 #endif
 
+// bullet3's r2d2 names gripper meshes it does not ship: the load fails naming one, unless
+// --allow-missing-meshes leaves them out with a warning.
+TEST(PfxSim, MissingMeshesFailUnlessAllowed) {
+  const std::string r2d2 = std::string("\"") + PFX_SOURCE_DIR + "/urdf/r2d2.urdf\"";
+  SimRun run = runSim(r2d2 + " --ground --seconds 0.1", "r2d2");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("mesh 'l_finger.stl' not found"), std::string::npos) << run.err;
+  run = runSim(r2d2 + " --ground --seconds 0.1 --allow-missing-meshes", "r2d2_allowed");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: link 'left_gripper': mesh 'l_finger.stl' not found"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(tsvRows(run.out).size(), 25u);  // the header and 24 steps
+}
+
 TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
   const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
   SimRun run = runSim("--help", "help");
