@@ -103,8 +103,13 @@ void PfxNodeDiagnostics::publish(const PfxNodeSimulation& simulation, bool pause
   addValue(status, "max linear momentum change per step (kg m/s)", m_maxLinearMomentumChange);
   addValue(status, "max angular momentum change per step (kg m^2/s)", m_maxAngularMomentumChange);
   // Sleeping bodies' contacts included, as get_contacts and the contact markers list them.
+  // The points held include speculative ones, which get_contacts leaves out while they
+  // neither touch nor push: a robot hanging just above the ground has the first and none of
+  // the second.
+  simulation.getContacts(m_contacts);
   addValue(status, "contact pairs", last.numContactPairs);
   addValue(status, "contact points", last.numContactPoints);
+  addValue(status, "contact points touching or pushing (get_contacts)", double(m_contacts.size()));
   addValue(status, "bodies asleep", last.numSleepingBodies);
   addValue(status, "bodies awake", last.numAwakeBodies);
   addValue(status, "bodies", simulation.getWorld().getNumRigidBodies());

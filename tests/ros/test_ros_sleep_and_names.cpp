@@ -187,6 +187,8 @@ TEST(Sleep, GetContactsListsTheSleepingRobotsContactsNamedAfterTheirLinks) {
   ASSERT_TRUE(all.response.success) << all.response.message;
   ASSERT_FALSE(all.response.contacts.empty()) << "a sleeping robot's contacts are contacts";
   EXPECT_LE(all.response.contacts.size(), shared->diagnostics->value("contact points"));
+  EXPECT_EQ(all.response.contacts.size(),
+            shared->diagnostics->value("contact points touching or pushing (get_contacts)"));
   std::set<std::string> onGround;
   for (const pfx::Contact& c : all.response.contacts) {
     ASSERT_TRUE(c.link_a == "ground" || c.link_b == "ground") << c.link_a << " " << c.link_b;

@@ -1,12 +1,15 @@
 // /diagnostics: how the simulation runs, summed up over the steps since the last report:
 // step time (mean and largest), the real-time factor reached and asked for, the mean time
 // of each pipeline stage, and the error figures of the steps (deepest overlap, largest
-// joint gap, largest change of energy and momentum), with the current contact count.
+// joint gap, largest change of energy and momentum), with the current contact count: all
+// the points the bodies' manifolds hold (speculative ones too) and those that get_contacts
+// lists, and the bodies asleep and awake.
 #pragma once
 
 #include <ros/ros.h>
 
 #include <string>
+#include <vector>
 
 #include "pfx_ros/pfx_node_simulation.h"
 
@@ -37,6 +40,7 @@ class PfxNodeDiagnostics {
   double m_maxEnergyChange = 0;
   double m_maxLinearMomentumChange = 0;
   double m_maxAngularMomentumChange = 0;
+  std::vector<PfxNodeContact> m_contacts;  // kept between reports: no allocation once grown
 };
 
 }  // namespace pfx
