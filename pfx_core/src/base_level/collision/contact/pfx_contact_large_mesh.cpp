@@ -189,6 +189,24 @@ void faceContact(const Triangle& tri, PfxUInt32 triangleIndex, const PfxConvexCo
 void contactTriangle(const Triangle& tri, PfxUInt32 triangleIndex, PfxFloat thickness,
                      const PfxShape& convexShape, const PfxTransform3& convexTransform,
                      const PfxConvexCore& core, PfxFloat threshold, Gatherer& gatherer) {
+  // The prism's pair routine (GJK/EPA or separating axes) was most of the cost of a robot
+  // on a mesh: a quadruped on a 3,200-triangle terrain spent ten times as long in
+  // collision detection as on the terrain's bounding box. Two cases need no prism:
+  // - the shape lies wholly above the face plane by the threshold or more, so it is at
+  //   least that far from the prism, whose top is that plane;
+  const PfxFloat lowest = tri.normal.dot(core.support(-tri.normal) - tri.v[0]) - core.m_radius;
+  if (!(lowest < threshold)) return;
+  // - every edge is internal, so no prism normal would be kept: the result is the face
+  //   contact, or nothing for a shape wholly beneath the prism.
+  constexpr PfxUInt8 kAllEdgesInternal = PFX_LARGE_MESH_EDGE_INTERNAL_0 |
+                                         PFX_LARGE_MESH_EDGE_INTERNAL_1 |
+                                         PFX_LARGE_MESH_EDGE_INTERNAL_2;
+  if ((tri.flags & kAllEdgesInternal) == kAllEdgesInternal) {
+    const PfxFloat highest = tri.normal.dot(core.support(tri.normal) - tri.v[0]) + core.m_radius;
+    if (highest < -thickness) return;
+    faceContact(tri, triangleIndex, core, threshold, gatherer);
+    return;
+  }
   PfxConvexMesh prism;
   buildPrism(tri, thickness, prism);
   PfxShape prismShape;
