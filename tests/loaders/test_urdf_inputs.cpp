@@ -325,7 +325,8 @@ TEST(UrdfInputs, AMasslessLinkBetweenOffsetJointsBecomesALightBodyWithTheUrdfsKi
                              "link 'ankle_helper': no mass, and joints 'ankle_pitch' and "
                              "'ankle_roll' do not meet at one point (0.04 m apart)"))
       << allWarnings(model);
-  EXPECT_TRUE(hasWarningWith(model, "loaded as a light body of 0.1 kg (a tenth of link 'foot'"))
+  EXPECT_TRUE(hasWarningWith(
+      model, "loaded as a light body of 0.1 kg (a tenth of the mass of link 'foot')"))
       << allWarnings(model);
   ASSERT_EQ(model.numBodies, 3u);
   ASSERT_EQ(model.numJoints, 2u);

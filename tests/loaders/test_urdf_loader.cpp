@@ -546,7 +546,7 @@ TEST(UrdfLoader, MasslessLinksThatCannotCollapseBecomeLightBodiesWithAWarning) {
       {"offset joints", chainUrdf({"1 0 0", "0 0 1"}, "0 0 -0.05"), 2,
        "link 'helper0': no mass, and joints 'j0' and 'j1' do not meet at one point (0.05 m "
        "apart), so its joints cannot become one; loaded as a light body of 0.1 kg (a tenth of "
-       "link 'top''s mass)"},
+       "the mass of link 'top')"},
       {"parallel axes", chainUrdf({"1 0 0", "1 0 0"}), 2,
        "link 'helper0': no mass, and the axes of joints 'j0' and 'j1' are not perpendicular"},
       // The first helper becomes a body; the three joints below it meet and make a ball.

@@ -486,9 +486,9 @@ class UrdfBuilder {
     group.light = true;
     warn("link " + quoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
          ", so its joints cannot become one; loaded as a light body of " + number(mass) + " kg" +
-         (lighter >= 0
-              ? " (a tenth of link " + quoted(linkName(m_groups[lighter].links[0])) + "'s mass)"
-              : std::string()) +
+         (lighter >= 0 ? " (a tenth of the mass of link " +
+                             quoted(linkName(m_groups[lighter].links[0])) + ")"
+                       : std::string()) +
          " so that each of its joints turns where the URDF puts it");
   }
 
