@@ -75,7 +75,9 @@ const char* usage() {
          "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h; the\n"
          "  scene octomap loads a 97,784-voxel OctoMap and casts rays into it (pfx only),\n"
          "  see bench_octomap.h. The scene urdf (built with the loaders) drives the joint\n"
-         "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp.\n";
+         "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp. The\n"
+         "  scene meshfloor (pfx only, with the loaders) stands a quadruped on a\n"
+         "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

@@ -16,6 +16,7 @@
 
 #include "bench_cli.h"
 #include "bench_engine.h"
+#include "bench_mesh_floor.h"
 #include "bench_octomap.h"
 #include "bench_rays.h"
 #include "bench_report.h"
@@ -146,12 +147,17 @@ int main(int argc, char** argv) {
     return 0;
   }
   // The octomap and rays scenes measure load times and rays per second, not stepping, and
-  // run apart (bench_octomap.h, bench_rays.h).
+  // the meshfloor scene steps pfx alone; they run apart (bench_octomap.h, bench_rays.h,
+  // bench_mesh_floor.h).
   const bool fullSweep = options.scenes.empty();
   const auto octomap = std::remove(options.scenes.begin(), options.scenes.end(),
                                    std::string(kOctomapSceneName));
   const bool octomapWanted = fullSweep || octomap != options.scenes.end();
   options.scenes.erase(octomap, options.scenes.end());
+  const auto meshFloor = std::remove(options.scenes.begin(), options.scenes.end(),
+                                     std::string(kMeshFloorSceneName));
+  const bool meshFloorWanted = fullSweep || meshFloor != options.scenes.end();
+  options.scenes.erase(meshFloor, options.scenes.end());
   RaySceneRequest rays;
   if (fullSweep || !options.scenes.empty()) {
     if (!takeRaySceneRequest(options.scenes, options.engines, rays, error)) {
@@ -254,6 +260,15 @@ int main(int argc, char** argv) {
     std::vector<ResultRow> octomapRows;
     failures += runOctomapScene(octomapRows);
     for (const ResultRow& row : octomapRows) {
+      writeTsvRow(std::cout, row);
+      if (tsvFile) writeTsvRow(tsvFile, row);
+    }
+    std::cout.flush();
+  }
+  if (meshFloorWanted) {
+    std::vector<ResultRow> meshFloorRows;
+    failures += runMeshFloorScene(meshFloorRows);
+    for (const ResultRow& row : meshFloorRows) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
     }
