@@ -442,16 +442,21 @@ TEST(MeshContacts, DeformationCarriesContactsAndLiftsTheBody) {
 }  // namespace
 
 // Cylinders of many sizes dropped, rolling and tipping onto the ground (a 100 m slab, a
-// grid of 0.5 m cells): in no step does the world report an
+// mesh of two 100 m triangles, a grid of 0.5 m cells): in no step does the world report an
 // overlap beyond the one the cylinder had when the step measured its contacts. (A thin
-// cylinder rolling on the slab was reported 50 m deep for one step, and missed 2 cm.)
+// cylinder rolling on the slab was reported 50 m deep for one step, and missed 2 cm; on
+// the two triangles cylinders were reported up to 10 cm deeper than they were.)
 TEST(MeshContacts, CylindersOnTheGroundReportNoFalseOverlap) {
+  MeshSource twoTriangles;
+  twoTriangles.vertices = {-50, 0, -50, 50, 0, -50, 50, 0, 50, -50, 0, 50};
+  twoTriangles.triangles = {0, 3, 2, 0, 2, 1};
   const MeshSource grid = makeFlatGrid(40, PfxFloat(0.5));
-  MeshOwner fine;
+  MeshOwner large, fine;
+  ASSERT_EQ(pfxCreateLargeTriMesh(large.mesh, twoTriangles.param(PFX_MESH_FLAG_USE_BVH)), PFX_OK);
   ASSERT_EQ(pfxCreateLargeTriMesh(fine.mesh, grid.param(PFX_MESH_FLAG_USE_BVH)), PFX_OK);
   std::mt19937 random(7);
   std::uniform_real_distribution<PfxFloat> uniform(-1, 1);
-  for (const bool meshGround : {false, true}) {
+  for (const int ground : {0, 1, 2}) {
     PfxFloat worstExcess = 0;
     for (int trial = 0; trial < 40; ++trial) {
       PfxWorldParam param;
@@ -460,13 +465,13 @@ TEST(MeshContacts, CylindersOnTheGroundReportNoFalseOverlap) {
       param.timeStep = trial % 2 ? PfxFloat(1) / 240 : PfxFloat(1) / 60;
       PfxWorld world;
       ASSERT_EQ(world.initialize(param), PFX_OK);
-      if (!meshGround) {
+      if (ground == 0) {
         PfxBodyInit slab;
         slab.mass = 0;
         slab.position = PfxVector3(0, -0.5f, 0);
         ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(50, 0.5f, 50)), slab), PFX_OK);
       } else {
-        addGround(world, fine.mesh);
+        addGround(world, ground == 1 ? large.mesh : fine.mesh);
       }
       const PfxFloat halfLength = 0.02f + 0.2f * (uniform(random) + 1);
       const PfxFloat radius = 0.02f + 0.1f * (uniform(random) + 1);
@@ -501,7 +506,7 @@ TEST(MeshContacts, CylindersOnTheGroundReportNoFalseOverlap) {
       }
     }
     std::printf("cylinders on %s: reported overlap beyond the true one at most %.2e m\n",
-                meshGround ? "a grid" : "a 100 m slab",
+                ground == 0 ? "a 100 m slab" : ground == 1 ? "two 100 m triangles" : "a grid",
                 worstExcess);
   }
 }

@@ -186,6 +186,14 @@ void faceContact(const Triangle& tri, PfxUInt32 triangleIndex, const PfxConvexCo
   }
 }
 
+PfxFloat distanceToSegment(const PfxVector3& p, const PfxVector3& a, const PfxVector3& b) {
+  const PfxVector3 ab = b - a;
+  const PfxFloat lengthSq = ab.squaredNorm();
+  const PfxFloat t =
+      lengthSq > 0 ? std::clamp((p - a).dot(ab) / lengthSq, PfxFloat(0), PfxFloat(1)) : 0;
+  return (a + ab * t - p).norm();
+}
+
 void contactTriangle(const Triangle& tri, PfxUInt32 triangleIndex, PfxFloat thickness,
                      const PfxShape& convexShape, const PfxTransform3& convexTransform,
                      const PfxConvexCore& core, PfxFloat threshold, Gatherer& gatherer) {
@@ -196,12 +204,22 @@ void contactTriangle(const Triangle& tri, PfxUInt32 triangleIndex, PfxFloat thic
   //   least that far from the prism, whose top is that plane;
   const PfxFloat lowest = tri.normal.dot(core.support(-tri.normal) - tri.v[0]) - core.m_radius;
   if (!(lowest < threshold)) return;
-  // - every edge is internal, so no prism normal would be kept: the result is the face
-  //   contact, or nothing for a shape wholly beneath the prism.
-  constexpr PfxUInt8 kAllEdgesInternal = PFX_LARGE_MESH_EDGE_INTERNAL_0 |
-                                         PFX_LARGE_MESH_EDGE_INTERNAL_1 |
-                                         PFX_LARGE_MESH_EDGE_INTERNAL_2;
-  if ((tri.flags & kAllEdgesInternal) == kAllEdgesInternal) {
+  // - every edge is internal or out of the shape's reach, so no prism normal would be kept
+  //   (only a point on an edge that may stand out keeps one): the result is the face
+  //   contact, or nothing for a shape wholly beneath the prism. This also spares a huge
+  //   triangle under a small shape (a ground of two 100 m triangles) GJK and EPA on a
+  //   prism a hundred metres across, whose tolerances reported a cylinder 10 cm deeper
+  //   than it was.
+  const PfxFloat reach = core.boundingRadius() + std::max(threshold, PfxFloat(0)) +
+                         PfxFloat(1e-4) * std::max({tri.edgeLength[0], tri.edgeLength[1],
+                                                    tri.edgeLength[2]}) +
+                         PfxFloat(1e-6);
+  bool faceDecides = true;
+  for (int i = 0; i < 3 && faceDecides; ++i) {
+    if (tri.flags & (PFX_LARGE_MESH_EDGE_INTERNAL_0 << i)) continue;
+    faceDecides = distanceToSegment(core.m_position, tri.v[i], tri.v[(i + 1) % 3]) > reach;
+  }
+  if (faceDecides) {
     const PfxFloat highest = tri.normal.dot(core.support(tri.normal) - tri.v[0]) + core.m_radius;
     if (highest < -thickness) return;
     faceContact(tri, triangleIndex, core, threshold, gatherer);
