@@ -24,16 +24,4 @@ void pfxInitializeOrderedPair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType 
                  (PfxUInt32(receivesA) << 9) | (PfxUInt32(receivesB) << 10);
 }
 
-bool pfxPairsInRange(const PfxSortData16* pairs, PfxUInt32 numPairs, PfxUInt32 numRigidBodies,
-                     PfxUInt32 numConstraints) {
-  for (PfxUInt32 i = 0; i < numPairs; ++i) {
-    if (pfxGetObjectIdA(pairs[i]) >= numRigidBodies ||
-        pfxGetObjectIdB(pairs[i]) >= numRigidBodies ||
-        pfxGetConstraintId(pairs[i]) >= numConstraints) {
-      return false;
-    }
-  }
-  return true;
-}
-
 }  // namespace pfx

@@ -54,9 +54,4 @@ void pfxInitializePair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA, 
 void pfxInitializeOrderedPair(PfxSortData16& pair, PfxUInt32 idA, PfxMotionType typeA,
                               PfxUInt32 idB, PfxMotionType typeB, bool enabled);
 
-// Whether every pair names bodies below numRigidBodies and a contact (or joint) below
-// numConstraints: the check each stage makes before touching anything.
-bool pfxPairsInRange(const PfxSortData16* pairs, PfxUInt32 numPairs, PfxUInt32 numRigidBodies,
-                     PfxUInt32 numConstraints);
-
 }  // namespace pfx
