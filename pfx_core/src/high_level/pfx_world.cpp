@@ -537,8 +537,10 @@ PfxInt32 PfxWorld::findPairs() {
     PfxFindPairsResult result;
     const PfxInt32 err = pfxFindPairs(param, result, &m_taskManager);
     if (err == PFX_ERR_OUT_OF_MAX_PAIRS || (err != PFX_OK && m_maxPairs == 0)) {
-      // Only while the scene grows: room for the pairs found and some more.
-      m_maxPairs = std::max<PfxUInt32>(64, result.numPairsFound + result.numPairsFound / 2);
+      // Only while the scene grows: room for twice the pairs found, as a pile still falling
+      // into place (bodies landing, then settling closer) gains half as many pairs again
+      // after its first overflow.
+      m_maxPairs = std::max<PfxUInt32>(64, 2 * result.numPairsFound);
       m_foundPairs.resize(m_maxPairs);
       m_pairSortWork.resize(m_maxPairs);
       continue;
