@@ -205,6 +205,10 @@ void warmStartJoint(PfxJoint& joint, const PairBodies& p) {
   }
 }
 
+// The smallest velocity change (m/s or rad/s) from which a tree joint row's response is
+// measured.
+constexpr PfxFloat kMinResponseProbe = PfxFloat(1e-3);
+
 // A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
 // An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
 // effective mass is the tree's, not that of its two bodies: a motor at an arm's shoulder
@@ -263,6 +267,13 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
   if (trial == 0) return;
   apply(trial);
   row.m_accumImpulse = previous + trial;
+  // A trial that changes the row's velocity by less than kMinResponseProbe measures the
+  // rounding of the tree's velocities (its bodies move at g dt, 0.3 m/s at dt 1/30, within
+  // the solve) more than the response: a limit row holding a resting limb made such trials
+  // every step, now and then read a response a hundred times too small and kicked the
+  // limb at 3 cm/s, so a ragdoll at dt 1/30 twitched for ever. The row then stays
+  // unmeasured, moved like a two-body row, until a later iteration makes a larger trial.
+  if (std::abs(trial) * twoBodyResponse < kMinResponseProbe) return;
   const PfxFloat measured = (velocity() - before) / trial;
   // When the locked axes take nearly the whole impulse (the row is almost one of theirs),
   // scaling it up would only amplify rounding: the row stays a two-body row.
