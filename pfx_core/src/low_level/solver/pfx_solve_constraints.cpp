@@ -1,6 +1,7 @@
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
 
 #include <cmath>
+#include <limits>
 
 #include "low_level/pfx_param_checks.h"
 #include "low_level/solver/pfx_constraint_batches.h"
@@ -206,8 +207,12 @@ void warmStartJoint(PfxJoint& joint, const PairBodies& p) {
 }
 
 // The smallest velocity change (m/s or rad/s) from which a tree joint row's response is
-// measured.
-constexpr PfxFloat kMinResponseProbe = PfxFloat(1e-3);
+// measured: 1 mm/s in float, scaled by the precision's epsilon, since what it guards against
+// is rounding. In double the same 1 mm/s left the rows of a resting ragdoll unmeasured
+// (moved as two-body rows), and it did not come to rest in 10 s.
+constexpr PfxFloat kMinResponseProbe =
+    PfxFloat(1e-3 * (double(std::numeric_limits<PfxFloat>::epsilon()) /
+                     double(std::numeric_limits<float>::epsilon())));
 
 // A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
 // An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
