@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "low_level/pfx_buffer_checks.h"
+#include "pfx/base_level/base/pfx_vec_math.h"
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/low_level/pfx_error_detail.h"
 
@@ -52,6 +53,11 @@ PfxInt32 pfxCheckValue(const PfxParamNames& at, const char* field, double value,
   if (valid) return PFX_OK;
   return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s%s%s is %g; it must be %s", at.stage,
                         at.param, scope(at), field, value, requirement);
+}
+
+PfxInt32 pfxCheckTimeStep(const PfxParamNames& at, PfxFloat timeStep) {
+  return pfxCheckValue(at, "timeStep", timeStep, timeStep > 0 && pfxIsFinite(timeStep),
+                       "positive and finite");
 }
 
 PfxInt32 pfxCheckPairsInRange(const PfxParamNames& at, const char* pairsField,

@@ -46,6 +46,9 @@ PfxInt32 pfxCheckRequired(const PfxParamNames& at,
 PfxInt32 pfxCheckValue(const PfxParamNames& at, const char* field, double value, bool valid,
                        const char* requirement);
 
+// pfxCheckValue for a stage's timeStep, which must be positive and finite.
+PfxInt32 pfxCheckTimeStep(const PfxParamNames& at, PfxFloat timeStep);
+
 // PFX_OK when every pair names bodies below numRigidBodies and, when numConstraints is
 // given (not 0), a manifold or joint below it; PFX_ERR_OUT_OF_RANGE naming the first pair
 // that does not. A count of 0 means the caller did not give the length of the array: the

@@ -46,9 +46,7 @@ PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param,
   PfxInt32 err = PFX_OK;
   if ((err = pfxCheckRequired(at, {{param.states, "states"}, {param.bodies, "bodies"}},
                               "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK) {
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK) {
     return err;
   }
   if (!pfxIsFinite(param.gravity)) {

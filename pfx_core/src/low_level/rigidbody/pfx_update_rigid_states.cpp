@@ -112,9 +112,7 @@ PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,
   PfxInt32 err = PFX_OK;
   if ((err = pfxCheckRequired(at, {{param.states, "states"}, {param.bodies, "bodies"}},
                               "numRigidBodies", param.numRigidBodies)) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK) {
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK) {
     return err;
   }
   pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,

@@ -203,9 +203,7 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
                                {param.offsetRigidBodies, "offsetRigidBodies"},
                                {param.offsetSolverBodies, "offsetSolverBodies"}},
                               "numJointPairs", param.numJointPairs)) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK ||
       (err = pfxCheckPairsInRange(at, "jointPairs", param.jointPairs, param.numJointPairs,
                                   param.numRigidBodies, "numJoints", param.numJoints)) != PFX_OK ||
       (err = pfxCheckRequired(at,

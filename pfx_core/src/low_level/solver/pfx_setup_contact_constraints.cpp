@@ -129,9 +129,7 @@ PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param
                                {param.offsetRigidBodies, "offsetRigidBodies"},
                                {param.offsetSolverBodies, "offsetSolverBodies"}},
                               "numContactPairs", param.numContactPairs)) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK ||
       (err = pfxCheckValue(at, "separateBias", param.separateBias, param.separateBias >= 0,
                            "not negative")) != PFX_OK ||
       (err = pfxCheckValue(at, "contactSlop", param.contactSlop, param.contactSlop >= 0,

@@ -254,9 +254,7 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
                                {param.offsetRigidBodies, "offsetRigidBodies"},
                                {param.offsetSolverBodies, "offsetSolverBodies"}},
                               "numJointPairs", param.numJointPairs)) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK ||
       (err = pfxCheckValue(at, "warmStartFactor", param.warmStartFactor,
                            param.warmStartFactor >= 0 && param.warmStartFactor <= 1,
                            "within [0, 1]")) != PFX_OK ||

@@ -373,9 +373,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                            param.restitutionThreshold >= 0 &&
                                pfxIsFinite(param.restitutionThreshold),
                            "finite and not negative")) != PFX_OK ||
-      (err = pfxCheckValue(at, "timeStep", param.timeStep,
-                           param.timeStep > 0 && pfxIsFinite(param.timeStep),
-                           "positive and finite")) != PFX_OK ||
+      (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK ||
       (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
                                   param.numRigidBodies, "numContactManifolds",
                                   param.numContactManifolds)) != PFX_OK ||
