@@ -12,6 +12,7 @@
 // Base level.
 #include "pfx/base_level/base/pfx_common.h"
 #include "pfx/base_level/base/pfx_sort_data.h"
+#include "pfx/base_level/base/pfx_utility_allocator.h"
 #include "pfx/base_level/base/pfx_vec_math.h"
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
@@ -64,6 +65,7 @@
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_debug_render.h"
 #include "pfx/high_level/pfx_ragdoll.h"
+#include "pfx/high_level/pfx_serialize.h"
 #include "pfx/high_level/pfx_world.h"
 
 // The seed's names.

@@ -8,10 +8,6 @@
 // What the seed names and pfx does not have, and what stands in its place:
 //   physics_effects.h            pfx/pfx.h
 //   PfxPsp2TaskManager           PfxTbbTaskManager (a oneTBB arena; pfx_tbb_task_manager.h)
-//   pfxSerializeRead/Write,      not in the core
-//   PfxSerializeBuffer/Capacity,
-//   pfxSetUtilityAllocator       meshes are built into the caller's PfxLargeTriMesh and
-//                                released with pfxReleaseLargeTriMesh
 //   SCE_PFX_MESH_FLAG_HTGH_QUALITY (sic)  SCE_PFX_MESH_FLAG_HIGH_QUALITY below
 //   PfxVector3 v(0.0f)           PfxVector3(0, 0, 0) or PfxVector3::Zero() (Eigen)
 #pragma once

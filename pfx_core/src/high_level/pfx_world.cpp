@@ -62,7 +62,7 @@ const char* pfxStageName(PfxStage stage) {
 PfxWorld::PfxWorld() { initialize(PfxWorldParam()); }
 PfxWorld::~PfxWorld() = default;
 
-PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
+PfxInt32 PfxWorld::checkParam(const PfxWorldParam& param) {
   const bool valid =
       pfxIsFinite(param.worldCenter) && pfxIsFinite(param.worldExtent) &&
       param.worldExtent.minCoeff() > 0 && pfxIsFinite(param.gravity) && param.timeStep > 0 &&
@@ -80,9 +80,15 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
                                              PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY)) != 0) {
     return PFX_ERR_INVALID_FLAG;
   }
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
+  if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
   m_taskManager.initialize(param.numThreads);
   m_param = param;
   m_stats = PfxWorldStats();
+  m_simulatedTime = 0;
   m_states.clear();
   m_bodies.clear();
   m_collidables.clear();
@@ -109,7 +115,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   return generateIslands();
 }
 
-PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) const {
+PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) {
   if (!state.isValid()) return PFX_ERR_INVALID_VALUE;
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && !body.isValid()) {
     return PFX_ERR_INVALID_VALUE;
@@ -892,6 +898,7 @@ PfxInt32 PfxWorld::step() {
   }
   std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
   std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
+  m_simulatedTime += m_param.timeStep;
   {
     StageTimer timer(m_stats, kPfxStageGenerateIsland);
     updateSleep();

@@ -227,6 +227,9 @@ class PfxWorld {
 
   // One step of param.timeStep.
   PfxInt32 step();
+  // Seconds simulated since initialize(): the sum of the steps taken (a loaded world goes
+  // on from the saved one's time).
+  double getSimulatedTime() const { return m_simulatedTime; }
   const PfxWorldStats& getStats() const { return m_stats; }
   PfxConservedQuantities measureConservedQuantities() const;
 
@@ -262,7 +265,12 @@ class PfxWorld {
   const PfxIsland& getIsland() const { return *m_island; }
 
  private:
-  PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body) const;
+  // pfxSaveWorld and pfxLoadWorld (pfx_serialize.h) read and restore the private state that
+  // a step carries over: pairs, manifolds and their free slots, sleep.
+  friend class PfxSerializeAccess;
+
+  static PfxInt32 checkParam(const PfxWorldParam& param);
+  static PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body);
   void reserveBodies(std::size_t n);
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
@@ -302,6 +310,7 @@ class PfxWorld {
 
   PfxWorldParam m_param;
   PfxWorldStats m_stats;
+  double m_simulatedTime = 0;
   PfxTbbTaskManager m_taskManager;
 
   std::vector<PfxRigidState> m_states;

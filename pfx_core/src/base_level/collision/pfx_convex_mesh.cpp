@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "pfx/base_level/base/pfx_utility_allocator.h"
+
 namespace pfx {
 
 namespace {
@@ -357,5 +359,14 @@ PfxInt32 pfxCreateConvexMesh(PfxConvexMesh& mesh, const PfxFloat* vertices, PfxU
   std::memcpy(static_cast<void*>(&mesh), &out, sizeof(out));
   return PFX_OK;
 }
+
+PfxConvexMesh* pfxNewConvexMesh() {
+  auto* mesh =
+      static_cast<PfxConvexMesh*>(pfxUtilityAllocate(sizeof(PfxConvexMesh), PFX_BUFFER_ALIGNMENT));
+  if (mesh) std::memset(static_cast<void*>(mesh), 0, sizeof(*mesh));
+  return mesh;
+}
+
+void pfxDeleteConvexMesh(PfxConvexMesh* mesh) { pfxUtilityFree(mesh); }
 
 }  // namespace pfx

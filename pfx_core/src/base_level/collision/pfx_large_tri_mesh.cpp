@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <vector>
 
 #include "base_level/collision/pfx_large_tri_mesh_access.h"
+#include "pfx/base_level/base/pfx_utility_allocator.h"
 
 namespace pfx {
 
@@ -418,7 +418,9 @@ void rootBounds(PfxLargeTriMesh& mesh, const Node& root, ToFrame&& toFrame) {
   }
 }
 
-void refitNodes(PfxLargeTriMesh& mesh) {
+}  // namespace
+
+void pfxRefitLargeTriMesh(PfxLargeTriMesh& mesh) {
   if (pfxLargeMeshIsQuantized(mesh)) {
     const PfxUInt16* q = mesh.m_quantizedVertices;
     refitNodesOf(mesh, mesh.m_quantizedNodes, PfxUInt16(65535), PfxUInt16(0),
@@ -435,19 +437,14 @@ void refitNodes(PfxLargeTriMesh& mesh) {
   }
 }
 
+namespace {
+
 // Where the block is aligned, and so the node array at its start: a quantized node is then
 // exactly one cache line.
 constexpr std::size_t kBlockAlignment = 64;
 
-// Which arrays a mesh keeps in 16 bits.
-struct Storage {
-  bool quantized;
-  bool cornerOffsets;
-  bool sourceOffsets;
-};
-
 // Carves the arrays out of one block, or only adds up its size when block is null.
-std::size_t layOut(PfxLargeTriMesh& mesh, const Storage& storage, char* block) {
+std::size_t layOut(PfxLargeTriMesh& mesh, const PfxLargeMeshStorage& storage, char* block) {
   std::size_t bytes = 0;
   const auto take = [&](auto*& pointer, std::size_t count) {
     using T = std::remove_reference_t<decltype(*pointer)>;
@@ -483,6 +480,22 @@ std::size_t layOut(PfxLargeTriMesh& mesh, const Storage& storage, char* block) {
   take(mesh.m_islands, mesh.m_numIslands);
   return (bytes + kBlockAlignment - 1) & ~(kBlockAlignment - 1);
 }
+
+}  // namespace
+
+PfxInt32 pfxAllocateLargeTriMeshArrays(PfxLargeTriMesh& mesh, const PfxLargeMeshStorage& storage) {
+  PfxLargeTriMesh sized = mesh;
+  const std::size_t bytes = layOut(sized, storage, nullptr);
+  char* block = static_cast<char*>(pfxUtilityAllocate(bytes, kBlockAlignment));
+  if (!block) return PFX_ERR_OUT_OF_BUFFER;
+  std::memset(block, 0, bytes);
+  layOut(mesh, storage, block);
+  mesh.m_block = block;
+  mesh.m_bytes = bytes;
+  return PFX_OK;
+}
+
+namespace {
 
 PfxInt32 validateParam(const PfxCreateLargeTriMeshParam& param) {
   if (!param.m_vertices || !param.m_triangles) return PFX_ERR_NULL_POINTER;
@@ -551,7 +564,7 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
     const PfxUInt32* ids = param.m_triangles + 3 * std::size_t(sources[t]);
     std::copy(ids, ids + 3, corners.begin() + 3 * std::size_t(t));
   }
-  Storage storage{quantized, quantized, quantized};
+  PfxLargeMeshStorage storage{quantized, quantized, quantized};
   for (PfxLargeMeshIsland& island : builder.m_islands) {
     const auto first = corners.begin() + 3 * std::size_t(island.m_firstTriangle);
     const auto range = std::minmax_element(first, first + 3 * std::size_t(island.m_numTriangles));
@@ -574,13 +587,9 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
   built.m_numNodes = static_cast<PfxUInt32>(builder.m_wideLinks.size());
   built.m_thickness = param.m_thickness;
 
-  const std::size_t bytes = layOut(built, storage, nullptr);
-  char* block = static_cast<char*>(std::aligned_alloc(kBlockAlignment, bytes));
-  if (!block) return PFX_ERR_OUT_OF_BUFFER;
-  std::memset(block, 0, bytes);
-  layOut(built, storage, block);
-  built.m_block = block;
-  built.m_bytes = bytes;
+  if (const PfxInt32 err = pfxAllocateLargeTriMeshArrays(built, storage); err != PFX_OK) {
+    return err;
+  }
 
   std::copy(builder.m_islands.begin(), builder.m_islands.end(), built.m_islands);
   if (quantized) {
@@ -629,14 +638,27 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
   if (!storage.cornerOffsets) std::copy(corners.begin(), corners.end(), built.m_triangleVertices);
   if (!storage.sourceOffsets) std::copy(sources.begin(), sources.end(), built.m_triangleSourceIds);
   computeEdgeFlags(corners, param.m_vertices, param.m_flatEdgeAngle, built.m_edgeFlags);
-  refitNodes(built);
+  pfxRefitLargeTriMesh(built);
   mesh = built;
   return PFX_OK;
 }
 
 void pfxReleaseLargeTriMesh(PfxLargeTriMesh& mesh) {
-  std::free(mesh.m_block);
+  pfxUtilityFree(mesh.m_block);
   std::memset(static_cast<void*>(&mesh), 0, sizeof(mesh));
+}
+
+PfxLargeTriMesh* pfxNewLargeTriMesh() {
+  auto* mesh = static_cast<PfxLargeTriMesh*>(
+      pfxUtilityAllocate(sizeof(PfxLargeTriMesh), PFX_BUFFER_ALIGNMENT));
+  if (mesh) std::memset(static_cast<void*>(mesh), 0, sizeof(*mesh));
+  return mesh;
+}
+
+void pfxDeleteLargeTriMesh(PfxLargeTriMesh* mesh) {
+  if (!mesh) return;
+  pfxReleaseLargeTriMesh(*mesh);
+  pfxUtilityFree(mesh);
 }
 
 PfxInt32 pfxUpdateLargeTriMeshVertices(PfxLargeTriMesh& mesh, const PfxFloat* vertices,
@@ -661,7 +683,7 @@ PfxInt32 pfxUpdateLargeTriMeshVertices(PfxLargeTriMesh& mesh, const PfxFloat* ve
   } else {
     std::copy(vertices, vertices + 3 * std::size_t(numVertices), mesh.m_vertices);
   }
-  refitNodes(mesh);
+  pfxRefitLargeTriMesh(mesh);
   return PFX_OK;
 }
 

@@ -25,6 +25,22 @@ constexpr PfxUInt32 PFX_LARGE_MESH_MAX_DEPTH = 80;
 constexpr PfxUInt32 PFX_LARGE_MESH_STACK_SIZE =
     (PFX_LARGE_MESH_NODE_WIDTH - 1) * PFX_LARGE_MESH_MAX_DEPTH + 1;
 
+// Which arrays a mesh keeps in 16 bits.
+struct PfxLargeMeshStorage {
+  bool quantized;
+  bool cornerOffsets;
+  bool sourceOffsets;
+};
+
+// Allocates the one block for the counts `mesh` holds (vertices, triangles, islands,
+// nodes) through the utility allocator, zeroed, and points the arrays of `storage` into it
+// (the others null). PFX_ERR_OUT_OF_BUFFER, with `mesh` unchanged, when out of memory.
+PfxInt32 pfxAllocateLargeTriMeshArrays(PfxLargeTriMesh& mesh, const PfxLargeMeshStorage& storage);
+
+// Sets the bounds of every node from the vertices, and the mesh's bounds from the root:
+// all that follows from the vertices and the links, whoever filled them in.
+void pfxRefitLargeTriMesh(PfxLargeTriMesh& mesh);
+
 inline bool pfxLargeMeshIsLeaf(PfxUInt32 link) { return (link & PFX_LARGE_MESH_LEAF_BIT) != 0; }
 inline PfxUInt32 pfxLargeMeshLeafCount(PfxUInt32 link) { return (link & 63u) + 1; }
 inline PfxUInt32 pfxLargeMeshLeafOffset(PfxUInt32 link) { return (link >> 6) & 63u; }

@@ -96,6 +96,9 @@ class PfxContactManifold {
   PfxFloat getPenetrationDepth() const;
 
  private:
+  // The serializer (pfx_serialize.h) restores a manifold as it was, points and all.
+  friend class PfxSerializeAccess;
+
   PfxContactPoint m_contactPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
   PfxFloat m_normalCoupling[PFX_NUM_CONTACTS_PER_MANIFOLD][PFX_NUM_CONTACTS_PER_MANIFOLD];
   PfxUInt32 m_rigidBodyIdA;

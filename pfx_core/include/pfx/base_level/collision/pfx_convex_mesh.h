@@ -39,4 +39,10 @@ struct PfxConvexMesh {
 PfxInt32 pfxCreateConvexMesh(PfxConvexMesh& mesh, const PfxFloat* vertices, PfxUInt32 numVertices,
                              const PfxUInt16* indices, PfxUInt32 numIndices);
 
+// A zeroed convex mesh from the utility allocator (pfx_utility_allocator.h), for meshes
+// that live on the heap (a loader's, a serialized file's); null when out of memory.
+PfxConvexMesh* pfxNewConvexMesh();
+// Frees a mesh that pfxNewConvexMesh made. Safe on null.
+void pfxDeleteConvexMesh(PfxConvexMesh* mesh);
+
 }  // namespace pfx

@@ -38,7 +38,8 @@
 // triangle collides as a thin prism reaching `thickness` below its face, so that a body
 // pushed deep into the ground is pushed back out upward rather than through.
 //
-// The mesh owns its buffers (one block allocated by pfxCreateLargeTriMesh). Copies of the
+// The mesh owns its buffers (one block that pfxCreateLargeTriMesh allocates through the
+// utility allocator, pfx_utility_allocator.h). Copies of the
 // struct share the block; release exactly one of them, once. PfxShape stores a pointer to the
 // mesh, which must outlive every shape that names it.
 #pragma once
@@ -165,6 +166,13 @@ PfxInt32 pfxCreateLargeTriMesh(PfxLargeTriMesh& mesh, const PfxCreateLargeTriMes
 
 // Frees the mesh's buffers and zeroes it. Safe on a zeroed mesh.
 void pfxReleaseLargeTriMesh(PfxLargeTriMesh& mesh);
+
+// A zeroed mesh struct from the utility allocator (pfx_utility_allocator.h), to build into
+// with pfxCreateLargeTriMesh when the mesh lives on the heap; null when out of memory.
+PfxLargeTriMesh* pfxNewLargeTriMesh();
+// Releases the mesh's buffers (pfxReleaseLargeTriMesh) and frees a struct that
+// pfxNewLargeTriMesh made. Safe on null.
+void pfxDeleteLargeTriMesh(PfxLargeTriMesh* mesh);
 
 // Moves every vertex (xyz, the caller's order, as many as at creation) and refits the
 // bounds of every node and island without rebuilding the hierarchy, so a deformed mesh stays

@@ -42,6 +42,9 @@ class PfxRigidState {
   bool isValid() const;
 
  private:
+  // The serializer (pfx_serialize.h) restores the sleep counter as it was.
+  friend class PfxSerializeAccess;
+
   PfxVector3 m_position;
   PfxQuat m_orientation;
   PfxVector3 m_linearVelocity;

@@ -1,0 +1,204 @@
+// A whole PfxWorld saved and loaded through the same writer and reader as the seed's
+// entry points, private state included: the pairs of the last step with their manifolds
+// and the order of the free manifold slots (the next new pair takes the last one), so that
+// the loaded world steps bit for bit as the saved one.
+#include <algorithm>
+
+#include "high_level/pfx_serialize_image.h"
+#include "low_level/pfx_param_checks.h"
+
+namespace pfx {
+
+namespace {
+
+PfxInt32 fail(const char* function, const PfxSerializeError& error, std::string* message) {
+  if (message) *message = error.describe();
+  return pfxRejectParam(error.code, "%s: %s", function, error.describe().c_str());
+}
+
+PfxInt32 failOpen(const char* function, const char* path, const char* mode, std::string* message) {
+  PfxSerializeError error;
+  error.code = path ? PFX_ERR_INVALID_VALUE : PFX_ERR_NULL_POINTER;
+  error.reason = path ? std::string("cannot open '") + path + "' for " + mode : "the path is null";
+  return fail(function, error, message);
+}
+
+}  // namespace
+
+void PfxSerializeAccess::describeWorld(const PfxWorld& world, PfxSerializeCapacity& counts,
+                                       PfxSerializeBuffer& buffer, PfxWorldParam& param,
+                                       double& time) {
+  // The buffer's pointers are not const as a read fills them; the writer only reads.
+  PfxWorld& w = const_cast<PfxWorld&>(world);
+  param = w.m_param;
+  time = w.m_simulatedTime;
+  counts.numRigidBodies = w.getNumRigidBodies();
+  counts.numJoints = w.getNumJoints();
+  counts.numJointCouplings = w.getNumJointCouplings();
+  counts.numContactPairs = w.m_numPairs;
+  counts.numSleepingPairs = w.m_numSleepingPairs;
+  counts.numContactManifolds = static_cast<PfxUInt32>(w.m_manifolds.size());
+  counts.numFreeManifolds = static_cast<PfxUInt32>(w.m_freeManifolds.size());
+  counts.numExcludedPairs = static_cast<PfxUInt32>(w.m_excludedPairKeys.size());
+  buffer.worldParam = &param;
+  buffer.simulatedTime = &time;
+  buffer.rigidStates = w.m_states.data();
+  buffer.rigidBodies = w.m_bodies.data();
+  buffer.collidables = w.m_collidables.data();
+  buffer.forces = w.m_forces.data();
+  buffer.torques = w.m_torques.data();
+  buffer.joints = w.m_joints.data();
+  buffer.jointCouplings = w.m_jointCouplings.data();
+  buffer.contactPairs = w.m_pairs.data();
+  buffer.sleepingPairs = w.m_sleepingPairs.data();
+  buffer.contactManifolds = w.m_manifolds.data();
+  buffer.freeManifolds = w.m_freeManifolds.data();
+  buffer.excludedPairKeys = w.m_excludedPairKeys.data();
+}
+
+void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
+                                      const PfxLoadWorldOptions& options,
+                                      PfxSerializedMeshes& meshes) {
+  PfxWorldParam param = image.param;
+  if (!options.keepSavedNumThreads) param.numThreads = options.numThreads;
+  world.initialize(param);
+  world.m_simulatedTime = image.simulatedTime;
+
+  const PfxUInt32 numBodies = image.numBodies();
+  world.reserveBodies(numBodies);
+  for (PfxUInt32 id = 0; id < numBodies; ++id) {
+    const PfxUInt32 first = image.firstShape[id];
+    const PfxUInt32 count = image.firstShape[id + 1] - first;
+    // As addRigidBody builds it: one shape in the collidable, or a compound in its own block.
+    PfxCollidable collidable;
+    std::unique_ptr<PfxShape[]> compound;
+    std::unique_ptr<PfxUInt16[]> compoundIds;
+    if (count == 1) {
+      collidable.reset();
+    } else {
+      compound.reset(new PfxShape[count]);
+      compoundIds.reset(new PfxUInt16[count]);
+      for (PfxUInt32 i = 0; i < count; ++i) compoundIds[i] = static_cast<PfxUInt16>(i);
+      collidable.reset(compound.get(), compoundIds.get(), count);
+    }
+    for (PfxUInt32 i = 0; i < count; ++i) collidable.addShape(image.shapes[first + i]);
+    collidable.finish();
+    world.m_states.push_back(image.states[id]);
+    world.m_bodies.push_back(image.bodies[id]);
+    world.m_collidables.push_back(collidable);
+    world.m_forces.push_back(image.forces[id]);
+    world.m_torques.push_back(image.torques[id]);
+    world.m_compoundShapes.push_back(std::move(compound));
+    world.m_compoundShapeIds.push_back(std::move(compoundIds));
+    if (image.states[id].isAsleep()) ++world.m_numSleepingBodies;
+  }
+  const std::size_t capacity = world.m_states.capacity();
+  world.m_solverBodies.resize(capacity);
+  world.m_islandMarks.resize(capacity);
+  world.m_proxies.resize(capacity);
+  world.m_proxySortWork.resize(capacity);
+
+  world.m_joints = image.joints;
+  world.m_jointPairs.resize(world.m_joints.size());
+  for (const PfxJoint& joint : world.m_joints) {
+    world.m_jointedPairKeys.push_back(
+        pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
+                         std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB)));
+  }
+  std::sort(world.m_jointedPairKeys.begin(), world.m_jointedPairKeys.end());
+  world.m_jointCouplings = image.jointCouplings;
+  world.m_excludedPairKeys = image.excludedPairKeys;
+
+  world.m_manifolds = image.manifolds;
+  world.m_freeManifolds.reserve(world.m_manifolds.capacity());
+  world.m_freeManifolds = image.freeManifolds;
+  world.m_numPairs = static_cast<PfxUInt32>(image.pairs.size());
+  world.m_numSleepingPairs = static_cast<PfxUInt32>(image.sleepingPairs.size());
+  world.reservePairs();
+  std::copy(image.pairs.begin(), image.pairs.end(), world.m_pairs.begin());
+  std::copy(image.sleepingPairs.begin(), image.sleepingPairs.end(), world.m_sleepingPairs.begin());
+  world.countSleepingContacts();
+  world.generateIslands();
+
+  meshes.clear();
+  meshes.m_convexMeshes.swap(image.convexMeshes);
+  meshes.m_largeMeshes.swap(image.largeMeshes);
+}
+
+PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
+  constexpr const char* kFunction = "pfxSaveWorld";
+  PfxSerializeError failure;
+  if (!file) {
+    failure.code = PFX_ERR_NULL_POINTER;
+    failure.reason = "the file is null";
+    return fail(kFunction, failure, error);
+  }
+  PfxSerializeCapacity counts;
+  PfxSerializeBuffer buffer;
+  PfxWorldParam param;
+  double time = 0;
+  PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
+  std::vector<PfxUInt8> bytes;
+  if (pfxEncodeSerialized(counts, buffer, bytes, failure) != PFX_OK) {
+    return fail(kFunction, failure, error);
+  }
+  {
+    PfxSerializeImage check;
+    if (pfxDecodeSerialized(bytes, check, failure, nullptr, nullptr) != PFX_OK) {
+      return fail(kFunction, failure, error);
+    }
+  }
+  if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size() || std::fflush(file) != 0) {
+    failure.code = PFX_ERR_OUT_OF_BUFFER;
+    failure.reason = "the stream refused the bytes";
+    return fail(kFunction, failure, error);
+  }
+  return PFX_OK;
+}
+
+PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* error) {
+  FILE* file = path ? std::fopen(path, "wb") : nullptr;
+  if (!file) return failOpen("pfxSaveWorld", path, "writing", error);
+  const PfxInt32 err = pfxSaveWorld(world, file, error);
+  const bool closed = std::fclose(file) == 0;
+  if (err != PFX_OK) return err;
+  if (!closed) return failOpen("pfxSaveWorld", path, "writing (closing failed)", error);
+  return PFX_OK;
+}
+
+PfxInt32 pfxLoadWorld(PfxWorld& world, FILE* file, PfxSerializedMeshes& meshes, std::string* error,
+                      const PfxLoadWorldOptions& options) {
+  constexpr const char* kFunction = "pfxLoadWorld";
+  PfxSerializeError failure;
+  if (!file) {
+    failure.code = PFX_ERR_NULL_POINTER;
+    failure.reason = "the file is null";
+    return fail(kFunction, failure, error);
+  }
+  if (!options.keepSavedNumThreads && options.numThreads > PFX_MAX_THREADS) {
+    failure.code = PFX_ERR_OUT_OF_RANGE;
+    failure.reason = "PfxLoadWorldOptions::numThreads is " + std::to_string(options.numThreads) +
+                     ", more than PFX_MAX_THREADS";
+    return fail(kFunction, failure, error);
+  }
+  std::vector<PfxUInt8> bytes;
+  if (pfxReadSerializedBytes(file, bytes, failure) != PFX_OK)
+    return fail(kFunction, failure, error);
+  PfxSerializeImage image;
+  if (pfxDecodeSerialized(bytes, image, failure, nullptr, nullptr) != PFX_OK) {
+    return fail(kFunction, failure, error);
+  }
+  PfxSerializeAccess::restoreWorld(world, image, options, meshes);
+  return PFX_OK;
+}
+
+PfxInt32 pfxLoadWorld(PfxWorld& world, const char* path, PfxSerializedMeshes& meshes,
+                      std::string* error, const PfxLoadWorldOptions& options) {
+  FILE* file = path ? std::fopen(path, "rb") : nullptr;
+  if (!file) return failOpen("pfxLoadWorld", path, "reading", error);
+  const PfxInt32 err = pfxLoadWorld(world, file, meshes, error, options);
+  std::fclose(file);
+  return err;
+}
+
+}  // namespace pfx

@@ -1,0 +1,448 @@
+// Serialization (seed chapter 7): a mixed world saved at t = 5 s and loaded into a fresh
+// world continues bit for bit for 10 s on one and two threads; write, read and write give
+// the same bytes; the seed's callbacks are called as documented; meshes go through the
+// utility allocator; files of either precision load in the other.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include "pfx_serialize_test_world.h"
+
+using namespace pfx;
+using namespace pfx_test;
+
+namespace {
+
+constexpr int kSaveStep = 300;  // 5 s at 1/60 s
+constexpr int kResumeSteps = 600;
+
+PfxLargeTriMesh& deformMeshOf(const PfxWorld& world, const MixedWorld& m,
+                              const PfxSerializedMeshes& meshes) {
+  const PfxLargeTriMesh* named = world.getCollidable(m.deformBody).getShape(0).getLargeTriMesh();
+  for (PfxLargeTriMesh* mesh : meshes.largeMeshes()) {
+    if (mesh == named) return *mesh;
+  }
+  ADD_FAILURE() << "the loaded deforming mesh is not among the loaded meshes";
+  return *meshes.largeMeshes().front();
+}
+
+class SerializeResume : public ::testing::TestWithParam<PfxUInt32> {};
+
+TEST_P(SerializeResume, LoadedWorldContinuesBitForBit) {
+  MixedWorld original;
+  buildMixedWorld(original, GetParam());
+  for (int step = 0; step < kSaveStep; ++step) {
+    driveMixedWorld(original.world, original, original.deform.mesh, step);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+  }
+  // The scene holds what the test claims to carry over.
+  const PfxWorldStats& stats = original.world.getStats();
+  EXPECT_GT(stats.numSleepingBodies, 0u);
+  EXPECT_GT(stats.numSleepingPairs, 0u);
+  EXPECT_GT(stats.numAwakeBodies, 0u);
+  EXPECT_GT(stats.numContactPoints, 20u);
+  // The steps of float (or double) 1/60 s, added up in double.
+  EXPECT_NEAR(original.world.getSimulatedTime(), kSaveStep * double(PfxFloat(1) / 60), 1e-9);
+  // A force pending at the save must act after the load as well.
+  ASSERT_EQ(
+      original.world.applyForce(original.pushedBody, PfxVector3(30, 0, 0), PfxVector3::Zero()),
+      PFX_OK);
+
+  const Bytes saved = saveWorld(original.world);
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  std::string error;
+  ASSERT_EQ(loadWorld(loaded, meshes, saved, &error), PFX_OK) << error;
+  EXPECT_EQ(meshes.largeMeshes().size(), 2u);
+  EXPECT_EQ(meshes.convexMeshes().size(), 1u);  // three hulls share one mesh
+  EXPECT_EQ(loaded.getSimulatedTime(), original.world.getSimulatedTime());
+  EXPECT_EQ(loaded.getParam().numThreads, GetParam());
+  EXPECT_TRUE(sameStates(original.world, loaded));
+  EXPECT_EQ(saveWorld(loaded), saved) << "write, read, write changed the bytes";
+
+  PfxLargeTriMesh& loadedDeform = deformMeshOf(loaded, original, meshes);
+  for (int step = kSaveStep; step < kSaveStep + kResumeSteps; ++step) {
+    driveMixedWorld(original.world, original, original.deform.mesh, step);
+    driveMixedWorld(loaded, original, loadedDeform, step);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+    ASSERT_EQ(loaded.step(), PFX_OK);
+    ASSERT_TRUE(sameStates(original.world, loaded)) << "the worlds part at step " << step;
+  }
+  EXPECT_EQ(loaded.getSimulatedTime(), original.world.getSimulatedTime());
+  // Everything else the step carries (pairs, manifolds, impulses, sleep) agrees too.
+  EXPECT_EQ(saveWorld(loaded), saveWorld(original.world));
+  // The scene kept moving: the chain's ball is far from where it hung at the save.
+  EXPECT_GT(original.world.getStats().numAwakeBodies, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Threads, SerializeResume, ::testing::Values(1u, 2u));
+
+TEST(Serialize, LoadCanChooseTheThreadCountAndResultsStayTheSame) {
+  MixedWorld original;
+  buildMixedWorld(original, 1);
+  for (int step = 0; step < 120; ++step) {
+    driveMixedWorld(original.world, original, original.deform.mesh, step);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+  }
+  const Bytes saved = saveWorld(original.world);
+  PfxLoadWorldOptions options;
+  options.keepSavedNumThreads = false;
+  options.numThreads = 2;
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  ASSERT_EQ(loadWorld(loaded, meshes, saved, nullptr, options), PFX_OK);
+  EXPECT_EQ(loaded.getParam().numThreads, 2u);
+  PfxLargeTriMesh& loadedDeform = deformMeshOf(loaded, original, meshes);
+  for (int step = 120; step < 240; ++step) {
+    driveMixedWorld(original.world, original, original.deform.mesh, step);
+    driveMixedWorld(loaded, original, loadedDeform, step);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+    ASSERT_EQ(loaded.step(), PFX_OK);
+  }
+  EXPECT_TRUE(sameStates(original.world, loaded));
+
+  options.numThreads = PFX_MAX_THREADS + 1;
+  std::string error;
+  EXPECT_EQ(loadWorld(loaded, meshes, saved, &error, options), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(error.find("numThreads"), std::string::npos) << error;
+}
+
+TEST(Serialize, SavesAndLoadsByPath) {
+  MixedWorld original;
+  buildMixedWorld(original, 1);
+  ASSERT_EQ(original.world.step(), PFX_OK);
+  const std::string path = ::testing::TempDir() + "pfx_serialize_path.pfx";
+  std::string error;
+  ASSERT_EQ(pfxSaveWorld(original.world, path.c_str(), &error), PFX_OK) << error;
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  ASSERT_EQ(pfxLoadWorld(loaded, path.c_str(), meshes, &error), PFX_OK) << error;
+  EXPECT_TRUE(sameStates(original.world, loaded));
+  std::remove(path.c_str());
+  EXPECT_EQ(pfxLoadWorld(loaded, path.c_str(), meshes, &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_EQ(pfxSaveWorld(original.world, static_cast<const char*>(nullptr), &error),
+            PFX_ERR_NULL_POINTER);
+}
+
+// The application's side of the seed's callbacks: arrays that start empty and grow when the
+// reader asks.
+struct AppBuffers {
+  PfxWorldParam param;
+  double time = 0;
+  std::vector<PfxRigidState> states;
+  std::vector<PfxRigidBody> bodies;
+  std::vector<PfxCollidable> collidables;
+  std::vector<PfxVector3> forces, torques;
+  std::vector<PfxShape> shapes;
+  std::vector<PfxUInt16> shapeIds;
+  std::vector<PfxJoint> joints;
+  std::vector<PfxJointCoupling> couplings;
+  std::vector<PfxBroadphasePair> pairs, sleepingPairs;
+  std::vector<PfxContactManifold> manifolds;
+  std::vector<PfxUInt32> freeManifolds;
+  std::vector<PfxUInt64> excluded;
+  std::vector<PfxConvexMesh*> convexMeshes;
+  std::vector<PfxLargeTriMesh*> largeMeshes;
+  PfxSerializeCapacity loaded;
+  bool allowResize = true;
+  int resizeCalls = 0;
+  int termCalls = 0;
+  std::vector<PfxUInt64> progress;
+  PfxInt32 errorCode = PFX_OK;
+  std::vector<std::string> errorTags;
+
+  ~AppBuffers() {
+    for (PfxConvexMesh* mesh : convexMeshes) pfxDeleteConvexMesh(mesh);
+    for (PfxLargeTriMesh* mesh : largeMeshes) pfxDeleteLargeTriMesh(mesh);
+  }
+
+  void point(PfxSerializeCapacity& c, PfxSerializeBuffer& b) {
+    c.numRigidBodies = PfxUInt32(states.size());
+    c.numShapes = PfxUInt32(shapes.size());
+    c.numJoints = PfxUInt32(joints.size());
+    c.numJointCouplings = PfxUInt32(couplings.size());
+    c.numContactPairs = PfxUInt32(pairs.size());
+    c.numSleepingPairs = PfxUInt32(sleepingPairs.size());
+    c.numContactManifolds = PfxUInt32(manifolds.size());
+    c.numFreeManifolds = PfxUInt32(freeManifolds.size());
+    c.numExcludedPairs = PfxUInt32(excluded.size());
+    c.numConvexMeshes = PfxUInt32(convexMeshes.size());
+    c.numLargeMeshes = PfxUInt32(largeMeshes.size());
+    b.worldParam = &param;
+    b.simulatedTime = &time;
+    b.rigidStates = states.data();
+    b.rigidBodies = bodies.data();
+    b.collidables = collidables.data();
+    b.forces = forces.data();
+    b.torques = torques.data();
+    b.shapes = shapes.data();
+    b.shapeIds = shapeIds.data();
+    b.joints = joints.data();
+    b.jointCouplings = couplings.data();
+    b.contactPairs = pairs.data();
+    b.sleepingPairs = sleepingPairs.data();
+    b.contactManifolds = manifolds.data();
+    b.freeManifolds = freeManifolds.data();
+    b.excludedPairKeys = excluded.data();
+    b.convexMeshes = convexMeshes.data();
+    b.largeMeshes = largeMeshes.data();
+  }
+
+  void resize(const PfxSerializeCapacity& c) {
+    states.resize(c.numRigidBodies);
+    bodies.resize(c.numRigidBodies);
+    collidables.resize(c.numRigidBodies);
+    forces.resize(c.numRigidBodies);
+    torques.resize(c.numRigidBodies);
+    shapes.resize(c.numShapes);
+    shapeIds.resize(c.numShapes);
+    joints.resize(c.numJoints);
+    couplings.resize(c.numJointCouplings);
+    pairs.resize(c.numContactPairs);
+    sleepingPairs.resize(c.numSleepingPairs);
+    manifolds.resize(c.numContactManifolds);
+    freeManifolds.resize(c.numFreeManifolds);
+    excluded.resize(c.numExcludedPairs);
+    convexMeshes.resize(c.numConvexMeshes, nullptr);
+    largeMeshes.resize(c.numLargeMeshes, nullptr);
+  }
+
+  PfxSerializeCallbacks callbacks() {
+    PfxSerializeCallbacks cb;
+    cb.userData = this;
+    cb.init = [](PfxSerializeCapacity& c, PfxSerializeBuffer& b, void* self) {
+      static_cast<AppBuffers*>(self)->point(c, b);
+      return true;
+    };
+    cb.term = [](const PfxSerializeCapacity& c, const PfxSerializeBuffer&, void* self) {
+      static_cast<AppBuffers*>(self)->loaded = c;
+      ++static_cast<AppBuffers*>(self)->termCalls;
+    };
+    cb.resize = [](PfxSerializeCapacity& c, PfxSerializeBuffer& b, const PfxSerializeCapacity& need,
+                   void* self) {
+      AppBuffers& app = *static_cast<AppBuffers*>(self);
+      ++app.resizeCalls;
+      if (!app.allowResize) return false;
+      app.resize(need);
+      app.point(c, b);
+      return true;
+    };
+    cb.update = [](PfxUInt64 done, PfxUInt64 total, void* self) {
+      EXPECT_LE(done, total);
+      static_cast<AppBuffers*>(self)->progress.push_back(done);
+    };
+    cb.error = [](PfxInt32 code, const char* const* tags, PfxUInt32 numTags, void* self) {
+      AppBuffers& app = *static_cast<AppBuffers*>(self);
+      app.errorCode = code;
+      app.errorTags.assign(tags, tags + numTags);
+    };
+    return cb;
+  }
+};
+
+TEST(Serialize, SeedCallbacksReadIntoTheApplicationsArraysAndWriteThemBack) {
+  MixedWorld original;
+  buildMixedWorld(original, 1);
+  for (int step = 0; step < 120; ++step) {
+    driveMixedWorld(original.world, original, original.deform.mesh, step);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+  }
+  const Bytes saved = saveWorld(original.world);
+
+  AppBuffers app;
+  FilePtr in = fileWith(saved);
+  ASSERT_EQ(pfxSerializeRead(in.get(), app.callbacks()), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_EQ(app.resizeCalls, 1);
+  EXPECT_EQ(app.termCalls, 1);
+  EXPECT_EQ(app.loaded.numRigidBodies, original.world.getNumRigidBodies());
+  EXPECT_EQ(app.loaded.numJoints, original.world.getNumJoints());
+  EXPECT_EQ(app.loaded.numShapes, 2u);  // the compound's
+  EXPECT_EQ(app.loaded.numLargeMeshes, 2u);
+  EXPECT_EQ(app.loaded.numConvexMeshes, 1u);
+  EXPECT_EQ(app.loaded.numContactPairs + app.loaded.numSleepingPairs,
+            original.world.getNumContactPairs());
+  ASSERT_EQ(app.progress.size(), 8u);  // once per section
+  EXPECT_EQ(app.progress.back(), saved.size());
+  EXPECT_TRUE(std::is_sorted(app.progress.begin(), app.progress.end()));
+  EXPECT_EQ(std::memcmp(app.states.data(), original.world.getRigidStates(),
+                        sizeof(PfxRigidState) * app.states.size()),
+            0);
+  EXPECT_EQ(ftell(in.get()), long(saved.size())) << "the reader stops at the file's end";
+
+  // Written back from the application's arrays, the bytes are the same.
+  FilePtr out(std::tmpfile());
+  app.termCalls = 0;
+  ASSERT_EQ(pfxSerializeWrite(out.get(), app.callbacks()), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_EQ(app.termCalls, 1);
+  EXPECT_EQ(bytesOf(out.get()), saved);
+}
+
+TEST(Serialize, ReadIntoBuffersTooSmallFailsAndLeavesThemAsTheyWere) {
+  MixedWorld original;
+  buildMixedWorld(original, 1);
+  ASSERT_EQ(original.world.step(), PFX_OK);
+  const Bytes saved = saveWorld(original.world);
+
+  AppBuffers app;
+  app.resize(PfxSerializeCapacity{});
+  app.states.resize(3);
+  app.bodies.resize(3);
+  app.collidables.resize(3);
+  app.forces.resize(3);
+  app.torques.resize(3);
+  std::memset(static_cast<void*>(app.states.data()), 0x5a, sizeof(PfxRigidState) * 3);
+  const std::vector<PfxRigidState> before = app.states;
+  app.allowResize = false;
+  FilePtr in = fileWith(saved);
+  EXPECT_EQ(pfxSerializeRead(in.get(), app.callbacks()), PFX_ERR_OUT_OF_BUFFER);
+  EXPECT_EQ(app.resizeCalls, 1);
+  EXPECT_EQ(app.termCalls, 0);
+  EXPECT_EQ(app.errorCode, PFX_ERR_OUT_OF_BUFFER);
+  EXPECT_EQ(app.errorTags, (std::vector<std::string>{"buffer", "numRigidBodies"}));
+  EXPECT_EQ(std::memcmp(app.states.data(), before.data(), sizeof(PfxRigidState) * 3), 0);
+  EXPECT_TRUE(app.convexMeshes.empty());
+  EXPECT_NE(std::string(pfxGetLastErrorDetail()).find("pfxSerializeRead: buffer/numRigidBodies"),
+            std::string::npos)
+      << pfxGetLastErrorDetail();
+}
+
+TEST(Serialize, RejectsNullArgumentsAndArrays) {
+  AppBuffers app;
+  PfxSerializeCallbacks callbacks = app.callbacks();
+  EXPECT_EQ(pfxSerializeRead(nullptr, callbacks), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(app.errorCode, PFX_ERR_NULL_POINTER);
+  EXPECT_TRUE(app.errorTags.empty());
+  FilePtr file(std::tmpfile());
+  callbacks.init = nullptr;
+  EXPECT_EQ(pfxSerializeWrite(file.get(), callbacks), PFX_ERR_NULL_POINTER);
+  // Bodies to write but no states to write them from.
+  callbacks.init = [](PfxSerializeCapacity& c, PfxSerializeBuffer& b, void* self) {
+    static_cast<AppBuffers*>(self)->point(c, b);
+    c.numRigidBodies = 2;
+    return true;
+  };
+  EXPECT_EQ(pfxSerializeWrite(file.get(), callbacks), PFX_ERR_NULL_POINTER);
+  EXPECT_NE(std::string(pfxGetLastErrorDetail()).find("rigidStates"), std::string::npos);
+  EXPECT_EQ(std::ftell(file.get()), 0) << "nothing is written when the call fails";
+}
+
+// Counts what the utility allocator hands out and takes back.
+std::map<void*, std::size_t> g_allocated;
+void* countingAllocate(std::size_t bytes, std::size_t alignment) {
+  void* p = std::aligned_alloc(alignment, (bytes + alignment - 1) / alignment * alignment);
+  g_allocated[p] = alignment;
+  return p;
+}
+void countingFree(void* p) {
+  EXPECT_EQ(g_allocated.erase(p), 1u) << "freed what the allocator did not allocate";
+  std::free(p);
+}
+
+TEST(Serialize, MeshesGoThroughTheUtilityAllocator) {
+  EXPECT_EQ(pfxSetUtilityAllocator(countingAllocate, nullptr), PFX_ERR_NULL_POINTER);
+  ASSERT_EQ(pfxSetUtilityAllocator(countingAllocate, countingFree), PFX_OK);
+  {
+    MixedWorld original;
+    buildMixedWorld(original, 1);
+    // The terrain's and the deforming mesh's blocks.
+    EXPECT_EQ(g_allocated.size(), 2u);
+    ASSERT_EQ(original.world.step(), PFX_OK);
+    const Bytes saved = saveWorld(original.world);
+    EXPECT_EQ(g_allocated.size(), 2u) << "a save keeps nothing";
+    {
+      PfxWorld loaded;
+      PfxSerializedMeshes meshes;
+      ASSERT_EQ(loadWorld(loaded, meshes, saved), PFX_OK);
+      // Two large meshes (struct and block each) and one convex mesh.
+      EXPECT_EQ(g_allocated.size(), 2u + 5u);
+      for (const auto& entry : g_allocated) EXPECT_GE(entry.second, PFX_BUFFER_ALIGNMENT);
+    }
+    EXPECT_EQ(g_allocated.size(), 2u);
+    PfxLargeTriMesh* heap = pfxNewLargeTriMesh();
+    ASSERT_NE(heap, nullptr);
+    ASSERT_EQ(pfxCreateLargeTriMesh(*heap, original.deformSource.param(0)), PFX_OK);
+    EXPECT_EQ(g_allocated.size(), 4u);
+    pfxDeleteLargeTriMesh(heap);
+    PfxConvexMesh* hull = pfxNewConvexMesh();
+    EXPECT_EQ(g_allocated.size(), 3u);
+    pfxDeleteConvexMesh(hull);
+  }
+  EXPECT_TRUE(g_allocated.empty());
+  ASSERT_EQ(pfxSetUtilityAllocator(nullptr, nullptr), PFX_OK);
+}
+
+std::string fixturePath(const char* precision) {
+  return std::string(PFX_TEST_DATA_DIR) + "/serialize_" + precision + ".pfx";
+}
+
+double readRealAt(const Bytes& bytes, std::size_t at, std::size_t realBytes) {
+  if (realBytes == 4) {
+    const PfxUInt32 bits = getU32(bytes, at);
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  }
+  PfxUInt64 bits = 0;
+  for (int i = 0; i < 8; ++i) bits |= PfxUInt64(bytes[at + i]) << (8 * i);
+  double d;
+  std::memcpy(&d, &bits, 8);
+  return d;
+}
+
+// Each build reads the file the other precision wrote of SmallWorld (tests/core/data;
+// rewritten by a run with PFX_WRITE_SERIALIZE_FIXTURE=1), against SmallWorld built here:
+// contacts, a coupled hinge, meshes of both kinds, and solver rows that hold the writer's
+// largest value.
+TEST(Serialize, ReadsTheOtherPrecisionsFileRoundingEachValueOnce) {
+  constexpr bool kDouble = sizeof(PfxFloat) == 8;
+  SmallWorld own;
+  if (std::getenv("PFX_WRITE_SERIALIZE_FIXTURE")) {
+    ASSERT_EQ(pfxSaveWorld(own.world, fixturePath(kDouble ? "double" : "float").c_str()), PFX_OK);
+  }
+  const std::string otherPath = fixturePath(kDouble ? "float" : "double");
+  FilePtr file(std::fopen(otherPath.c_str(), "rb"));
+  ASSERT_TRUE(file) << otherPath;
+  const Bytes other = bytesOf(file.get());
+  const std::size_t otherRealBytes = kDouble ? 4 : 8;
+  ASSERT_EQ(other[12], otherRealBytes);
+
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  std::string error;
+  ASSERT_EQ(loadWorld(loaded, meshes, other, &error), PFX_OK) << error;
+  // Rounded once: the loaded time step is the file's value converted, nothing else.
+  const std::size_t param = sectionPayload(other, "PARM");
+  const double fileTimeStep = readRealAt(other, param + 9 * otherRealBytes, otherRealBytes);
+  EXPECT_EQ(loaded.getParam().timeStep, static_cast<PfxFloat>(fileTimeStep));
+  EXPECT_NE(double(loaded.getParam().timeStep), kDouble ? 1.0 / 60 : fileTimeStep)
+      << "the value crossed precisions";
+  // The same world within the other precision's round-off over 30 steps.
+  ASSERT_EQ(loaded.getNumRigidBodies(), own.world.getNumRigidBodies());
+  for (PfxUInt32 id = 0; id < loaded.getNumRigidBodies(); ++id) {
+    const PfxRigidState& a = loaded.getRigidState(id);
+    const PfxRigidState& b = own.world.getRigidState(id);
+    EXPECT_LT((a.getPosition() - b.getPosition()).norm(), 1e-3) << "body " << id;
+    EXPECT_EQ(a.getMotionType(), b.getMotionType());
+    EXPECT_NEAR(loaded.getRigidBody(id).getMass(), own.world.getRigidBody(id).getMass(), 1e-6);
+  }
+  // Solver rows without an upper bound hold the writer's largest value; it arrives as ours.
+  bool sawUnbounded = false;
+  for (PfxUInt32 i = 0; i < loaded.getNumContactPairs(); ++i) {
+    const PfxContactManifold& manifold = loaded.getContactManifold(loaded.getContactPair(i));
+    for (PfxUInt32 k = 0; k < manifold.getNumContacts(); ++k) {
+      const PfxFloat upper = manifold.getContactPoint(k).m_constraintRow[0].m_upperLimit;
+      EXPECT_TRUE(std::isfinite(upper));
+      if (upper == std::numeric_limits<PfxFloat>::max()) sawUnbounded = !kDouble;
+      if (kDouble && upper == double(std::numeric_limits<float>::max())) sawUnbounded = true;
+    }
+  }
+  EXPECT_TRUE(sawUnbounded);
+  // The loaded world steps.
+  for (int step = 0; step < 30; ++step) ASSERT_EQ(loaded.step(), PFX_OK);
+}
+
+}  // namespace
