@@ -722,7 +722,8 @@ class UrdfBuilder {
     }
     shape.reset();
     if (fixedBody) {
-      std::unique_ptr<PfxLargeTriMesh, PfxLargeTriMeshRelease> large(new PfxLargeTriMesh{});
+      std::unique_ptr<PfxLargeTriMesh, PfxLargeTriMeshRelease> large(pfxNewLargeTriMesh());
+      if (!large) return fail(PFX_ERR_OUT_OF_BUFFER, subject + "out of memory");
       if (const PfxInt32 err =
               pfxCreateLargeTriMeshFromMesh(triangles, PFX_MESH_FLAG_USE_BVH, *large, &reason);
           err != PFX_OK) {
@@ -731,7 +732,8 @@ class UrdfBuilder {
       shape.setLargeTriMesh(large.get());
       m_build.model.largeMeshes.push_back(std::move(large));
     } else {
-      auto hull = std::make_unique<PfxConvexMesh>();
+      std::unique_ptr<PfxConvexMesh, PfxConvexMeshRelease> hull(pfxNewConvexMesh());
+      if (!hull) return fail(PFX_ERR_OUT_OF_BUFFER, subject + "out of memory");
       if (const PfxInt32 err = pfxCreateConvexHull(triangles, *hull, &reason); err != PFX_OK) {
         return fail(err, subject + "mesh " + quoted(mesh.filename) + ": " + reason);
       }
@@ -1027,9 +1029,10 @@ class UrdfBuilder {
 }  // namespace
 
 void PfxLargeTriMeshRelease::operator()(PfxLargeTriMesh* mesh) const {
-  pfxReleaseLargeTriMesh(*mesh);
-  delete mesh;
+  pfxDeleteLargeTriMesh(mesh);
 }
+
+void PfxConvexMeshRelease::operator()(PfxConvexMesh* mesh) const { pfxDeleteConvexMesh(mesh); }
 
 PfxInt32 pfxBuildUrdf(const urdf::ModelInterface& urdfModel, const PfxUrdfDocumentOrder& order,
                       const std::string& urdfFolder, const PfxUrdfLoadParam& param,

@@ -157,9 +157,13 @@ struct PfxUrdfJoint {
   PfxUInt32 couplingId = kPfxUrdfNoJoint;
 };
 
-// Frees a large mesh the model owns.
+// Free the meshes the model owns, which come from the utility allocator
+// (pfx_utility_allocator.h) like every mesh the library allocates.
 struct PfxLargeTriMeshRelease {
   void operator()(PfxLargeTriMesh* mesh) const;
+};
+struct PfxConvexMeshRelease {
+  void operator()(PfxConvexMesh* mesh) const;
 };
 
 // A loaded robot. Owns the convex and large meshes its bodies' shapes point to: keep it
@@ -182,7 +186,7 @@ struct PfxUrdfModel {
   PfxUInt32 numJoints = 0;
   PfxUInt32 firstCouplingId = 0;
   PfxUInt32 numCouplings = 0;
-  std::vector<std::unique_ptr<PfxConvexMesh>> convexMeshes;
+  std::vector<std::unique_ptr<PfxConvexMesh, PfxConvexMeshRelease>> convexMeshes;
   std::vector<std::unique_ptr<PfxLargeTriMesh, PfxLargeTriMeshRelease>> largeMeshes;
 };
 
