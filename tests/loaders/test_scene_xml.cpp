@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -302,6 +304,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "4: body 'b': unknown attribute 'fricton'"},
         BadInput{"NaN mass", scene("<body name=\"b\" mass=\"nan\"><sphere radius=\"1\"/></body>"),
                  "4: body 'b': mass=\"nan\": expected 1 finite number"},
+        BadInput{"beyond double's range",
+                 scene("<body name=\"b\" mass=\"1e400\"><sphere radius=\"1\"/></body>"),
+                 "4: body 'b': mass=\"1e400\": expected 1 finite number"},
         BadInput{"infinite position",
                  scene("<body name=\"b\" mass=\"1\" position=\"0 inf 0\"><sphere "
                        "radius=\"1\"/></body>"),
@@ -421,4 +426,32 @@ TEST(SceneXml, AMissingMeshNamesTheFile) {
       loadError(scene("<body name=\"b\" mass=\"1\"><convex_mesh file=\"none.stl\"/></body>"));
   EXPECT_EQ(message.rfind("<scene string>:4: convex_mesh: " + kData + "none.stl: ", 0), 0u)
       << message;
+}
+
+// The README's small example scene, read from the README itself so that the two never part:
+// the crate lands and rests, the motor opens the door at 0.5 rad/s up to its 1.6 rad limit.
+TEST(SceneXml, TheReadmeExampleDoesWhatTheReadmeSays) {
+  std::ifstream in(std::string(PFX_SOURCE_DIR) + "/README.md");
+  std::stringstream readme;
+  readme << in.rdbuf();
+  const std::string text = readme.str();
+  const std::size_t begin =
+      text.find("<?xml version=\"1.0\"?>\n<pfx_scene version=\"1\" name=\"door\">");
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = text.find("```", begin);
+  ASSERT_NE(end, std::string::npos);
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxSceneModel model;
+  std::string message;
+  ASSERT_EQ(pfxLoadSceneXmlString(world, text.substr(begin, end - begin), kData,
+                                  PfxSceneLoadParam(), model, &message),
+            PFX_OK)
+      << message;
+  const PfxFloat dt = world.getParam().timeStep;
+  for (int i = 0; i < static_cast<int>(std::lround(2 / dt)); ++i) ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(pfxGetSceneJointPosition(world, joint(model, "hinge")), 1.0, 0.05);
+  EXPECT_NEAR(position(world, model, "crate").z(), 0.2, 0.01);
+  for (int i = 0; i < static_cast<int>(std::lround(3 / dt)); ++i) ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(pfxGetSceneJointPosition(world, joint(model, "hinge")), 1.6, 0.02);
 }

@@ -118,7 +118,8 @@ class Reader {
       char* end = nullptr;
       errno = 0;
       const double value = std::strtod(p, &end);
-      if (end == p || errno == ERANGE || !std::isfinite(value)) {
+      // Finite also once in PfxFloat: 1e39 is a double but no float.
+      if (end == p || errno == ERANGE || !std::isfinite(static_cast<PfxFloat>(value))) {
         fail(e, std::string(name) + "=\"" + text + "\": expected " + std::to_string(count) +
                     (count == 1 ? " finite number" : " finite numbers"));
         return false;
