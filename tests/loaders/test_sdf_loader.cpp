@@ -558,3 +558,88 @@ INSTANTIATE_TEST_SUITE_P(
                "3: physics 'p': max_step_size must be positive and finite (got 0)"},
         BadSdf{"NaN gravity", sdfWorld("<gravity>0 0 nan</gravity>"),
                "3: sdformat: Error reading element <gravity>"}));
+
+TEST(SdfLoader, NestedModelsShapesSurfacesAndMotionTypes) {
+  const std::string cube = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/cube.stl";
+  const std::string models =
+      "<model name=\"floor\"><static>true</static><link name=\"l\">"
+      "<collision name=\"plane\"><geometry><plane><normal>0 0 1</normal><size>20 20</size>"
+      "</plane></geometry></collision>"
+      "<collision name=\"step\"><pose>3 0 0 0 0 0</pose><geometry><mesh><uri>" +
+      cube +
+      "</uri><scale>1 1 0.4</scale></mesh></geometry></collision></link></model>\n"
+      "<model name=\"outer\"><pose>1 2 0 0 0 1.5707963</pose>"
+      "<link name=\"base\"><pose>0 0 0.5 0 0 0</pose><kinematic>true</kinematic>"
+      "<collision name=\"c\"><geometry><capsule><radius>0.1</radius><length>0.4</length>"
+      "</capsule></geometry><surface><bounce><restitution_coefficient>0.5"
+      "</restitution_coefficient></bounce><contact><collide_bitmask>0x3</collide_bitmask>"
+      "</contact></surface></collision></link>"
+      "<model name=\"inner\"><pose>1 0 0 0 0 0</pose>" +
+      cubeLink("l", "0 0 1 0 0 0",
+               "<collision name=\"hull\"><pose>0 0 -0.5 0 0 0</pose><geometry><mesh><uri>" + cube +
+                   "</uri><scale>0.2 0.2 0.2</scale></mesh></geometry></collision>") +
+      "</model>"
+      "<joint name=\"j\" type=\"revolute\"><parent>base</parent><child>inner::l</child>"
+      "<axis><xyz>0 0 1</xyz></axis></joint></model>";
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxSceneModel model;
+  std::string message;
+  ASSERT_EQ(pfxLoadSdfString(world, sdfWorld(models), PfxSceneLoadParam(), model, &message), PFX_OK)
+      << message;
+  // The floor: a fixed body, the plane as a box whose top face is z = 0, the step a large
+  // mesh.
+  const PfxSceneBody& floor = body(model, "floor::l");
+  EXPECT_EQ(world.getRigidState(floor.bodyId).getMotionType(), kPfxMotionTypeFixed);
+  const PfxCollidable& floorShapes = world.getCollidable(floor.bodyId);
+  ASSERT_EQ(floorShapes.getNumShapes(), 2u);
+  EXPECT_EQ(floorShapes.getShape(0).getType(), kPfxShapeBox);
+  EXPECT_TRUE(floorShapes.getShape(0).getBox().m_half.isApprox(PfxVector3(10, 10, 0.5f)));
+  EXPECT_TRUE(floorShapes.getShape(0).getOffsetPosition().isApprox(PfxVector3(0, 0, -0.5f)));
+  EXPECT_EQ(floorShapes.getShape(1).getType(), kPfxShapeLargeTriMesh);
+  // A kinematic link is a keyframe body; its surface gives restitution and filters.
+  const PfxUInt32 base = body(model, "outer::base").bodyId;
+  EXPECT_EQ(world.getRigidState(base).getMotionType(), kPfxMotionTypeKeyframe);
+  EXPECT_TRUE(world.getRigidState(base).getPosition().isApprox(PfxVector3(1, 2, 0.5f), 1e-5f));
+  EXPECT_EQ(world.getRigidState(base).getContactFilterSelf(), 3u);
+  EXPECT_EQ(world.getRigidState(base).getContactFilterTarget(), 3u);
+  EXPECT_FLOAT_EQ(world.getRigidBody(base).getRestitution(), 0.5f);
+  const PfxShape& capsule = world.getCollidable(base).getShape(0);
+  EXPECT_EQ(capsule.getType(), kPfxShapeCapsule);
+  // pfx's capsule lies along X: turned onto the link's Z.
+  EXPECT_NEAR(std::abs((capsule.getOffsetOrientation() * PfxVector3::UnitX()).z()), 1, 1e-5);
+  // The nested model's link: its pose composed through both models (the outer one turned a
+  // quarter about Z), a box and a convex hull.
+  const PfxSceneBody& inner = body(model, "outer::inner::l");
+  EXPECT_TRUE(pfxGetSceneBodyFrame(world, inner).translation().isApprox(PfxVector3(1, 3, 1), 1e-5f))
+      << pfxGetSceneBodyFrame(world, inner).translation().transpose();
+  EXPECT_EQ(world.getCollidable(inner.bodyId).getShape(1).getType(), kPfxShapeConvexMesh);
+  const PfxSceneJoint& j = joint(model, "outer::j");
+  EXPECT_EQ(j.parent, "outer::base");
+  EXPECT_EQ(j.child, "outer::inner::l");
+}
+
+// Gazebo collides the links of one model only with self_collide: two overlapping links stay
+// where they are without it, and are pushed apart with it.
+TEST(SdfLoader, LinksOfOneModelCollideOnlyWithSelfCollide) {
+  for (const bool selfCollide : {false, true}) {
+    const std::string models = "<gravity>0 0 0</gravity><model name=\"m\"><self_collide>" +
+                               std::string(selfCollide ? "true" : "false") + "</self_collide>" +
+                               cubeLink("a", "0 0 1 0 0 0") + cubeLink("b", "0.1 0 1 0 0 0") +
+                               "</model>";
+    PfxWorld world;
+    ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+    PfxSceneModel model;
+    std::string message;
+    ASSERT_EQ(pfxLoadSdfString(world, sdfWorld(models), PfxSceneLoadParam(), model, &message),
+              PFX_OK)
+        << message;
+    for (int i = 0; i < 500; ++i) ASSERT_EQ(world.step(), PFX_OK);
+    const PfxFloat apart = (position(world, model, "m::a") - position(world, model, "m::b")).norm();
+    if (selfCollide) {
+      EXPECT_GT(apart, 0.19f);
+    } else {
+      EXPECT_FLOAT_EQ(apart, 0.1f);
+    }
+  }
+}

@@ -4,6 +4,7 @@
 
 #include <tinyxml2.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>

@@ -157,7 +157,6 @@ std::string elementPath(const sdf::ElementPtr& element) {
 // A body being built from one link, with what the joints need from it.
 struct LinkInfo {
   PfxUInt32 body = 0;
-  bool moves = false;
   std::string model;  // scope of the link's model ("outer::inner")
   bool selfCollide = false;
 };
@@ -179,6 +178,7 @@ class SdfReader {
                (folder.parent_path() / "models").string();
     }
     m_config.AddURIPath("model://", paths);
+    // The loader reports sdformat's errors itself; sdformat would also print them.
     sdf::Console::Instance()->SetQuiet(true);
     sdf::Root root;
     const sdf::Errors errors =
@@ -398,7 +398,6 @@ class SdfReader {
         element && element->HasElement("self_collide") && element->Get<bool>("self_collide");
     LinkInfo info;
     info.body = static_cast<PfxUInt32>(m_build.bodies.size());
-    info.moves = moves;
     info.model = model;
     info.selfCollide = selfCollide || modelSelfCollide;
     m_links[name] = info;
