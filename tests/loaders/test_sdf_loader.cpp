@@ -335,6 +335,23 @@ TEST(SdfLoader, TheFileEntryPointReadsSdf) {
   EXPECT_EQ(world.getParam().gravity, PfxVector3(0, 0, PfxFloat(-9.8)));
 }
 
+TEST(SdfLoader, AModelFileLoadsIntoTheWorldAsItIs) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxSceneModel model;
+  std::string message;
+  ASSERT_EQ(pfxLoadSdfWorld(world, kSdf + "models/ground_plane/model.sdf", PfxSceneLoadParam(),
+                            model, &message),
+            PFX_OK)
+      << message;
+  EXPECT_EQ(model.name, "ground_plane");
+  ASSERT_EQ(model.bodies.size(), 1u);
+  EXPECT_EQ(world.getRigidState(model.bodies[0].bodyId).getMotionType(), kPfxMotionTypeFixed);
+  // A model has no physics: the world keeps its own.
+  EXPECT_FALSE(model.physicsApplied);
+  EXPECT_EQ(world.getParam().gravity, PfxWorldParam().gravity);
+}
+
 TEST(SdfLoader, ModelUrisResolveThroughGazeboModelPathAndSdfPath) {
   const std::string sdf = sdfWorld("<include><uri>model://ground_plane</uri></include>");
   for (const char* variable : {"GAZEBO_MODEL_PATH", "SDF_PATH"}) {
