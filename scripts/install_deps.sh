@@ -2,7 +2,8 @@
 # Installs, from Debian's packages, what the build needs. Usage: install_deps.sh [core|all]
 #   core: compiler, CMake, Eigen, oneTBB (the task manager), GoogleTest, Google Benchmark (the
 #         physics core and its tests)
-#   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo), the ROS node
+#   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo, tinyxml2 and
+#         libsdformat for scene files), the ROS node
 #         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
 #         peers (Bullet, ODE, MuJoCo, Embree, gnuplot)
 set -euo pipefail
@@ -14,6 +15,8 @@ packages=("${core[@]}")
 if [ "$set_name" = all ]; then
   # The URDF loader reads what urdfdom cannot (capsules) with urdfdom's TinyXML itself.
   packages+=(liburdfdom-dev libtinyxml-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
+  # Scene files: pfx scene XML through tinyxml2, SDFormat worlds through libsdformat 12.
+  packages+=(libtinyxml2-dev libsdformat-dev)
   # ROS1 from Debian: the message packages come twice, as C++ headers (lib*-dev) and as
   # the .msg definitions that message generation reads (ros-*).
   packages+=(catkin libroscpp-dev libtf2-ros-dev liburdf-dev ros-message-generation
