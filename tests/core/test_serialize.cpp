@@ -75,8 +75,9 @@ TEST_P(SerializeResume, LoadedWorldContinuesBitForBit) {
   EXPECT_EQ(loaded.getSimulatedTime(), original.world.getSimulatedTime());
   // Everything else the step carries (pairs, manifolds, impulses, sleep) agrees too.
   EXPECT_EQ(saveWorld(loaded), saveWorld(original.world));
-  // The scene kept moving: the chain's ball is far from where it hung at the save.
-  EXPECT_GT(original.world.getStats().numAwakeBodies, 0u);
+  // The comparison covered motion to the end, not a world come to rest: the chain, the
+  // pendulums and the paddle at least still move.
+  EXPECT_GE(original.world.getStats().numAwakeBodies, 9u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Threads, SerializeResume, ::testing::Values(1u, 2u));
