@@ -83,11 +83,9 @@ class Target {
       // worlds of a sane amount of work are stepped.
       const PfxWorldParam& param = loaded.getParam();
       if (PfxUInt64(param.subStep) * param.iteration <= 1000) {
-        for (int i = 0; i < 2; ++i) {
-          const PfxInt32 stepped = loaded.step();
-          EXPECT_TRUE(stepped == PFX_OK || stepped == PFX_ERR_INVALID_VALUE)
-              << pfxGetLastErrorDetail();
-        }
+        const PfxInt32 stepped = loaded.step();
+        EXPECT_TRUE(stepped == PFX_OK || stepped == PFX_ERR_INVALID_VALUE)
+            << pfxGetLastErrorDetail();
       }
       if (checkWorld) {
         PfxSerializedMeshes none;
@@ -175,17 +173,17 @@ TEST(SerializeReader, EveryChangedByteBehindAResealedChecksumLoadsSafelyOrIsReje
   Target target;
   int rejected = 0;
   for (std::size_t at = 32; at < bytes.size(); ++at) {
-    for (PfxUInt8 pattern : {PfxUInt8(0xff), PfxUInt8(0x01)}) {
-      Bytes changed = bytes;
-      changed[at] ^= pattern;
-      resealChecksum(changed);
-      rejected += target.load(changed, at % 16 == 0) != PFX_OK;
-      if (::testing::Test::HasFailure()) FAIL() << "byte " << at << " ^ " << int(pattern);
-    }
+    // Every bit flipped on even bytes, the lowest one on odd ones (a count off by one).
+    const PfxUInt8 pattern = at % 2 == 0 ? 0xff : 0x01;
+    Bytes changed = bytes;
+    changed[at] ^= pattern;
+    resealChecksum(changed);
+    rejected += target.load(changed, at % 16 == 0) != PFX_OK;
+    if (::testing::Test::HasFailure()) FAIL() << "byte " << at << " ^ " << int(pattern);
   }
   // Most bytes are values that may take any other finite value; counts, ids, enums and
   // exponents may not.
-  EXPECT_GT(rejected, int(bytes.size() / 20));
+  EXPECT_GT(rejected, int(bytes.size() / 40));
 }
 
 TEST(SerializeReader, ASampleOfALargeFilesBytesLoadsSafelyOrIsRejected) {

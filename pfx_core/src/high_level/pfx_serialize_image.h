@@ -75,8 +75,8 @@ class PfxSerializeAccess {
   static PfxInt32 checkBody(const PfxRigidState& state, const PfxRigidBody& body) {
     return PfxWorld::validateBody(state, body);
   }
-  // The world's arrays as the writer takes them; `shapes` is unused (a write reads the
-  // collidables' shapes).
+  // The world's arrays as the writer takes them (it finds the shapes through the
+  // collidables).
   static void describeWorld(const PfxWorld& world, PfxSerializeCapacity& counts,
                             PfxSerializeBuffer& buffer, PfxWorldParam& param, double& time);
   // Replaces the world's content by the image's (already checked) and hands the meshes to

@@ -4,6 +4,7 @@
 // make a later step read outside an array or start from NaN.
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 #include "base_level/collision/pfx_large_tri_mesh_access.h"
 #include "high_level/pfx_serialize_image.h"
@@ -721,8 +722,24 @@ bool Parser::contacts() {
     PfxTagScope tag(r, at("manifold", i));
     if (!manifold(m_image.manifolds[i])) return false;
   }
-  return pairList("awake pairs", m_image.pairs, manifoldUse) &&
-         pairList("sleeping pairs", m_image.sleepingPairs, manifoldUse);
+  if (!pairList("awake pairs", m_image.pairs, manifoldUse) ||
+      !pairList("sleeping pairs", m_image.sleepingPairs, manifoldUse)) {
+    return false;
+  }
+  // A pair is awake or asleep, not both: waking would merge the two into one list.
+  const auto byKey = [](const PfxBroadphasePair& a, const PfxBroadphasePair& b) {
+    return a.key < b.key;
+  };
+  std::vector<PfxBroadphasePair> both;
+  std::set_intersection(m_image.pairs.begin(), m_image.pairs.end(), m_image.sleepingPairs.begin(),
+                        m_image.sleepingPairs.end(), std::back_inserter(both), byKey);
+  if (!both.empty()) {
+    PfxTagScope tag(r, "sleeping pairs");
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "key",
+                  "bodies " + std::to_string(pfxGetObjectIdA(both[0])) + " and " +
+                      std::to_string(pfxGetObjectIdB(both[0])) + " are also an awake pair");
+  }
+  return true;
 }
 
 }  // namespace

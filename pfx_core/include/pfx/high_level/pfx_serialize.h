@@ -125,7 +125,8 @@ PfxInt32 pfxSerializeWrite(FILE* file, const PfxSerializeCallbacks& callbacks);
 // (file, init callback, an array), PFX_ERR_INVALID_FLAG (not this format, another version,
 // an unknown enum), PFX_ERR_OUT_OF_BUFFER (cut short, or a buffer too small and not
 // resized), PFX_ERR_OUT_OF_RANGE (an index or count outside its limit),
-// PFX_ERR_INVALID_VALUE (NaN, infinity, or a value the world would reject).
+// PFX_ERR_INVALID_VALUE (bytes that no longer match the file's checksum, NaN, infinity, or
+// a value the world would reject).
 PfxInt32 pfxSerializeRead(FILE* file, const PfxSerializeCallbacks& callbacks);
 
 // The meshes a pfxLoadWorld allocated, which the loaded world's shapes point to: keep this

@@ -6,6 +6,11 @@
 //   pfxSetupContactConstraints: PfxSetupContactConstraintsParam::timeStep is 0; it must be
 //   positive and finite
 //
+// Serialization (pfx_serialize.h) writes its failures here too, the place in the file as
+// its tags:
+//
+//   pfxSerializeRead: bodies/body 12/state/position: is nan; it must be finite
+//
 // A rejected call writes its detail to a buffer of the calling thread and nothing else,
 // so the detail of a call made on another thread never shows here. A call that succeeds
 // leaves the detail as it was (like errno): read it right after the call that failed.
