@@ -16,7 +16,7 @@ bool inRange(PfxFloat value, PfxFloat lo, PfxFloat hi) {
 bool positive(PfxFloat value) { return pfxIsFinite(value) && value > 0; }
 
 // Contacts cannot tip a character: its inertia is this many times its mass (kg m^2 per kg).
-constexpr PfxFloat kUprightInertiaPerMass = PfxFloat(1e6);
+constexpr PfxFloat kUprightInertiaPerMass = PfxFloat(1e2);
 
 }  // namespace
 
@@ -111,6 +111,8 @@ PfxInt32 PfxCharacterController::addCharacter(const PfxCharacterParam& param,
     return err;
   }
 
+  if (m_characterBodies.size() <= bodyId) m_characterBodies.resize(bodyId + 1, false);
+  m_characterBodies[bodyId] = true;
   const auto free = std::find_if(m_characters.begin(), m_characters.end(),
                                  [](const Character& c) { return !c.live; });
   const PfxUInt32 id = static_cast<PfxUInt32>(free - m_characters.begin());
@@ -121,6 +123,8 @@ PfxInt32 PfxCharacterController::addCharacter(const PfxCharacterParam& param,
   character.cosMaxSlope = std::cos(param.maxSlope);
   character.live = true;
   character.status.footPosition = footPosition;
+  // Its first update finds out whether it stands or falls; standing, it does not land first.
+  character.status.state = kPfxCharacterStanding;
   character.status.rigidBodyId = bodyId;
   ++m_numCharacters;
   if (m_plans.size() < m_characters.size()) m_plans.resize(m_characters.capacity());
@@ -144,6 +148,7 @@ PfxInt32 PfxCharacterController::removeCharacter(PfxUInt32 id) {
     return err;
   }
   m_parkedBodies.push_back(character.status.rigidBodyId);
+  m_characterBodies[character.status.rigidBodyId] = false;
   character.live = false;
   --m_numCharacters;
   return PFX_OK;

@@ -71,7 +71,9 @@ PfxInt32 PfxCharacterController::query(const Character& character, const PfxVect
   return err;
 }
 
-// The walkable surface least far below the capsule; of two equally far, the flatter.
+// The walkable surface least far below the capsule; of two equally far, the flatter. Other
+// characters are no ground: a head is round and moves of its own will, so a character that
+// lands on one slides off.
 PfxCharacterController::Ground PfxCharacterController::findGround(const Character& character,
                                                                   PfxUInt32 numContacts) const {
   const PfxVector3 upward = up();
@@ -80,7 +82,10 @@ PfxCharacterController::Ground PfxCharacterController::findGround(const Characte
     const PfxContactCandidate& contact = m_contacts[i].m_contact;
     const PfxVector3 normal = -contact.m_normal;  // out of the surface, towards the capsule
     const PfxFloat cosine = normal.dot(upward);
-    if (cosine < character.cosMaxSlope || cosine <= 0) continue;
+    if (cosine < character.cosMaxSlope || cosine <= 0 ||
+        isCharacterBody(m_contacts[i].m_rigidBodyId)) {
+      continue;
+    }
     // How far the capsule would move straight down to touch the surface's plane.
     const PfxFloat drop = contact.m_distance / cosine;
     const bool closer = drop < ground.drop - kSkin;
@@ -97,12 +102,14 @@ PfxCharacterController::Ground PfxCharacterController::findGround(const Characte
 
 // The velocity at which a point at `center` riding the ground moves over the next step:
 // the ground's move and turn as the world integrates them (the exact rotation of its
-// angular velocity), so that a platform carries a character round without drift.
+// angular velocity), so that a platform carries a character round without drift. Only
+// keyframe ground carries: a loose body under the feet is moved by the feet themselves, and
+// taking on its motion would feed that back.
 PfxVector3 PfxCharacterController::groundVelocity(const Ground& ground,
                                                   const PfxVector3& center) const {
   if (!ground.found) return PfxVector3::Zero();
   const PfxRigidState& state = m_world.getRigidState(ground.bodyId);
-  if (state.getMotionType() == kPfxMotionTypeFixed) return PfxVector3::Zero();
+  if (state.getMotionType() != kPfxMotionTypeKeyframe) return PfxVector3::Zero();
   const PfxFloat timeStep = m_world.getParam().timeStep;
   const PfxVector3 arm = center - state.getPosition();
   const PfxVector3 turn = state.getAngularVelocity() * timeStep;

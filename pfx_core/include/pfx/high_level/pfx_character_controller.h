@@ -168,12 +168,16 @@ class PfxCharacterController {
                           bool& againstSteep, bool& blockedLow) const;
   void transition(Character& character, PfxCharacterState state) const;
   PfxVector3 up() const;
+  bool isCharacterBody(PfxUInt32 bodyId) const {
+    return bodyId < m_characterBodies.size() && m_characterBodies[bodyId];
+  }
 
   PfxWorld& m_world;
   std::vector<Character> m_characters;  // indexed by character id
   std::vector<Plan> m_plans;
   std::vector<PfxQueryContact> m_contacts;
   std::vector<PfxUInt32> m_parkedBodies;
+  std::vector<bool> m_characterBodies;  // indexed by rigid body id: held by a live character
   PfxUInt32 m_numCharacters = 0;
 };
 
