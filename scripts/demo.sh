@@ -2,9 +2,9 @@
 # The main job: installs what is missing, builds the core, the loaders and the ROS node,
 # runs the headless samples of the simple and the stable pipeline (driven stage by stage
 # through the low-level API), of sleep, of the ragdoll and of the character controller,
-# then the ROS demo (scripts/demo_ros.sh): a rosmaster, the ragdoll falling onto the ground in pfx_node with
-# rviz under Xvfb, a raycast and the contacts asked for from the command line, and rviz's
-# picture of the scene in build/ragdoll.png.
+# then the ROS demo (scripts/demo_ros.sh): a rosmaster, the ragdoll falling onto the ground
+# in pfx_node with rviz under Xvfb, a raycast and the contacts asked for from the command
+# line, and rviz's picture of the scene in build/ragdoll.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
@@ -301,6 +302,9 @@ TEST(CharacterController, ClimbsAStepBelowMaxStepHeightAndNotOneAbove) {
     ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(1.5f, 0, 0)), PFX_OK);
     run(world, controller, 2.5f);
     const PfxCharacterStatus status = statusOf(controller, id);
+    std::printf("maxStepHeight %.2f m, step %.2f m: foot at x %.3f, y %.3f m, %u steps\n",
+                double(param.maxStepHeight), double(rise), double(status.footPosition.x()),
+                double(status.footPosition.y()), status.numSteps);
     if (rise < param.maxStepHeight) {
       EXPECT_NEAR(status.footPosition.y(), rise, 0.01f) << "rise " << rise;
       EXPECT_GT(status.footPosition.x(), 2.0f);
@@ -314,31 +318,36 @@ TEST(CharacterController, ClimbsAStepBelowMaxStepHeightAndNotOneAbove) {
   }
 }
 
-// maxSlope 30 degrees: a 29 degree ramp is walked up, a 31 degree one is not.
+// With maxSlope 30 and 45 degrees: a ramp one degree less steep is walked up, one a degree
+// steeper is not.
 TEST(CharacterController, SlopeLimitWithinOneDegree) {
-  for (const PfxFloat slope : {29.0f, 31.0f}) {
-    PfxWorld world;
-    initWorld(world);
-    addFloor(world);
-    addRamp(world, slope * kDegree, 1, 8);
-    PfxCharacterController controller(world);
-    PfxCharacterParam param;
-    param.maxSlope = 30 * kDegree;
-    param.maxStepHeight = 0.1f;
-    PfxUInt32 id = 0;
-    ASSERT_EQ(controller.addCharacter(param, PfxVector3::Zero(), &id), PFX_OK);
-    ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(2, 0, 0)), PFX_OK);
-    PfxFloat highest = 0;
-    run(world, controller, 3,
-        [&] { highest = std::max(highest, statusOf(controller, id).footPosition.y()); });
-    const PfxCharacterStatus status = statusOf(controller, id);
-    if (slope < 30) {
-      // 2 m/s for 2.5 s up the ramp: well over 1.5 m high.
-      EXPECT_GT(status.footPosition.y(), 1.5f) << "slope " << slope;
-      EXPECT_EQ(status.state, kPfxCharacterWalking);
-    } else {
-      EXPECT_LT(highest, 0.15f) << "slope " << slope;
-      EXPECT_LT(status.footPosition.x(), 1.2f);
+  for (const PfxFloat limit : {30.0f, 45.0f}) {
+    for (const PfxFloat slope : {limit - 1, limit + 1}) {
+      PfxWorld world;
+      initWorld(world);
+      addFloor(world);
+      addRamp(world, slope * kDegree, 1, 8);
+      PfxCharacterController controller(world);
+      PfxCharacterParam param;
+      param.maxSlope = limit * kDegree;
+      param.maxStepHeight = 0.1f;
+      PfxUInt32 id = 0;
+      ASSERT_EQ(controller.addCharacter(param, PfxVector3::Zero(), &id), PFX_OK);
+      ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(2, 0, 0)), PFX_OK);
+      PfxFloat highest = 0;
+      run(world, controller, 3,
+          [&] { highest = std::max(highest, statusOf(controller, id).footPosition.y()); });
+      const PfxCharacterStatus status = statusOf(controller, id);
+      std::printf("maxSlope %.0f deg, ramp %.0f deg: highest foot %.3f m\n", double(limit),
+                  double(slope), double(highest));
+      if (slope < limit) {
+        // 2 m/s for 2.5 s up the ramp: well over 1.5 m high.
+        EXPECT_GT(status.footPosition.y(), 1.5f) << "slope " << slope;
+        EXPECT_EQ(status.state, kPfxCharacterWalking);
+      } else {
+        EXPECT_LT(highest, 0.15f) << "slope " << slope;
+        EXPECT_LT(status.footPosition.x(), 1.2f);
+      }
     }
   }
 }
@@ -409,6 +418,8 @@ TEST(CharacterController, JumpsToTheHeightOfItsJumpSpeed) {
   });
   // v^2 / 2g = 1.275 m; the discrete step loses about v dt / 2.
   const PfxFloat expected = 25 / (2 * 9.80665f);
+  std::printf("jump at 5 m/s: highest foot %.3f m, v^2/2g %.3f m\n", double(highest),
+              double(expected));
   EXPECT_NEAR(highest, expected, 0.05f);
   EXPECT_EQ(states, (std::vector<PfxCharacterState>{kPfxCharacterJumping, kPfxCharacterFalling,
                                                     kPfxCharacterLanding, kPfxCharacterStanding}));
@@ -443,6 +454,8 @@ TEST(CharacterController, RidesAMovingTurningPlatformWithoutSlipping) {
     ASSERT_EQ(world.step(), PFX_OK);
   }
   const PfxFloat slip = (inPlatformFrame() - start).norm();
+  std::printf("platform at 1 m/s turning 0.5 rad/s: slip %.2e m in %.0f s (%.2e m/s)\n",
+              double(slip), double(seconds), double(slip / seconds));
   EXPECT_LT(slip, 0.01f * seconds);
   EXPECT_EQ(statusOf(controller, id).groundBodyId, platform);
   EXPECT_EQ(statusOf(controller, id).state, kPfxCharacterStanding);
@@ -488,6 +501,11 @@ TEST(CharacterController, PushesWithAtMostMaxForce) {
       }
     });
     const PfxFloat boxMoved = world.getRigidState(box).getPosition().x() - 1.5f;
+    std::printf(
+        "maxForce %.0f N against a %.0f kg box: arrival impulse %.1f N s, then force "
+        "mean %.1f N, largest %.1f N; box moved %.3f m\n",
+        double(param.maxForce), double(boxMass), double(largestImpulse),
+        forceSteps > 0 ? forceSum / forceSteps : 0.0, double(largestForce), double(boxMoved));
     EXPECT_LT(largestImpulse, param.mass * 1.0f * 1.05f) << "box " << boxMass;
     if (boxMass > 100) {
       EXPECT_LT(largestForce, param.maxForce * 1.02f);
@@ -528,6 +546,39 @@ TEST(CharacterController, IsPushedByAHeavierPushAndBlocksAnEqualOne) {
   EXPECT_GT(closest, 2 * weak.radius - 0.02f);
   EXPECT_NEAR(statusOf(controller, left).footPosition.x(), 1 - weak.radius, 0.02f);
   EXPECT_NEAR(statusOf(controller, right).footPosition.x(), 1 + weak.radius, 0.02f);
+}
+
+// A 100 kg box sliding at 4 m/s on ice into a standing 80 kg character: they go on together
+// at 400 / 180 = 2.22 m/s, and the character's 1600 N brings both to rest at 8.9 m/s^2,
+// after 2.22^2 / (2 * 8.9) = 0.28 m.
+TEST(CharacterController, IsPushedByAHeavyBodyThatHitsIt) {
+  PfxWorld world;
+  initWorld(world);
+  PfxBodyInit ice;
+  ice.mass = 0;
+  ice.friction = 0;
+  ice.position = PfxVector3(0, -0.5f, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(50, 0.5f, 50)), ice), PFX_OK);
+  PfxBodyInit sled;
+  sled.mass = 100;
+  sled.friction = 0;
+  sled.position = PfxVector3(-3, 0.5f, 0);
+  sled.linearVelocity = PfxVector3(4, 0, 0);
+  PfxUInt32 box = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), sled, &box), PFX_OK);
+  PfxCharacterController controller(world);
+  PfxUInt32 id = 0;
+  ASSERT_EQ(controller.addCharacter(PfxCharacterParam(), PfxVector3::Zero(), &id), PFX_OK);
+  run(world, controller, 1.5f);
+  const PfxCharacterStatus status = statusOf(controller, id);
+  std::printf("hit by a 100 kg box at 4 m/s: shoved %.2f m, box slowed to %.2f m/s\n",
+              double(status.footPosition.x()),
+              double(world.getRigidState(box).getLinearVelocity().x()));
+  const PfxFloat together = 400.0f / 180;
+  EXPECT_NEAR(status.footPosition.x(), together * together / (2 * 1600 / 180.0f), 0.04f);
+  EXPECT_NEAR(world.getRigidState(box).getLinearVelocity().x(), 0, 0.05f);
+  // Neither passed through the other.
+  EXPECT_GT(status.footPosition.x() - world.getRigidState(box).getPosition().x(), 0.8f - 0.02f);
 }
 
 TEST(CharacterController, NeverPassesThroughAThinWallOrFloorAtItsTopSpeeds) {
@@ -589,6 +640,36 @@ TEST(CharacterController, WalksOnAndLandsOnALargeMesh) {
   EXPECT_EQ(statusOf(controller, walker).groundBodyId, meshId);
   EXPECT_NEAR(statusOf(controller, faller).footPosition.y(), 0, 0.01f);
   EXPECT_EQ(statusOf(controller, faller).groundBodyId, meshId);
+}
+
+// The same grid stood up as a wall (the body turned a quarter about Z), run into at 30 m/s.
+TEST(CharacterController, NeverPassesThroughALargeMeshWall) {
+  PfxWorld world;
+  initWorld(world);
+  addFloor(world);
+  GridMesh grid(40);
+  PfxShape shape;
+  shape.reset();
+  shape.setLargeTriMesh(&grid.mesh);
+  PfxBodyInit init;
+  init.mass = 0;
+  init.position = PfxVector3(3, 0, 0);
+  init.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(PFX_PI / 2, PfxVector3::UnitZ()));
+  ASSERT_EQ(pfxAddBody(world, shape, init), PFX_OK);
+  PfxCharacterController controller(world);
+  PfxCharacterParam param;
+  param.maxSpeed = 30;
+  PfxUInt32 id = 0;
+  ASSERT_EQ(controller.addCharacter(param, PfxVector3(-40, 0, 0.5f), &id), PFX_OK);
+  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(30, 0, 0)), PFX_OK);
+  PfxFloat fastest = 0, furthest = -40;
+  run(world, controller, 3, [&] {
+    fastest = std::max(fastest, statusOf(controller, id).velocity.x());
+    furthest = std::max(furthest, statusOf(controller, id).footPosition.x());
+  });
+  EXPECT_GT(fastest, 25.0f);
+  EXPECT_LT(furthest, 3 - param.radius + 0.01f);
+  EXPECT_GT(furthest, 3 - param.radius - 0.05f);
 }
 
 TEST(CharacterController, IsABodyThatRaysAndContactsSee) {

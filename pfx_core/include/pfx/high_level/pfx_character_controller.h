@@ -3,23 +3,25 @@
 // jump, push loose bodies with a bounded force and are pushed by them.
 //
 // A character is a real body of the world: an active capsule, frictionless, whose inertia
-// is so large that contacts cannot tip it. Everything in the world meets it as it meets
-// any body: rays hit it, contacts list it, boxes land on it, other characters block it, and
-// the solver's speculative contacts keep it from passing through walls and floors at any
-// speed. The controller owns no physics: once per step, before PfxWorld::step(), update()
-// asks the world where each character's ground and walls are (PfxWorld::queryContacts),
+// is so large that contacts barely turn it, and update() sets it upright again. Everything in the
+// world meets it as it meets any body: rays hit it, contacts list it, boxes land on it, other
+// characters block it, and the solver's speculative contacts keep it from passing through walls and
+// floors at any speed. The controller owns no physics: once per step, before PfxWorld::step(),
+// update() asks the world where each character's ground and walls are (PfxWorld::queryContacts),
 // runs the state machine, and sets each body's velocity, or its position for a step up or
 // a snap down to the ground, through PfxWorld::setRigidState.
 //
 // How it walks. On the ground the controller steers the velocity relative to the ground
-// (the ground's own motion at the character, a platform's turn included, is added in full,
-// as feet that do not slip) towards the desired velocity laid onto the ground's plane,
+// (a keyframe ground's motion at the character, a platform's turn included, is added in
+// full, as feet that do not slip; loose bodies and other characters carry nothing, see
+// pfx_character_motion.cpp) towards the desired velocity laid onto the ground's plane,
 // changing it by at most maxForce / mass * timeStep per step: so maxForce is how hard it
 // accelerates and the most it pushes with, and anything that pushes harder moves it. The
 // part of gravity along a walkable slope is cancelled, as feet would hold it. Ground is a
-// surface within groundProbe below the capsule whose normal is within maxSlope of up;
-// after a step on the ground it is sought down to maxStepHeight + groundProbe, and the body
-// is moved down onto it, which keeps it on stairs and slopes going down. Steeper surfaces
+// surface within groundProbe below the capsule whose normal is within maxSlope of up (not
+// another character: one that lands on a head slides off); after a step on the ground it
+// is sought down to maxStepHeight + groundProbe, and the body is moved down onto it, which
+// keeps it on stairs and slopes going down. Steeper surfaces
 // of bodies that forces do not move (fixed, keyframe) are walls: the desired velocity loses
 // its part into them, so it cannot creep up a steep ramp and slides down one. A wall lower
 // than maxStepHeight in front of a character on the ground is a step when there is room
