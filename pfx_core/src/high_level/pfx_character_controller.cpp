@@ -15,7 +15,12 @@ bool inRange(PfxFloat value, PfxFloat lo, PfxFloat hi) {
 
 bool positive(PfxFloat value) { return pfxIsFinite(value) && value > 0; }
 
-// Contacts cannot tip a character: its inertia is this many times its mass (kg m^2 per kg).
+// Room for the contact points of one query: a character touches a handful of bodies, each
+// giving at most a few points.
+constexpr std::size_t kMaxQueryContacts = 64;
+
+// Contacts barely turn a character, and update() sets it upright again: its inertia is this
+// many times its mass (kg m^2 per kg), some 300 times a solid capsule's of its size.
 constexpr PfxFloat kUprightInertiaPerMass = PfxFloat(1e2);
 
 }  // namespace
@@ -51,7 +56,8 @@ PfxInt32 pfxCheckCharacterParam(const PfxCharacterParam& param) {
   return valid ? PFX_OK : PFX_ERR_INVALID_VALUE;
 }
 
-PfxCharacterController::PfxCharacterController(PfxWorld& world) : m_world(world) {}
+PfxCharacterController::PfxCharacterController(PfxWorld& world)
+    : m_world(world), m_contacts(kMaxQueryContacts) {}
 
 PfxVector3 PfxCharacterController::up() const {
   const PfxVector3& gravity = m_world.getParam().gravity;

@@ -9,9 +9,6 @@ namespace pfx {
 
 namespace {
 
-// Room for the contact points of one query: a character touches a handful of bodies, each
-// giving at most a few points.
-constexpr PfxUInt32 kMaxQueryContacts = 64;
 // Gap left below a body put onto a surface (m), so that it does not start the step inside.
 constexpr PfxFloat kSkin = PfxFloat(0.002);
 // Overlap that still counts as room for the capsule (m): resting contacts sink by about the
@@ -35,7 +32,6 @@ PfxVector3 clampLength(const PfxVector3& v, PfxFloat maxLength) {
 }  // namespace
 
 PfxInt32 PfxCharacterController::update() {
-  if (m_contacts.size() < kMaxQueryContacts) m_contacts.resize(kMaxQueryContacts);
   const PfxUInt32 count = getIdLimit();
   for (PfxUInt32 id = 0; id < count; ++id) {
     m_plans[id].write = false;
@@ -66,7 +62,8 @@ PfxInt32 PfxCharacterController::query(const Character& character, const PfxVect
   in.contactFilterTarget = character.param.contactFilterTarget;
   in.ignoreRigidBodyId = character.status.rigidBodyId;
   PfxQueryContactsResult result;
-  const PfxInt32 err = m_world.queryContacts(in, m_contacts.data(), kMaxQueryContacts, result);
+  const PfxInt32 err = m_world.queryContacts(in, m_contacts.data(),
+                                             static_cast<PfxUInt32>(m_contacts.size()), result);
   numContacts = err == PFX_OK ? result.numContacts : 0;
   return err;
 }
