@@ -376,26 +376,44 @@ TEST(CharacterController, StaysOnTheGroundDownStairsAndSlopes) {
   PfxWorld world;
   initWorld(world);
   addFloor(world);
-  // Five steps of 0.25 m down along +X from a landing 1.5 m high, then a 25 degree slope.
+  // Five steps of 0.25 m down along +X from a landing 1.5 m high; further on, a 25 degree
+  // ramp rising along +X from x = 10, walked down from 3 m up.
   addBox(world, PfxVector3(-1, 0.75f, 0), PfxVector3(1, 0.75f, 2));
   for (int i = 0; i < 5; ++i) {
     const PfxFloat top = 1.25f - 0.25f * PfxFloat(i);
     addBox(world, PfxVector3(0.2f + 0.4f * PfxFloat(i), top / 2, 0), PfxVector3(0.2f, top / 2, 2));
   }
+  const PfxFloat slope = 25 * kDegree;
+  addRamp(world, slope, 10, 8);
   PfxCharacterController controller(world);
-  PfxUInt32 id = 0;
-  ASSERT_EQ(controller.addCharacter(PfxCharacterParam(), PfxVector3(-1.5f, 1.5f, 0), &id), PFX_OK);
+  PfxUInt32 stairs = 0, ramp = 0;
+  ASSERT_EQ(controller.addCharacter(PfxCharacterParam(), PfxVector3(-1.5f, 1.5f, 0), &stairs),
+            PFX_OK);
+  ASSERT_EQ(
+      controller.addCharacter(PfxCharacterParam(),
+                              PfxVector3(10 + 7 * std::cos(slope), 7 * std::sin(slope), 0), &ramp),
+      PFX_OK);
   run(world, controller, 0.5f);
-  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(1.5f, 0, 0)), PFX_OK);
+  ASSERT_EQ(controller.setDesiredVelocity(stairs, PfxVector3(1.5f, 0, 0)), PFX_OK);
+  ASSERT_EQ(controller.setDesiredVelocity(ramp, PfxVector3(-1.5f, 0, 0)), PFX_OK);
   int airborne = 0;
+  PfxFloat furthestFromRamp = 0;
   run(world, controller, 3, [&] {
-    const PfxCharacterStatus status = statusOf(controller, id);
-    if (status.groundBodyId == PFX_CHARACTER_NO_GROUND) ++airborne;
+    for (const PfxUInt32 id : {stairs, ramp}) {
+      if (statusOf(controller, id).groundBodyId == PFX_CHARACTER_NO_GROUND) ++airborne;
+    }
+    const PfxVector3 foot = statusOf(controller, ramp).footPosition;
+    furthestFromRamp =
+        std::max(furthestFromRamp, std::abs(foot.y() - (foot.x() - 10) * std::tan(slope)));
   });
   EXPECT_EQ(airborne, 0);
-  const PfxCharacterStatus status = statusOf(controller, id);
+  const PfxCharacterStatus status = statusOf(controller, stairs);
   EXPECT_GT(status.footPosition.x(), 2.5f);
   EXPECT_NEAR(status.footPosition.y(), 0, 0.01f);
+  EXPECT_LT(statusOf(controller, ramp).footPosition.x(), 12.5f);
+  // The capsule's round foot touches the ramp beside its lowest point: up to
+  // radius (1 / cos - 1) = 3 cm above the surface below it.
+  EXPECT_LT(furthestFromRamp, 0.04f);
 }
 
 TEST(CharacterController, JumpsToTheHeightOfItsJumpSpeed) {
