@@ -3,13 +3,14 @@
 // jump, push loose bodies with a bounded force and are pushed by them.
 //
 // A character is a real body of the world: an active capsule, frictionless, whose inertia
-// is so large that contacts barely turn it, and update() sets it upright again. Everything in the
-// world meets it as it meets any body: rays hit it, contacts list it, boxes land on it, other
-// characters block it, and the solver's speculative contacts keep it from passing through walls and
-// floors at any speed. The controller owns no physics: once per step, before PfxWorld::step(),
-// update() asks the world where each character's ground and walls are (PfxWorld::queryContacts),
-// runs the state machine, and sets each body's velocity, or its position for a step up or
-// a snap down to the ground, through PfxWorld::setRigidState.
+// is so large that contacts barely turn it, and update() sets it upright again. Everything
+// in the world meets it as it meets any body: rays hit it, contacts list it, boxes land on
+// it, other characters block it, and the solver's speculative contacts keep it from passing
+// through walls and floors at the speeds it can reach (maxSpeed, maxFallSpeed). The
+// controller owns no physics: once per step, before PfxWorld::step(), update() asks the
+// world where each character's ground and walls are (PfxWorld::queryContacts), runs the
+// state machine, and sets each body's velocity, or its position for a step up or a snap
+// down to the ground, through PfxWorld::setRigidState.
 //
 // How it walks. On the ground the controller steers the velocity relative to the ground
 // (a keyframe ground's motion at the character, a platform's turn included, is added in
