@@ -22,11 +22,11 @@
 // surface within groundProbe below the capsule whose normal is within maxSlope of up (not
 // another character: one that lands on a head slides off); after a step on the ground it
 // is sought down to maxStepHeight + groundProbe, and the body is moved down onto it, which
-// keeps it on stairs and slopes going down. Steeper surfaces
-// of bodies that forces do not move (fixed, keyframe) are walls: the desired velocity loses
-// its part into them, so it cannot creep up a steep ramp and slides down one. A wall lower
-// than maxStepHeight in front of a character on the ground is a step when there is room
-// for the capsule above it and a walkable top to stand on: the body is lifted onto it.
+// keeps it on stairs and slopes going down. Steeper surfaces of bodies that forces do not
+// move (fixed, keyframe) are walls: the desired velocity loses its part into them, so it
+// cannot creep up a steep ramp and slides down one. A wall lower than maxStepHeight in
+// front of a character on the ground is a step when there is room for the capsule above it
+// and a walkable top to stand on: the body is lifted onto it.
 //
 // States: standing, walking (on the ground, without or with a desired velocity), jumping
 // (after a jump, while it rises), falling (in the air), sliding (in the air but against a
