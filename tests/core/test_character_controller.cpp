@@ -766,7 +766,6 @@ TEST(CharacterController, RejectsBadInputAndChangesNothing) {
   const PfxFloat inf = std::numeric_limits<PfxFloat>::infinity();
   EXPECT_EQ(controller.setDesiredVelocity(id, PfxVector3(nan, 0, 0)), PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(controller.setDesiredVelocity(id, PfxVector3(0, 0, inf)), PFX_ERR_INVALID_VALUE);
-  EXPECT_EQ(controller.setDesiredVelocity(id, PfxVector3(3e38f, 3e38f, 0)), PFX_ERR_INVALID_VALUE);
 
   const auto rejected = [&](void (*spoil)(PfxCharacterParam&)) {
     PfxCharacterParam param;
@@ -808,4 +807,10 @@ TEST(CharacterController, RejectsBadInputAndChangesNothing) {
   // The rejected velocities left the last good one in force.
   run(world, controller, 2);
   EXPECT_NEAR(statusOf(controller, id).velocity.x(), 1, 0.02f);
+  // A finite velocity, however large, is accepted and cut to maxSpeed.
+  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(-3e38f, 0, 3e38f)), PFX_OK);
+  run(world, controller, 2);
+  const PfxFloat maxSpeed = PfxCharacterParam().maxSpeed;
+  EXPECT_NEAR(statusOf(controller, id).velocity.x(), -maxSpeed / std::sqrt(PfxFloat(2)), 0.05f);
+  EXPECT_NEAR(statusOf(controller, id).velocity.z(), maxSpeed / std::sqrt(PfxFloat(2)), 0.05f);
 }

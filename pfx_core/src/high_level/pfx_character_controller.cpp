@@ -164,13 +164,14 @@ PfxInt32 PfxCharacterController::setDesiredVelocity(PfxUInt32 id, const PfxVecto
   if (!isCharacter(id)) return PFX_ERR_OUT_OF_RANGE;
   if (!pfxIsFinite(velocity)) return PFX_ERR_INVALID_VALUE;
   Character& character = m_characters[id];
-  const PfxVector3 upward = up();
-  PfxVector3 horizontal = velocity - upward * upward.dot(velocity);
-  const PfxFloat speed = horizontal.norm();
-  // The norm of a finite vector may still overflow to infinity.
-  if (!pfxIsFinite(speed)) return PFX_ERR_INVALID_VALUE;
+  // In double, so that every finite velocity is cut to maxSpeed alike in both precisions
+  // (in float the length of one near the largest float overflows).
+  const Eigen::Vector3d upward = up().cast<double>();
+  const Eigen::Vector3d given = velocity.cast<double>();
+  Eigen::Vector3d horizontal = given - upward * upward.dot(given);
+  const double speed = horizontal.norm();
   if (speed > character.param.maxSpeed) horizontal *= character.param.maxSpeed / speed;
-  character.desiredVelocity = horizontal;
+  character.desiredVelocity = horizontal.cast<PfxFloat>();
   return PFX_OK;
 }
 
