@@ -690,6 +690,25 @@ TEST(CharacterController, NeverPassesThroughALargeMeshWall) {
   EXPECT_GT(furthest, 3 - param.radius - 0.05f);
 }
 
+// A trigger box across the way and under the feet neither blocks nor holds a character.
+TEST(CharacterController, WalksThroughTriggers) {
+  PfxWorld world;
+  initWorld(world);
+  addFloor(world);
+  addBox(world, PfxVector3(2, 1, 0), PfxVector3(0.5f, 1, 2), 1, PfxQuat::Identity(),
+         kPfxMotionTypeTrigger);
+  PfxCharacterController controller(world);
+  PfxUInt32 walker = 0;
+  ASSERT_EQ(controller.addCharacter(PfxCharacterParam(), PfxVector3::Zero(), &walker), PFX_OK);
+  ASSERT_EQ(controller.setDesiredVelocity(walker, PfxVector3(2, 0, 0)), PFX_OK);
+  run(world, controller, 2.5f);
+  const PfxCharacterStatus status = statusOf(controller, walker);
+  EXPECT_GT(status.footPosition.x(), 4.0f);
+  EXPECT_NEAR(status.footPosition.y(), 0, 0.01f);
+  EXPECT_EQ(status.numSteps, 0u);
+  EXPECT_EQ(status.groundBodyId, 0u);
+}
+
 TEST(CharacterController, IsABodyThatRaysAndContactsSee) {
   PfxWorld world;
   initWorld(world);

@@ -52,6 +52,8 @@ PfxInt32 PfxCharacterController::update() {
   return PFX_OK;
 }
 
+// The contacts of the character's capsule placed at `center`, within `threshold`, into
+// m_contacts.
 PfxInt32 PfxCharacterController::query(const Character& character, const PfxVector3& center,
                                        PfxFloat threshold, PfxUInt32& numContacts) {
   PfxContactQueryInput in;
@@ -64,8 +66,15 @@ PfxInt32 PfxCharacterController::query(const Character& character, const PfxVect
   PfxQueryContactsResult result;
   const PfxInt32 err = m_world.queryContacts(in, m_contacts.data(),
                                              static_cast<PfxUInt32>(m_contacts.size()), result);
-  numContacts = err == PFX_OK ? result.numContacts : 0;
-  return err;
+  numContacts = 0;
+  if (err != PFX_OK) return err;
+  // Only what would push the body back counts: a trigger is passed through, never stood on.
+  for (PfxUInt32 i = 0; i < result.numContacts; ++i) {
+    const PfxMotionType type = m_world.getRigidState(m_contacts[i].m_rigidBodyId).getMotionType();
+    if (pfxMotionTypesRespond(kPfxMotionTypeActive, type))
+      m_contacts[numContacts++] = m_contacts[i];
+  }
+  return PFX_OK;
 }
 
 // The walkable surface least far below the capsule; of two equally far, the flatter. Other
