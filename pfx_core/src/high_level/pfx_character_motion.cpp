@@ -205,6 +205,32 @@ void PfxCharacterController::transition(Character& character, PfxCharacterState 
   }
 }
 
+// The state machine: what the character does this step decides its state.
+void PfxCharacterController::advanceState(Character& character, bool jumped, bool onGround,
+                                          bool rising, bool againstSteep) const {
+  const PfxCharacterState previous = character.status.state;
+  const bool wasInAir = previous == kPfxCharacterJumping || previous == kPfxCharacterFalling ||
+                        previous == kPfxCharacterSliding;
+  if (jumped) {
+    transition(character, kPfxCharacterJumping);
+  } else if (onGround) {
+    const bool stillLanding =
+        previous == kPfxCharacterLanding &&
+        character.status.timeInState + m_world.getParam().timeStep < character.param.landingTime;
+    if (wasInAir || stillLanding) {
+      transition(character, kPfxCharacterLanding);
+    } else {
+      transition(character, character.desiredVelocity.norm() > kStandingSpeed
+                                ? kPfxCharacterWalking
+                                : kPfxCharacterStanding);
+    }
+  } else if (rising) {
+    transition(character, kPfxCharacterJumping);
+  } else {
+    transition(character, againstSteep ? kPfxCharacterSliding : kPfxCharacterFalling);
+  }
+}
+
 PfxInt32 PfxCharacterController::sense(Character& character, Plan& plan) {
   const PfxCharacterParam& param = character.param;
   PfxCharacterStatus& status = character.status;
@@ -280,26 +306,7 @@ PfxInt32 PfxCharacterController::sense(Character& character, Plan& plan) {
   if (fall > param.maxFallSpeed) next += upward * (fall - param.maxFallSpeed);
   character.jumpRequested = false;
 
-  const PfxCharacterState previous = status.state;
-  const bool wasInAir = previous == kPfxCharacterJumping || previous == kPfxCharacterFalling ||
-                        previous == kPfxCharacterSliding;
-  if (jumped) {
-    transition(character, kPfxCharacterJumping);
-  } else if (onGround) {
-    const bool stillLanding =
-        previous == kPfxCharacterLanding && status.timeInState + timeStep < param.landingTime;
-    if (wasInAir || stillLanding) {
-      transition(character, kPfxCharacterLanding);
-    } else {
-      transition(character, character.desiredVelocity.norm() > kStandingSpeed
-                                ? kPfxCharacterWalking
-                                : kPfxCharacterStanding);
-    }
-  } else if (rising) {
-    transition(character, kPfxCharacterJumping);
-  } else {
-    transition(character, againstSteep ? kPfxCharacterSliding : kPfxCharacterFalling);
-  }
+  advanceState(character, jumped, onGround, rising, againstSteep);
   const bool onGroundAfter = onGround && !jumped;
   status.groundBodyId = onGroundAfter ? ground.bodyId : PFX_CHARACTER_NO_GROUND;
   status.groundNormal = onGroundAfter ? ground.normal : PfxVector3::Zero();

@@ -171,6 +171,8 @@ class PfxCharacterController {
   PfxVector3 withoutWalls(const Character& character, PfxUInt32 numContacts, PfxVector3 velocity,
                           bool& againstSteep, bool& blockedLow) const;
   void transition(Character& character, PfxCharacterState state) const;
+  void advanceState(Character& character, bool jumped, bool onGround, bool rising,
+                    bool againstSteep) const;
   PfxVector3 up() const;
   bool isCharacterBody(PfxUInt32 bodyId) const {
     return bodyId < m_characterBodies.size() && m_characterBodies[bodyId];
