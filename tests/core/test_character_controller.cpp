@@ -247,6 +247,40 @@ TEST(QueryContacts, RejectsBadInputAndLeavesOutputUntouched) {
   EXPECT_EQ(result.numContacts, 55u);
 }
 
+TEST(QueryContacts, LowLevelRejectsMissingArraysAndBadRange) {
+  const PfxCollidable sphere = sphereCollidable(0.5f);
+  PfxContactQueryInput query;
+  query.collidable = &sphere;
+  PfxRigidState state;
+  state.reset();
+  PfxCollidable collidable = sphereCollidable(1);
+  PfxRayBvhNode node{};
+  PfxBroadphaseProxy proxy{};
+  PfxQueryContactsParam param;
+  param.offsetRigidStates = &state;
+  param.offsetCollidables = &collidable;
+  param.bvhNodes = &node;
+  param.bvhProxies = &proxy;
+  param.numProxies = 1;
+  PfxQueryContact out[2];
+  PfxQueryContactsResult result;
+  result.numContacts = 9;
+  PfxQueryContactsParam bad = param;
+  bad.bvhNodes = nullptr;
+  EXPECT_EQ(pfxQueryContacts(query, bad, out, 2, result), PFX_ERR_NULL_POINTER);
+  bad = param;
+  bad.offsetRigidStates = nullptr;
+  EXPECT_EQ(pfxQueryContacts(query, bad, out, 2, result), PFX_ERR_NULL_POINTER);
+  bad = param;
+  bad.rangeExtent = PfxVector3(1, 0, 1);
+  EXPECT_EQ(pfxQueryContacts(query, bad, out, 2, result), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(result.numContacts, 9u);
+  // Without proxies nothing is needed and nothing is found.
+  PfxQueryContactsParam none;
+  ASSERT_EQ(pfxQueryContacts(query, none, out, 2, result), PFX_OK);
+  EXPECT_EQ(result.numContacts, 0u);
+}
+
 // ---- Characters ----
 
 TEST(CharacterController, StandsStillOnTheFloor) {
