@@ -57,10 +57,9 @@ PfxUInt32 addBox(PfxWorld& world, const PfxVector3& center, const PfxVector3& ha
 
 PfxFloat rampRun() { return kPlateauHeight / std::tan(kRampAngle); }
 
-// Higher than a jump from the floor takes the foot (1.27 m at 5 m/s), even where the ramp
-// deflects a running jump upward (a few tenths more): a foot above this over the ramp has
-// climbed it.
-constexpr PfxFloat kAboveAnyJump = 2;
+// A foot over the ramp this high has got up it: a running jump into the ramp, which deflects
+// it upward, got a foot to 2.15 m among 200 characters before the character slid back.
+constexpr PfxFloat kUpTheRamp = kPlateauHeight - 0.1f;
 // Faster than any push of the course can make a character walk: it was flung.
 constexpr PfxFloat kFlung = 8;
 
@@ -75,6 +74,7 @@ bool onPlateau(const PfxVector3& foot) {
 }
 
 struct Course {
+  PfxUInt32 ramp = 0;
   PfxUInt32 platform = 0;
   PfxVector3 plateauTarget;
   std::vector<PfxUInt32> looseBoxes;
@@ -99,9 +99,10 @@ Course buildCourse(PfxWorld& world, PfxFloat halfLength, PfxFloat halfWidth) {
   const PfxVector3 along(std::cos(kRampAngle), std::sin(kRampAngle), 0);
   const PfxVector3 normal(-std::sin(kRampAngle), std::cos(kRampAngle), 0);
   const PfxFloat length = kPlateauHeight / std::sin(kRampAngle);
-  addBox(world, PfxVector3(kRampStart, 0, kRampZ) + along * (length / 2) - normal * PfxFloat(0.1),
-         PfxVector3(length / 2, 0.1f, kRampHalfWidth), 0,
-         PfxQuat(Eigen::AngleAxis<PfxFloat>(kRampAngle, PfxVector3::UnitZ())));
+  course.ramp = addBox(
+      world, PfxVector3(kRampStart, 0, kRampZ) + along * (length / 2) - normal * PfxFloat(0.1),
+      PfxVector3(length / 2, 0.1f, kRampHalfWidth), 0,
+      PfxQuat(Eigen::AngleAxis<PfxFloat>(kRampAngle, PfxVector3::UnitZ())));
   const PfxFloat plateauX = kRampStart + rampRun() + 1;
   addBox(world, PfxVector3(plateauX, kPlateauHeight / 2, kRampZ),
          PfxVector3(1, kPlateauHeight / 2, kRampHalfWidth));
@@ -228,6 +229,7 @@ int main(int argc, char** argv) {
   walkers[lanes / 2].target = course.plateauTarget;
 
   int transitions[kPfxCharacterStateCount][kPfxCharacterStateCount] = {};
+  PfxFloat highestOverRamp = 0;
   double controllerSeconds = 0, worldSeconds = 0;
   const int steps = static_cast<int>(seconds / kTimeStep);
   PfxFloat time = 0;
@@ -263,8 +265,14 @@ int main(int argc, char** argv) {
       if (status.state != walker.state) ++transitions[walker.state][status.state];
       walker.state = status.state;
       walker.lowestFoot = std::min(walker.lowestFoot, status.footPosition.y());
-      walker.climbedRamp = walker.climbedRamp || (overRamp(status.footPosition) &&
-                                                  status.footPosition.y() > kAboveAnyJump);
+      if (overRamp(status.footPosition)) {
+        highestOverRamp = std::max(highestOverRamp, status.footPosition.y());
+      }
+      // Up the ramp, or standing on it, which a slope too steep to stand on must not allow.
+      walker.climbedRamp =
+          walker.climbedRamp ||
+          (overRamp(status.footPosition) && status.footPosition.y() > kUpTheRamp) ||
+          status.groundBodyId == course.ramp;
       walker.fastest = std::max(walker.fastest, horizontal(status.velocity).norm());
       walker.reachedPlateau = walker.reachedPlateau || onPlateau(status.footPosition);
       walker.rodePlatform = walker.rodePlatform || status.groundBodyId == course.platform;
@@ -334,6 +342,8 @@ int main(int argc, char** argv) {
   }
   std::printf("%d of %d reached their targets (the last after %.1f s); %u steps climbed\n", reached,
               numCharacters - 1, double(latest), stepsClimbed);
+  std::printf("highest foot over the steep ramp %.2f m (its top %.2f m)\n", double(highestOverRamp),
+              double(kPlateauHeight));
   std::printf(
       "%d rode the moving platform; %d of %zu loose boxes were pushed further than "
       "0.1 m, the ragdoll's pelvis %.2f m\n",
