@@ -114,10 +114,9 @@ class PfxCharacterController {
   // Rejects an unknown id (PFX_ERR_OUT_OF_RANGE).
   PfxInt32 removeCharacter(PfxUInt32 id);
 
-  // The velocity to walk at (m/s, world frame); its part along up is ignored, and a
-  // horizontal part faster than maxSpeed is cut down to maxSpeed, however large (as long as
-  // it is finite). Kept until changed.
-  // Rejects an unknown id (PFX_ERR_OUT_OF_RANGE) and a non-finite velocity
+  // The velocity to walk at (m/s, world frame), kept until changed; its part along up is
+  // ignored, and a horizontal part faster than maxSpeed, however fast, is cut down to
+  // maxSpeed. Rejects an unknown id (PFX_ERR_OUT_OF_RANGE) and a non-finite velocity
   // (PFX_ERR_INVALID_VALUE).
   PfxInt32 setDesiredVelocity(PfxUInt32 id, const PfxVector3& velocity);
   // Jumps at the next update if the character is then on the ground; forgotten otherwise.
