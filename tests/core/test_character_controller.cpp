@@ -13,6 +13,7 @@
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_character_controller.h"
+#include "pfx_allocation_counter.h"
 
 using namespace pfx;
 
@@ -778,6 +779,38 @@ TEST(CharacterController, IsABodyThatRaysAndContactsSee) {
   ASSERT_TRUE(hit.m_contactFlag);
   EXPECT_EQ(hit.m_objectId, body);
   EXPECT_NEAR(hit.m_contactPoint.x(), -0.3f, 1e-3f);
+}
+
+// Twenty characters walking into each other, over a step and into loose boxes: after the
+// first update (the world's query hierarchy is sized then) the controller allocates nothing.
+// The world's own step may, while it meets more pairs than before.
+TEST(CharacterController, UpdateAllocatesNothing) {
+  PfxWorld world;
+  initWorld(world);
+  addFloor(world);
+  addBox(world, PfxVector3(0, 0.1f, 0), PfxVector3(1, 0.1f, 4));
+  for (int i = 0; i < 5; ++i) {
+    addBox(world, PfxVector3(2, 0.25f, PfxFloat(i) - 2), PfxVector3(0.25f, 0.25f, 0.25f), 10);
+  }
+  PfxCharacterController controller(world);
+  for (int i = 0; i < 20; ++i) {
+    const PfxFloat side = i % 2 == 0 ? -1 : 1;
+    PfxUInt32 id = 0;
+    ASSERT_EQ(controller.addCharacter(PfxCharacterParam(),
+                                      PfxVector3(4 * side, 0, PfxFloat(i / 2) * 0.7f - 3), &id),
+              PFX_OK);
+    ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(-side, 0, 0)), PFX_OK);
+  }
+  ASSERT_EQ(controller.update(), PFX_OK);
+  ASSERT_EQ(world.step(), PFX_OK);
+  long allocations = 0;
+  for (int i = 0; i < 240; ++i) {
+    const long before = pfx_test::pfxAllocationCount();
+    ASSERT_EQ(controller.update(), PFX_OK);
+    allocations += pfx_test::pfxAllocationCount() - before;
+    ASSERT_EQ(world.step(), PFX_OK);
+  }
+  EXPECT_EQ(allocations, 0);
 }
 
 TEST(CharacterController, RemovedCharactersVanishAndTheirBodiesAreReused) {

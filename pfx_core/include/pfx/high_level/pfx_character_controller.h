@@ -133,9 +133,10 @@ class PfxCharacterController {
 
   // Senses and steers every character for the next step; call once before each
   // PfxWorld::step(). Reads the world first and writes it afterwards, so all of a step's
-  // queries share one update of the world's query hierarchy. Allocates nothing once the
-  // characters are added. Fails only when the world rejects a query or a state (a body
-  // whose state went bad); characters are then left as they were from the failing one on.
+  // queries share one update of the world's query hierarchy. Allocates nothing but in the
+  // first call after bodies were added to the world (which sizes its query hierarchy then).
+  // Fails only when the world rejects a query or a state (a body whose state went bad);
+  // characters are then left as they were from the failing one on.
   PfxInt32 update();
 
  private:
