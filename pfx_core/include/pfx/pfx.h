@@ -47,6 +47,7 @@
 #include "pfx/low_level/broadphase/pfx_find_pairs.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
 #include "pfx/low_level/collision/pfx_detect_collision.h"
+#include "pfx/low_level/collision/pfx_query_contacts.h"
 #include "pfx/low_level/collision/pfx_refresh_contacts.h"
 #include "pfx/low_level/pfx_error_detail.h"
 #include "pfx/low_level/raycast/pfx_build_ray_bvh.h"
@@ -63,6 +64,7 @@
 
 // High level.
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_character_controller.h"
 #include "pfx/high_level/pfx_debug_render.h"
 #include "pfx/high_level/pfx_ragdoll.h"
 #include "pfx/high_level/pfx_serialize.h"

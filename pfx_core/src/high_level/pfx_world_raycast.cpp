@@ -1,4 +1,5 @@
-// PfxWorld's raycasts (seed chapter 5): proxies and the hierarchy over them, built on demand.
+// PfxWorld's raycasts (seed chapter 5) and contact queries: proxies and the hierarchy over
+// them, built on demand.
 #include "pfx/high_level/pfx_world.h"
 
 namespace pfx {
@@ -83,6 +84,21 @@ PfxInt32 PfxWorld::castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 
     param.workBytes = pfxGetWorkBytesOfCastRays(numRays);
   }
   return pfxCastRays(in, out, numRays, param, &m_taskManager);
+}
+
+PfxInt32 PfxWorld::queryContacts(const PfxContactQueryInput& query, PfxQueryContact* out,
+                                 PfxUInt32 maxContacts, PfxQueryContactsResult& result) {
+  if (const PfxInt32 err = updateRayProxies(); err != PFX_OK) return err;
+  const PfxRayCastParam rays = rayCastParam();
+  PfxQueryContactsParam param;
+  param.offsetRigidStates = rays.offsetRigidStates;
+  param.offsetCollidables = rays.offsetCollidables;
+  param.bvhNodes = rays.bvhNodes;
+  param.bvhProxies = rays.bvhProxies;
+  param.numProxies = rays.numProxies;
+  param.rangeCenter = rays.rangeCenter;
+  param.rangeExtent = rays.rangeExtent;
+  return pfxQueryContacts(query, param, out, maxContacts, result);
 }
 
 }  // namespace pfx

@@ -18,6 +18,7 @@
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_tbb_task_manager.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/collision/pfx_query_contacts.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx/low_level/solver/pfx_island_generation.h"
 
@@ -247,6 +248,16 @@ class PfxWorld {
   // Allocates only after bodies were added, and when a batch is larger than any before.
   PfxInt32 castRay(const PfxRayInput& in, PfxRayOutput& out);
   PfxInt32 castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays);
+
+  // The contact points between a collidable placed at a pose and the bodies as they are now
+  // (pfx_query_contacts.h: normals from the query to the body, negative distances where
+  // they overlap), found through the same hierarchy as rays and sharing its update: what a
+  // character controller asks for its ground, its walls and the room to step up. Every body
+  // is seen, also those outside the world's bounds. Rejects what pfxQueryContacts rejects
+  // and a body whose state is no longer valid (PFX_ERR_INVALID_VALUE), with the output and
+  // result untouched. Allocates as castRay does.
+  PfxInt32 queryContacts(const PfxContactQueryInput& query, PfxQueryContact* out,
+                         PfxUInt32 maxContacts, PfxQueryContactsResult& result);
 
   // The pairs of the last step and their contact manifolds: those with an awake body that is
   // not fixed, sorted by key, then those set aside while all their bodies sleep (or are
