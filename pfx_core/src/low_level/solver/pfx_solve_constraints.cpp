@@ -214,6 +214,14 @@ constexpr PfxFloat kMinResponseProbe =
     PfxFloat(1e-3 * (double(std::numeric_limits<PfxFloat>::epsilon()) /
                      double(std::numeric_limits<float>::epsilon())));
 
+// The velocity change (m/s or rad/s), as the row's two bodies alone would answer it, of the
+// impulse from which a damping row of a tree joint measures its response when its own
+// update is smaller than kMinResponseProbe. The tree may answer a thousand times less than
+// the two bodies (an arm on a hinge against its ball alone), and the change must still stand
+// well above the rounding of the tree's velocities: 1 mm/s against 4e-8 m/s in float at
+// dt 1/30.
+constexpr PfxFloat kDampingProbe = PfxFloat(1);
+
 // A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
 // An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
 // effective mass is the tree's, not that of its two bodies: a motor at an arm's shoulder
@@ -270,25 +278,35 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
   const PfxFloat twoBodyResponse = c.m_weight / row.m_jacDiagInv;
   const PfxFloat trial = wanted(twoBodyResponse) - previous;
   if (trial == 0) return;
-  apply(trial);
-  row.m_accumImpulse = previous + trial;
   // A trial that changes the row's velocity by less than kMinResponseProbe measures the
   // rounding of the tree's velocities (its bodies move at g dt, 0.3 m/s at dt 1/30, within
   // the solve) more than the response: a limit row holding a resting limb made such trials
   // every step, now and then read a response a hundred times too small and kicked the
-  // limb at 3 cm/s, so a ragdoll at dt 1/30 twitched for ever. The row then stays
-  // unmeasured, moved like a two-body row, until a later iteration makes a larger trial.
-  if (std::abs(trial) * twoBodyResponse < kMinResponseProbe) return;
-  const PfxFloat measured = (velocity() - before) / trial;
+  // limb at 3 cm/s, so a ragdoll at dt 1/30 twitched for ever. Such a limit, drive or
+  // friction row is nearly met, and stays unmeasured, moved like a two-body row, until a
+  // later iteration makes a larger trial.
+  // A damping row's trial is the damping fraction of the row's velocity, 1 - exp(-c h / I)
+  // for a viscous coefficient c, so at a small step h it stays small however fast the
+  // joint turns (0.5 mrad/s for an arm turning at 1 rad/s at dt 1/1000), and moved like a
+  // two-body row it lost the damping: its two bodies answer the impulse a thousand times
+  // more than the arm, so the impulse was a thousandth of the damping's. It measures the
+  // response from a probe of kDampingProbe instead, taken back with its update.
+  PfxFloat probe = trial;
+  if (std::abs(trial) * twoBodyResponse < kMinResponseProbe) {
+    if (!dampingOnly) {
+      apply(trial);
+      row.m_accumImpulse = previous + trial;
+      return;
+    }
+    probe = std::copysign(kDampingProbe / twoBodyResponse, trial);
+  }
+  apply(probe);
+  const PfxFloat measured = (velocity() - before) / probe;
   // When the locked axes take nearly the whole impulse (the row is almost one of theirs),
   // scaling it up would only amplify rounding: the row stays a two-body row.
-  if (!(measured > PfxFloat(1e-4) * twoBodyResponse)) {
-    response = twoBodyResponse;
-    return;
-  }
-  response = measured;
+  response = measured > PfxFloat(1e-4) * twoBodyResponse ? measured : twoBodyResponse;
   const PfxFloat impulse = wanted(response);
-  if (impulse != row.m_accumImpulse) apply(impulse - row.m_accumImpulse);
+  if (impulse != previous + probe) apply(impulse - (previous + probe));
   row.m_accumImpulse = impulse;
 }
 
