@@ -143,7 +143,9 @@ TEST(Serialize, SavesAndLoadsByPath) {
   EXPECT_TRUE(sameStates(original.world, loaded));
   std::remove(path.c_str());
   EXPECT_EQ(pfxLoadWorld(loaded, path.c_str(), meshes, &error), PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_EQ(error, "cannot be opened for reading: No such file or directory");
+  EXPECT_NE(std::string(pfxGetLastErrorDetail()).find(path), std::string::npos)
+      << pfxGetLastErrorDetail();
   EXPECT_EQ(pfxSaveWorld(original.world, static_cast<const char*>(nullptr), &error),
             PFX_ERR_NULL_POINTER);
 }

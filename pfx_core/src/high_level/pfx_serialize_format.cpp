@@ -7,10 +7,16 @@
 namespace pfx {
 
 PfxUInt64 pfxSerializeChecksum(const PfxUInt8* bytes, std::size_t count) {
+  constexpr PfxUInt64 kPrime = 0x100000001b3ull;
   PfxUInt64 hash = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i < count; ++i) {
+  std::size_t i = 0;
+  for (; i + 8 <= count; i += 8) {
+    hash ^= pfxLoadLittle<PfxUInt64>(bytes + i);
+    hash *= kPrime;
+  }
+  for (; i < count; ++i) {
     hash ^= bytes[i];
-    hash *= 0x100000001b3ull;
+    hash *= kPrime;
   }
   return hash;
 }
@@ -22,26 +28,6 @@ std::string PfxSerializeError::describe() const {
     text += tags[i];
   }
   return text.empty() ? reason : text + ": " + reason;
-}
-
-void PfxByteWriter::little(PfxUInt64 v, int numBytes) {
-  for (int i = 0; i < numBytes; ++i) m_bytes.push_back(static_cast<PfxUInt8>(v >> (8 * i)));
-}
-
-void PfxByteWriter::f64(double v) {
-  PfxUInt64 bits;
-  std::memcpy(&bits, &v, sizeof(bits));
-  u64(bits);
-}
-
-void PfxByteWriter::real(PfxFloat v) {
-  if constexpr (sizeof(PfxFloat) == 8) {
-    f64(v);
-  } else {
-    PfxUInt32 bits;
-    std::memcpy(&bits, &v, sizeof(bits));
-    u32(bits);
-  }
 }
 
 void PfxByteWriter::vec3(const PfxVector3& v) {
@@ -80,7 +66,7 @@ std::size_t PfxByteWriter::beginSection(const char* tag) {
 void PfxByteWriter::endSection(std::size_t start) { patchU64(start, m_bytes.size() - start - 8); }
 
 void PfxByteWriter::patchU64(std::size_t at, PfxUInt64 v) {
-  for (int i = 0; i < 8; ++i) m_bytes[at + i] = static_cast<PfxUInt8>(v >> (8 * i));
+  pfxStoreLittle(m_bytes.data() + at, v);
 }
 
 bool PfxByteReader::fail(PfxInt32 code, const char* field, const std::string& reason) {
@@ -92,32 +78,13 @@ bool PfxByteReader::fail(PfxInt32 code, const char* field, const std::string& re
   return false;
 }
 
-bool PfxByteReader::take(std::size_t n, const char* field) {
-  if (!ok()) return false;
-  if (remaining() < n) {
-    return fail(PFX_ERR_OUT_OF_BUFFER, field,
-                "the data ends " + std::to_string(n - remaining()) + " bytes short of it");
-  }
-  m_at += n;
-  return true;
+void PfxByteReader::shortOf(std::size_t n, const char* field) {
+  fail(PFX_ERR_OUT_OF_BUFFER, field,
+       "the data ends " + std::to_string(n - remaining()) + " bytes short of it");
 }
-
-PfxUInt64 PfxByteReader::little(int numBytes, const char* field) {
-  if (!take(numBytes, field)) return 0;
-  PfxUInt64 v = 0;
-  for (int i = 0; i < numBytes; ++i) v |= PfxUInt64(m_data[m_at - numBytes + i]) << (8 * i);
-  return v;
-}
-
-PfxUInt8 PfxByteReader::u8(const char* field) { return static_cast<PfxUInt8>(little(1, field)); }
-PfxUInt16 PfxByteReader::u16(const char* field) { return static_cast<PfxUInt16>(little(2, field)); }
-PfxUInt32 PfxByteReader::u32(const char* field) { return static_cast<PfxUInt32>(little(4, field)); }
-PfxUInt64 PfxByteReader::u64(const char* field) { return little(8, field); }
 
 double PfxByteReader::f64(const char* field) {
-  const PfxUInt64 bits = little(8, field);
-  double v;
-  std::memcpy(&v, &bits, sizeof(v));
+  const double v = little<double>(field);
   if (!std::isfinite(v)) {
     fail(PFX_ERR_INVALID_VALUE, field, "is " + std::to_string(v) + "; it must be finite");
     return 0;
@@ -126,16 +93,7 @@ double PfxByteReader::f64(const char* field) {
 }
 
 PfxFloat PfxByteReader::real(const char* field) {
-  double v;
-  if (m_realBytes == 4) {
-    const PfxUInt32 bits = static_cast<PfxUInt32>(little(4, field));
-    float f;
-    std::memcpy(&f, &bits, sizeof(f));
-    v = f;
-  } else {
-    const PfxUInt64 bits = little(8, field);
-    std::memcpy(&v, &bits, sizeof(v));
-  }
+  const double v = m_realBytes == 4 ? double(little<float>(field)) : little<double>(field);
   if (!std::isfinite(v)) {
     fail(PFX_ERR_INVALID_VALUE, field, "is " + std::to_string(v) + "; it must be finite");
     return 0;
@@ -188,12 +146,12 @@ PfxUInt32 PfxByteReader::count(const char* field, std::size_t minBytesEach) {
 }
 
 bool PfxByteReader::section(const char* tag, PfxByteReader& inner) {
-  char found[4];
-  for (char& c : found) c = static_cast<char>(u8("section tag"));
-  if (!ok()) return false;
+  const PfxUInt8* found = take(4, "section tag");
+  if (!found) return false;
   if (std::memcmp(found, tag, 4) != 0) {
     return fail(PFX_ERR_INVALID_FLAG, "section tag",
-                "is '" + std::string(found, 4) + "', expected '" + std::string(tag, 4) + "'");
+                "is '" + std::string(reinterpret_cast<const char*>(found), 4) + "', expected '" +
+                    std::string(tag, 4) + "'");
   }
   const PfxUInt64 length = u64("section length");
   if (!ok()) return false;

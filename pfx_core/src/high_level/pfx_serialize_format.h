@@ -3,7 +3,9 @@
 // locate an error in a file. The writer and the reader of whole worlds sit on top.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -18,7 +20,30 @@ constexpr std::size_t kPfxSerializeHeaderBytes = 32;
 // Tag and length in front of every section.
 constexpr std::size_t kPfxSectionHeaderBytes = 12;
 
-// FNV-1a, 64 bits: any single changed byte changes it, since every step is a bijection of
+template <typename T>
+inline void pfxStoreLittle(PfxUInt8* to, T v) {
+  PfxUInt8 bytes[sizeof(T)];
+  std::memcpy(bytes, &v, sizeof(T));
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  std::reverse(bytes, bytes + sizeof(T));
+#endif
+  std::memcpy(to, bytes, sizeof(T));
+}
+
+template <typename T>
+inline T pfxLoadLittle(const PfxUInt8* from) {
+  PfxUInt8 bytes[sizeof(T)];
+  std::memcpy(bytes, from, sizeof(T));
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+  std::reverse(bytes, bytes + sizeof(T));
+#endif
+  T v;
+  std::memcpy(&v, bytes, sizeof(T));
+  return v;
+}
+
+// FNV-1a, 64 bits, over the bytes taken eight at a time as little-endian words (the last
+// few one by one): any single changed byte changes it, since every step is a bijection of
 // the running value.
 PfxUInt64 pfxSerializeChecksum(const PfxUInt8* bytes, std::size_t count);
 
@@ -34,12 +59,12 @@ struct PfxSerializeError {
 class PfxByteWriter {
  public:
   void u8(PfxUInt8 v) { m_bytes.push_back(v); }
-  void u16(PfxUInt16 v) { little(v, 2); }
-  void u32(PfxUInt32 v) { little(v, 4); }
-  void u64(PfxUInt64 v) { little(v, 8); }
-  void f64(double v);
+  void u16(PfxUInt16 v) { little(v); }
+  void u32(PfxUInt32 v) { little(v); }
+  void u64(PfxUInt64 v) { little(v); }
+  void f64(double v) { little(v); }
   // PfxFloat as it is: 4 bytes in the float build, 8 in the double build.
-  void real(PfxFloat v);
+  void real(PfxFloat v) { little(v); }
   void vec3(const PfxVector3& v);
   void quat(const PfxQuat& q);     // x, y, z, w
   void mat3(const PfxMatrix3& m);  // column by column
@@ -53,7 +78,14 @@ class PfxByteWriter {
   std::vector<PfxUInt8>& bytes() { return m_bytes; }
 
  private:
-  void little(PfxUInt64 v, int numBytes);
+  // A value's bytes, least significant first: copied as they lie on a little-endian
+  // machine, turned around on a big-endian one.
+  template <typename T>
+  void little(T v) {
+    PfxUInt8 bytes[sizeof(T)];
+    pfxStoreLittle(bytes, v);
+    m_bytes.insert(m_bytes.end(), bytes, bytes + sizeof(T));
+  }
   std::vector<PfxUInt8> m_bytes;
 };
 
@@ -70,10 +102,21 @@ class PfxByteReader {
   std::size_t remaining() const { return m_size - m_at; }
   std::size_t realBytes() const { return m_realBytes; }
 
-  PfxUInt8 u8(const char* field);
-  PfxUInt16 u16(const char* field);
-  PfxUInt32 u32(const char* field);
-  PfxUInt64 u64(const char* field);
+  // Fails (once) when fewer than n bytes are left; else moves past them and returns where
+  // they start.
+  const PfxUInt8* take(std::size_t n, const char* field) {
+    if (!ok()) return nullptr;
+    if (remaining() < n) {
+      shortOf(n, field);
+      return nullptr;
+    }
+    m_at += n;
+    return m_data + m_at - n;
+  }
+  PfxUInt8 u8(const char* field) { return little<PfxUInt8>(field); }
+  PfxUInt16 u16(const char* field) { return little<PfxUInt16>(field); }
+  PfxUInt32 u32(const char* field) { return little<PfxUInt32>(field); }
+  PfxUInt64 u64(const char* field) { return little<PfxUInt64>(field); }
   double f64(const char* field);
   // Rejects NaN and infinity; a double beyond float's range becomes the largest float.
   PfxFloat real(const char* field);
@@ -97,8 +140,13 @@ class PfxByteReader {
   std::vector<std::string>& tags() { return m_tags; }
 
  private:
-  bool take(std::size_t n, const char* field);
-  PfxUInt64 little(int numBytes, const char* field);
+  void shortOf(std::size_t n, const char* field);
+  // 0 when the bytes are not there.
+  template <typename T>
+  T little(const char* field) {
+    const PfxUInt8* at = take(sizeof(T), field);
+    return at ? pfxLoadLittle<T>(at) : T(0);
+  }
 
   const PfxUInt8* m_data;
   std::size_t m_size;

@@ -776,9 +776,8 @@ PfxInt32 pfxDecodeSerialized(const std::vector<PfxUInt8>& bytes, PfxSerializeIma
   std::size_t realBytes = 0;
   {
     PfxTagScope tag(file, "header");
-    char magic[8];
-    for (char& c : magic) c = static_cast<char>(file.u8("magic"));
-    if (file.ok() && std::memcmp(magic, kPfxSerializeMagic, 8) != 0) {
+    const PfxUInt8* magic = file.take(sizeof(kPfxSerializeMagic), "magic");
+    if (magic && std::memcmp(magic, kPfxSerializeMagic, sizeof(kPfxSerializeMagic)) != 0) {
       file.fail(PFX_ERR_INVALID_FLAG, "magic", "this is not a pfx world file");
     }
     const PfxUInt32 version = file.u32("version");

@@ -3,6 +3,8 @@
 // and the order of the free manifold slots (the next new pair takes the last one), so that
 // the loaded world steps bit for bit as the saved one.
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 
 #include "high_level/pfx_serialize_image.h"
 #include "low_level/pfx_param_checks.h"
@@ -16,11 +18,18 @@ PfxInt32 fail(const char* function, const PfxSerializeError& error, std::string*
   return pfxRejectParam(error.code, "%s: %s", function, error.describe().c_str());
 }
 
+// The message leaves the path to the caller, who named it; the error detail names it.
 PfxInt32 failOpen(const char* function, const char* path, const char* mode, std::string* message) {
-  PfxSerializeError error;
-  error.code = path ? PFX_ERR_INVALID_VALUE : PFX_ERR_NULL_POINTER;
-  error.reason = path ? std::string("cannot open '") + path + "' for " + mode : "the path is null";
-  return fail(function, error, message);
+  if (!path) {
+    PfxSerializeError error;
+    error.code = PFX_ERR_NULL_POINTER;
+    error.reason = "the path is null";
+    return fail(function, error, message);
+  }
+  const std::string reason =
+      std::string("cannot be opened for ") + mode + ": " + std::strerror(errno);
+  if (message) *message = reason;
+  return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: '%s' %s", function, path, reason.c_str());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // takes them (README.md, "Serialization"), never as raw structs, so that the bytes do not
 // depend on the compiler's layout.
 #include <algorithm>
+#include <cstring>
 #include <unordered_map>
 
 #include "high_level/pfx_serialize_image.h"
@@ -473,8 +474,14 @@ PfxInt32 pfxReadSerializedBytes(FILE* file, std::vector<PfxUInt8>& bytes,
     return fail("header", "the file ends after " + std::to_string(headerRead) + " of its " +
                               std::to_string(kPfxSerializeHeaderBytes) + " bytes");
   }
-  PfxUInt64 bodyBytes = 0;
-  for (int i = 0; i < 8; ++i) bodyBytes |= PfxUInt64(bytes[16 + i]) << (8 * i);
+  // A file of something else is said to be one before its length is believed.
+  if (std::memcmp(bytes.data(), kPfxSerializeMagic, sizeof(kPfxSerializeMagic)) != 0) {
+    error.code = PFX_ERR_INVALID_FLAG;
+    error.tags = {"header", "magic"};
+    error.reason = "this is not a pfx world file";
+    return error.code;
+  }
+  const PfxUInt64 bodyBytes = pfxLoadLittle<PfxUInt64>(bytes.data() + 16);
   // Through a block on the stack, so that memory follows the bytes actually read, not the
   // length the header claims.
   PfxUInt8 block[16384];
