@@ -1,6 +1,7 @@
-// pfx_sim: loads a URDF robot (optionally onto a ground plane and an OctoMap), simulates it
-// headless under gravity along -Z, prints per-step statistics as TSV on standard output
-// and, on request, writes a picture of the final scene.
+// pfx_sim: loads a URDF robot, a scene file (pfx XML or SDFormat) or both, optionally onto
+// a ground plane and an OctoMap, or a world saved earlier; simulates it headless, prints
+// per-step statistics as TSV on standard output and, on request, saves the world and
+// writes a picture of the final scene.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,9 @@
 #include <string>
 
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_serialize.h"
 #include "pfx/loaders/pfx_octomap_loader.h"
+#include "pfx/loaders/pfx_scene_loader.h"
 #include "pfx/loaders/pfx_urdf_loader.h"
 #include "pfx_scene_picture.h"
 
@@ -19,14 +22,26 @@ using namespace pfx;
 namespace {
 
 const char* const kUsage =
-    "usage: pfx_sim URDF [options]\n"
+    "usage: pfx_sim [URDF] [--world FILE] [--load FILE] [options]\n"
     "\n"
-    "Loads the robot, simulates it headless under gravity (-Z) and prints one TSV row of\n"
-    "statistics per step: step, time (s), step_s (wall seconds of the step), pairs,\n"
+    "Loads the robot, the scene or the saved world, simulates it headless and prints one\n"
+    "TSV row of statistics per step: step, time (s, simulated time since the world began,\n"
+    "so a loaded world goes on from where it was saved), step_s (wall seconds of the step), "
+    "pairs,\n"
     "contacts (points), max_penetration (m), max_joint_gap (m), energy_change (J),\n"
     "momentum_change (kg m/s), angular_momentum_change (kg m^2/s).\n"
     "\n"
+    "A URDF robot falls along -Z. A scene file brings its own gravity, time step, sub-steps\n"
+    "and iterations (--dt, --substeps and --iterations override them); the robot, when one\n"
+    "is given too, is loaded after it.\n"
+    "\n"
     "options:\n"
+    "  --world FILE       a scene: pfx scene XML (<pfx_scene>), an SDFormat world (<sdf>),\n"
+    "                     or a world saved with --save (as --load)\n"
+    "  --load FILE        a world saved with --save, continued exactly where it was saved\n"
+    "                     with its own parameters (no URDF, scene, ground, map, --dt,\n"
+    "                     --substeps, --iterations or --sleep with it)\n"
+    "  --save FILE        save the world after the run (pfx's serialization format)\n"
     "  --seconds S        simulated time (default 5)\n"
     "  --dt DT            time step in seconds (default 1/240)\n"
     "  --substeps N       solver sub-steps per step (default 1)\n"
@@ -55,6 +70,13 @@ const char* const kUsage =
 
 struct Options {
   std::string urdf;
+  std::string world;  // a scene file, or a saved world (then in `load`)
+  std::string load;
+  std::string save;
+  // Which of --dt, --substeps, --iterations and --sleep were given: they override a
+  // scene file's physics.
+  bool dtGiven = false, substepsGiven = false, iterationsGiven = false, sleepGiven = false;
+  bool physicsGiven() const { return dtGiven || substepsGiven || iterationsGiven || sleepGiven; }
   double seconds = 5;
   double dt = 1.0 / 240.0;
   long substeps = 1;
@@ -110,6 +132,7 @@ int parseArguments(int argc, char** argv, Options& options) {
       options.ground = true;
     } else if (arg == "--sleep") {
       options.sleep = true;
+      options.sleepGiven = true;
     } else if (arg == "--fixed-base") {
       options.fixedBase = true;
     } else if (arg == "--no-self-collision") {
@@ -128,6 +151,7 @@ int parseArguments(int argc, char** argv, Options& options) {
       } else if (arg == "--dt") {
         if (!(number > 0) || number > 1) return usageError("--dt must be in (0, 1] s");
         options.dt = number;
+        options.dtGiven = true;
       } else {
         options.dropHeight = number;
         options.hasDropHeight = true;
@@ -138,11 +162,20 @@ int parseArguments(int argc, char** argv, Options& options) {
       if (!parseLong(text, number) || number < 1 || number > 1000) {
         return usageError(arg + " must be a whole number from 1 to 1000: " + text);
       }
-      (arg == "--substeps" ? options.substeps : arg == "--iterations" ? options.iterations
-                                                                       : options.every) = number;
-    } else if (arg == "--octomap" || arg == "--png") {
+      (arg == "--substeps"     ? options.substeps
+       : arg == "--iterations" ? options.iterations
+                               : options.every) = number;
+      if (arg == "--substeps") options.substepsGiven = true;
+      if (arg == "--iterations") options.iterationsGiven = true;
+    } else if (arg == "--octomap" || arg == "--png" || arg == "--world" || arg == "--load" ||
+               arg == "--save") {
       if (!value(text)) return usageError(arg + " needs a file name");
-      (arg == "--octomap" ? options.octomap : options.png) = text;
+      if (*text == '\0') return usageError(arg + " needs a file name");
+      (arg == "--octomap" ? options.octomap
+       : arg == "--png"   ? options.png
+       : arg == "--world" ? options.world
+       : arg == "--load"  ? options.load
+                          : options.save) = text;
     } else if (arg == "--png-size") {
       if (!value(text)) return usageError("--png-size needs WxH");
       const char* x = std::strchr(text, 'x');
@@ -160,9 +193,66 @@ int parseArguments(int argc, char** argv, Options& options) {
       return usageError("more than one URDF given: " + options.urdf + ", " + arg);
     }
   }
-  if (options.urdf.empty()) return usageError("no URDF given");
+  if (!options.load.empty() && !options.world.empty()) {
+    return usageError("--load and --world both name a world: give one");
+  }
+  if (!options.load.empty() &&
+      (!options.urdf.empty() || options.ground || !options.octomap.empty() ||
+       options.physicsGiven() || options.fixedBase || options.hasDropHeight)) {
+    return usageError(
+        "--load continues a saved world as it was: no URDF, --ground, "
+        "--octomap, --fixed-base, --drop-height, --dt, --substeps, --iterations "
+        "or --sleep with it");
+  }
+  if (options.urdf.empty() && options.world.empty() && options.load.empty()) {
+    return usageError("no URDF, --world or --load given");
+  }
   if (options.seconds / options.dt > 1e8) return usageError("--seconds / --dt is too many steps");
   return -1;
+}
+
+// A scene file is XML; anything else given to --world is taken for a saved world, whose
+// reader says so when it is not one.
+bool looksLikeXml(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return false;  // the saved world's reader names the file it cannot open
+  int c = std::fgetc(file);
+  if (c == 0xEF) {  // a UTF-8 byte order mark
+    std::fgetc(file);
+    std::fgetc(file);
+    c = std::fgetc(file);
+  }
+  while (c == ' ' || c == '\t' || c == '\r' || c == '\n') c = std::fgetc(file);
+  std::fclose(file);
+  return c == '<';
+}
+
+PfxWorldParam overriddenParam(PfxWorldParam param, const Options& options) {
+  if (options.dtGiven) param.timeStep = PfxFloat(options.dt);
+  if (options.substepsGiven) param.subStep = PfxUInt32(options.substeps);
+  if (options.iterationsGiven) param.iteration = PfxUInt32(options.iterations);
+  if (options.sleepGiven) param.enableSleep = options.sleep;
+  param.measureConservation = true;  // the TSV reports the energy and momentum changes
+  return param;
+}
+
+// Loads the scene file with its physics, or, where the command line overrides some of
+// them, once more into a world initialized with the file's physics and the overrides.
+PfxInt32 loadScene(PfxWorld& world, const Options& options, PfxSceneModel& scene,
+                   std::string& message) {
+  PfxSceneLoadParam load;
+  if (const PfxInt32 err = pfxLoadSceneFile(world, options.world, load, scene, &message);
+      err != PFX_OK || !options.physicsGiven()) {
+    return err;
+  }
+  const PfxWorldParam param = overriddenParam(scene.worldParam, options);
+  if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
+    message = std::string("--dt, --substeps or --iterations rejected: ") + pfxErrorString(err);
+    return err;
+  }
+  scene = PfxSceneModel();
+  load.applyPhysics = false;
+  return pfxLoadSceneFile(world, options.world, load, scene, &message);
 }
 
 }  // namespace
@@ -171,17 +261,47 @@ int main(int argc, char** argv) {
   Options options;
   if (const int status = parseArguments(argc, argv, options); status >= 0) return status;
 
-  PfxWorldParam param;
-  param.gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
-  param.timeStep = PfxFloat(options.dt);
-  param.subStep = PfxUInt32(options.substeps);
-  param.iteration = PfxUInt32(options.iterations);
-  param.measureConservation = true;
-  param.enableSleep = options.sleep;
+  // Declared before the world, which points into their meshes, so that it goes first.
+  PfxSerializedMeshes savedMeshes;
+  PfxSceneModel scene;
   PfxWorld world;
-  if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
-    std::fprintf(stderr, "pfx_sim: world parameters rejected: %s\n", pfxErrorString(err));
-    return 1;
+  std::string message;
+  std::string savedWorld = options.load;
+  if (!options.world.empty() && !looksLikeXml(options.world)) savedWorld = options.world;
+  if (!savedWorld.empty()) {
+    if (options.physicsGiven()) {
+      return usageError(
+          "a saved world runs with its own parameters: no --dt, --substeps, "
+          "--iterations or --sleep with it");
+    }
+    if (const PfxInt32 err = pfxLoadWorld(world, savedWorld.c_str(), savedMeshes, &message);
+        err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: %s: %s\n", savedWorld.c_str(),
+                   message.empty() ? pfxErrorString(err) : message.c_str());
+      return 1;
+    }
+  } else {
+    PfxWorldParam param;
+    param.gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
+    param.timeStep = PfxFloat(options.dt);
+    param.subStep = PfxUInt32(options.substeps);
+    param.iteration = PfxUInt32(options.iterations);
+    param.measureConservation = true;
+    param.enableSleep = options.sleep;
+    if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: world parameters rejected: %s\n", pfxErrorString(err));
+      return 1;
+    }
+    if (!options.world.empty()) {
+      if (const PfxInt32 err = loadScene(world, options, scene, message); err != PFX_OK) {
+        std::fprintf(stderr, "pfx_sim: %s\n",
+                     message.empty() ? pfxErrorString(err) : message.c_str());
+        return 1;
+      }
+      for (const std::string& warning : scene.warnings) {
+        std::fprintf(stderr, "pfx_sim: warning: %s\n", warning.c_str());
+      }
+    }
   }
 
   if (options.ground) {
@@ -197,35 +317,44 @@ int main(int argc, char** argv) {
   std::unique_ptr<PfxOctomap> map;
   if (!options.octomap.empty()) {
     map = std::make_unique<PfxOctomap>();
-    std::string message;
-    if (const PfxInt32 err = pfxLoadOctomapFile(world, options.octomap, PfxOctomapLoadParam(), *map,
-                                                &message);
+    if (const PfxInt32 err =
+            pfxLoadOctomapFile(world, options.octomap, PfxOctomapLoadParam(), *map, &message);
         err != PFX_OK) {
-      std::fprintf(stderr, "pfx_sim: %s\n", message.empty() ? pfxErrorString(err) : message.c_str());
+      std::fprintf(stderr, "pfx_sim: %s\n",
+                   message.empty() ? pfxErrorString(err) : message.c_str());
       return 1;
     }
   }
 
-  PfxUrdfLoadParam load;
-  load.fixedBase = options.fixedBase;
-  load.disableSelfCollision = !options.selfCollision;
-  load.allowMissingMeshes = options.allowMissingMeshes;
-  load.placeAboveGround = options.hasDropHeight || options.ground;
-  if (options.hasDropHeight) load.groundClearance = PfxFloat(options.dropHeight);
   PfxUrdfModel model;
-  std::string message;
-  if (const PfxInt32 err = pfxLoadUrdfFile(world, options.urdf, load, model, &message);
-      err != PFX_OK) {
-    std::fprintf(stderr, "pfx_sim: %s\n", message.empty() ? pfxErrorString(err) : message.c_str());
-    return 1;
+  if (!options.urdf.empty()) {
+    PfxUrdfLoadParam load;
+    load.fixedBase = options.fixedBase;
+    load.disableSelfCollision = !options.selfCollision;
+    load.allowMissingMeshes = options.allowMissingMeshes;
+    load.placeAboveGround = options.hasDropHeight || options.ground;
+    if (options.hasDropHeight) load.groundClearance = PfxFloat(options.dropHeight);
+    if (const PfxInt32 err = pfxLoadUrdfFile(world, options.urdf, load, model, &message);
+        err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: %s\n",
+                   message.empty() ? pfxErrorString(err) : message.c_str());
+      return 1;
+    }
+    for (const std::string& warning : model.warnings) {
+      std::fprintf(stderr, "pfx_sim: warning: %s\n", warning.c_str());
+    }
   }
-  for (const std::string& warning : model.warnings) {
-    std::fprintf(stderr, "pfx_sim: warning: %s\n", warning.c_str());
+  const double dt = world.getParam().timeStep;
+  if (options.seconds / dt > 1e8) {
+    std::fprintf(stderr, "pfx_sim: --seconds %g at the world's dt %g s is too many steps\n",
+                 options.seconds, dt);
+    return 2;
   }
-  const long steps = std::lround(options.seconds / options.dt);
+  const long steps = std::lround(options.seconds / dt);
   if (!options.quiet) {
-    std::printf("step\ttime\tstep_s\tpairs\tcontacts\tmax_penetration\tmax_joint_gap\t"
-                "energy_change\tmomentum_change\tangular_momentum_change\n");
+    std::printf(
+        "step\ttime\tstep_s\tpairs\tcontacts\tmax_penetration\tmax_joint_gap\t"
+        "energy_change\tmomentum_change\tangular_momentum_change\n");
   }
   for (long step = 1; step <= steps; ++step) {
     if (const PfxInt32 err = world.step(); err != PFX_OK) {
@@ -235,11 +364,19 @@ int main(int argc, char** argv) {
     if (options.quiet || (step % options.every != 0 && step != steps)) continue;
     const PfxWorldStats& stats = world.getStats();
     std::printf("%ld\t%.6f\t%.3e\t%u\t%u\t%.3e\t%.3e\t%.3e\t%.3e\t%.3e\n", step,
-                double(step) * options.dt, stats.stepSeconds, stats.numPairs,
-                stats.numContactPoints, double(stats.maxPenetration), double(stats.maxJointGap),
-                stats.energyChange, stats.linearMomentumChange, stats.angularMomentumChange);
+                world.getSimulatedTime(), stats.stepSeconds, stats.numPairs, stats.numContactPoints,
+                double(stats.maxPenetration), double(stats.maxJointGap), stats.energyChange,
+                stats.linearMomentumChange, stats.angularMomentumChange);
   }
   std::fflush(stdout);
+
+  if (!options.save.empty()) {
+    if (const PfxInt32 err = pfxSaveWorld(world, options.save.c_str(), &message); err != PFX_OK) {
+      std::fprintf(stderr, "pfx_sim: %s: %s\n", options.save.c_str(),
+                   message.empty() ? pfxErrorString(err) : message.c_str());
+      return 1;
+    }
+  }
 
   if (!options.png.empty()) {
     PfxScenePicture picture(PfxUInt32(options.pngWidth), PfxUInt32(options.pngHeight));

@@ -88,9 +88,9 @@ double colouredShare(const std::string& png, int expectedWidth, int expectedHeig
 void checkDrop(const std::string& urdf, const std::string& name, double maxJointGap) {
   const std::string png = scratch(name + ".png");
   std::remove(png.c_str());
-  const SimRun run =
-      runSim("\"" + urdf + "\" --ground --seconds 1.5 --dt 0.004 --png \"" + png + "\" --png-size 640x480",
-             name);
+  const SimRun run = runSim(
+      "\"" + urdf + "\" --ground --seconds 1.5 --dt 0.004 --png \"" + png + "\" --png-size 640x480",
+      name);
   ASSERT_EQ(run.status, 0) << run.err;
   const auto rows = tsvRows(run.out);
   ASSERT_EQ(rows.size(), 376u);  // the header and 375 steps
@@ -125,9 +125,9 @@ TEST(PfxSim, RagdollDroppedOntoTheGround) { checkDrop(PFX_RAGDOLL_URDF, "ragdoll
 TEST(PfxSim, SleepIsAnOption) {
   const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
   for (const bool sleep : {false, true}) {
-    const SimRun run = runSim("\"" + arm + "\" --ground --seconds 3 --dt 0.004" +
-                                  (sleep ? " --sleep" : ""),
-                              sleep ? "sleep" : "awake");
+    const SimRun run =
+        runSim("\"" + arm + "\" --ground --seconds 3 --dt 0.004" + (sleep ? " --sleep" : ""),
+               sleep ? "sleep" : "awake");
     ASSERT_EQ(run.status, 0) << run.err;
     const auto rows = tsvRows(run.out);
     ASSERT_EQ(rows.size(), 751u);
@@ -199,4 +199,112 @@ TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
   run = runSim("\"" + arm + "\" --seconds 0.01 --png /nonexistent-folder/picture.png", "nopng");
   EXPECT_EQ(run.status, 1);
   EXPECT_NE(run.err.find("/nonexistent-folder/picture.png"), std::string::npos) << run.err;
+}
+
+// Every column of a TSV row but the step number and the step's wall time.
+std::vector<std::string> simulatedFigures(const std::vector<std::string>& row) {
+  std::vector<std::string> figures = row;
+  figures.erase(figures.begin() + 2);  // step_s
+  figures.erase(figures.begin());      // step
+  return figures;
+}
+
+// A run saved after 1 s and continued from the file for 0.5 s prints, step for step, the
+// very figures of one run of 1.5 s: the world read back goes on bit for bit, its clock
+// included. The saved world can be given to --world too.
+TEST(PfxSim, SavedWorldContinuesExactly) {
+  const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
+  const std::string saved = scratch("arm_1s.pfxw");
+  std::remove(saved.c_str());
+  const std::string physics = " --ground --dt 0.004 --iterations 12";
+  const SimRun whole = runSim("\"" + arm + "\"" + physics + " --seconds 1.5", "whole");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  const SimRun first =
+      runSim("\"" + arm + "\"" + physics + " --seconds 1 --save \"" + saved + "\"", "first");
+  ASSERT_EQ(first.status, 0) << first.err;
+  const auto wholeRows = tsvRows(whole.out);
+  ASSERT_EQ(wholeRows.size(), 376u);
+  for (const char* option : {"--load", "--world"}) {
+    const SimRun rest = runSim(std::string(option) + " \"" + saved + "\" --seconds 0.5", option);
+    ASSERT_EQ(rest.status, 0) << option << ": " << rest.err;
+    const auto restRows = tsvRows(rest.out);
+    ASSERT_EQ(restRows.size(), 126u) << option;
+    EXPECT_NEAR(std::stod(restRows[1][1]), 1.004, 1e-9) << "the clock goes on from 1 s";
+    for (std::size_t i = 1; i < restRows.size(); ++i) {
+      EXPECT_EQ(simulatedFigures(restRows[i]), simulatedFigures(wholeRows[250 + i]))
+          << option << ", step " << i << " after loading";
+    }
+  }
+}
+
+TEST(PfxSim, SavedWorldsAndScenesRefusedWithReasons) {
+  const std::string arm = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/pfx_sim_arm.urdf";
+  const std::string saved = scratch("arm_short.pfxw");
+  SimRun run = runSim("\"" + arm + "\" --ground --seconds 0.1 --save \"" + saved + "\"", "short");
+  ASSERT_EQ(run.status, 0) << run.err;
+
+  // Options that a saved world cannot take.
+  for (const std::string& bad :
+       {"\"" + arm + "\" --load \"" + saved + "\"", "--load \"" + saved + "\" --dt 0.01",
+        "--load \"" + saved + "\" --ground", "--load \"" + saved + "\" --world \"" + saved + "\"",
+        "--world \"" + saved + "\" --iterations 3", std::string("--load"), std::string("--save")}) {
+    run = runSim(bad, "bad_saved");
+    EXPECT_EQ(run.status, 2) << bad;
+    EXPECT_NE(run.err.find("pfx_sim: "), std::string::npos) << bad;
+  }
+
+  // Files that do not read: each named, with why.
+  const std::string garbage = scratch("garbage.pfxw");
+  std::ofstream(garbage) << "a text file, longer than the 32 bytes of a world file's header";
+  const std::string cut = scratch("cut.pfxw");
+  {
+    const std::string bytes = readFile(saved);
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  struct Unreadable {
+    std::string file, reason;
+  };
+  for (const Unreadable& bad :
+       {Unreadable{scratch("missing.pfxw"), "cannot be opened"},
+        Unreadable{garbage, "not a pfx world file"}, Unreadable{cut, "the file ends"}}) {
+    run = runSim("--load \"" + bad.file + "\"", "unreadable");
+    EXPECT_EQ(run.status, 1) << bad.file;
+    EXPECT_NE(run.err.find(bad.file + ": "), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(bad.reason), std::string::npos) << run.err;
+    EXPECT_TRUE(run.out.empty()) << bad.file;
+  }
+  run = runSim("--world \"" + scratch("missing.world") + "\"", "missing_world");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("missing.world"), std::string::npos) << run.err;
+  run = runSim("\"" + arm + "\" --seconds 0.01 --save /nonexistent-folder/world.pfxw", "nosave");
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("/nonexistent-folder/world.pfxw"), std::string::npos) << run.err;
+}
+
+// A scene file alone runs with its own physics (Gazebo's shapes.world: the SDF default step
+// of 1 ms), --dt overrides its step, and a robot loads beside a pfx scene.
+TEST(PfxSim, SceneFilesAloneAndBesideARobot) {
+  const std::string data = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/";
+  const std::string shapes = "\"" + data + "sdf/worlds/shapes.world\"";
+  SimRun run = runSim("--world " + shapes + " --seconds 0.5", "shapes");
+  ASSERT_EQ(run.status, 0) << run.err;
+  auto rows = tsvRows(run.out);
+  ASSERT_EQ(rows.size(), 501u) << "0.5 s at the file's 1 ms";
+  EXPECT_NEAR(std::stod(rows.back()[1]), 0.5, 1e-6);
+  EXPECT_GT(std::stol(rows.back()[4]), 0) << "the shapes rest on the ground";
+  EXPECT_LT(std::stod(rows.back()[5]), 0.01) << "deepest overlap";
+
+  run = runSim("--world " + shapes + " --seconds 0.5 --dt 0.004", "shapes_dt");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(tsvRows(run.out).size(), 126u) << "0.5 s at --dt 0.004";
+
+  const std::string arm = "\"" + data + "pfx_sim_arm.urdf\"";
+  const std::string obstacles =
+      "\"" + std::string(PFX_SOURCE_DIR) + "/tests/ros/data/obstacles.xml\"";
+  run = runSim(arm + " --world " + obstacles + " --ground --seconds 0.5 --dt 0.004", "beside");
+  ASSERT_EQ(run.status, 0) << run.err;
+  rows = tsvRows(run.out);
+  ASSERT_EQ(rows.size(), 126u);
+  EXPECT_GT(std::stol(rows.back()[4]), 0);
+  EXPECT_LT(std::stod(rows.back()[5]), 0.02) << "deepest overlap";
 }
