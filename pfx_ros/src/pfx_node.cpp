@@ -57,6 +57,7 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   }
   nh.param<std::string>("urdf_path", p.simulation.urdfPath, "");
   nh.param<std::string>("octomap_file", p.simulation.octomapFile, "");
+  nh.param<std::string>("world_file", p.simulation.worldFile, "");
   nh.param("ground_plane", p.simulation.groundPlane, true);
   nh.param("fixed_base", p.simulation.fixedBase, false);
   nh.param("allow_missing_meshes", p.simulation.allowMissingMeshes, false);
@@ -111,7 +112,7 @@ bool PfxNode::initialize() {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
   }
-  for (const std::string& warning : m_simulation.getModel().warnings) {
+  for (const std::string& warning : m_simulation.getWarnings()) {
     ROS_WARN_STREAM("pfx_node: " << warning);
   }
   ros::param::param("/use_sim_time", m_useSimTime, false);
@@ -142,8 +143,11 @@ ros::Time PfxNode::stamp() const {
 
 void PfxNode::run() {
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
-  const double dt = m_param.simulation.timeStep;
-  const ros::WallDuration stepPeriod(m_param.realTimeFactor > 0 ? dt / m_param.realTimeFactor : 0);
+  // A world loaded through ~load_world brings its own time step.
+  auto stepPeriod = [&] {
+    const double dt = m_simulation.getTimeStep();
+    return ros::WallDuration(m_param.realTimeFactor > 0 ? dt / m_param.realTimeFactor : 0);
+  };
   const ros::WallDuration statePeriod = periodOf(m_param.publishRate);
   const ros::WallDuration markerPeriod = periodOf(m_param.markerRate);
   const ros::WallDuration diagnosticsPeriod = periodOf(m_param.diagnosticsRate);
@@ -164,12 +168,13 @@ void PfxNode::run() {
       }
       m_diagnostics->addStep(m_simulation.getWorld().getStats());
       stepsUnpublished = true;
-      nextStep += stepPeriod;
+      nextStep += stepPeriod();
       if (now - nextStep > kMaxLag) nextStep = now;
     }
     if (m_simulation.getGeneration() != m_boundGeneration) {
       m_statePublisher->bind(m_simulation);
       m_boundGeneration = m_simulation.getGeneration();
+      stepsUnpublished = true;  // a reset or a loaded world is a new state, paused or not
     }
     // Stamps are simulated time under use_sim_time: only a step makes a new state.
     if (stepsUnpublished && now >= nextState) {

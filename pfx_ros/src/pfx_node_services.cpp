@@ -64,6 +64,8 @@ PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulati
   m_servers.push_back(
       nh.advertiseService("set_joint_command", &PfxNodeServices::setJointCommand, this));
   m_servers.push_back(nh.advertiseService("reset", &PfxNodeServices::reset, this));
+  m_servers.push_back(nh.advertiseService("save_world", &PfxNodeServices::saveWorld, this));
+  m_servers.push_back(nh.advertiseService("load_world", &PfxNodeServices::loadWorld, this));
   m_servers.push_back(nh.advertiseService("pause", &PfxNodeServices::pause, this));
   m_servers.push_back(nh.advertiseService("unpause", &PfxNodeServices::unpause, this));
 }
@@ -286,6 +288,25 @@ bool PfxNodeServices::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Resp
   std::string why;
   if (m_simulation.reset(&why) != PFX_OK) return reject(res, "reset", why);
   return accept(res, "initial state restored");
+}
+
+bool PfxNodeServices::saveWorld(WorldFile::Request& req, WorldFile::Response& res) {
+  if (req.path.empty()) return reject(res, "save_world", "no path given");
+  std::string why;
+  if (m_simulation.saveWorld(req.path, &why) != PFX_OK) return reject(res, "save_world", why);
+  std::ostringstream msg;
+  msg << "world at t = " << m_simulation.getTime() << " s saved to " << req.path;
+  return accept(res, msg.str());
+}
+
+bool PfxNodeServices::loadWorld(WorldFile::Request& req, WorldFile::Response& res) {
+  if (req.path.empty()) return reject(res, "load_world", "no path given");
+  std::string why;
+  if (m_simulation.loadWorld(req.path, &why) != PFX_OK) return reject(res, "load_world", why);
+  std::ostringstream msg;
+  msg << "world loaded from " << req.path << ", continuing from t = " << m_simulation.getTime()
+      << " s";
+  return accept(res, msg.str());
 }
 
 bool PfxNodeServices::pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {

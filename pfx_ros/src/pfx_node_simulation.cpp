@@ -1,9 +1,11 @@
 #include "pfx_ros/pfx_node_simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_serialize.h"
 
 namespace pfx {
 
@@ -11,10 +13,13 @@ struct PfxNodeSimulation::Scene {
   // Declared before the world: the world's shapes point into the model's and the map's
   // meshes, so the world goes first when a scene is destroyed.
   PfxUrdfModel model;
+  PfxSceneModel worldFile;
   std::unique_ptr<PfxOctomap> octomap;
+  PfxSerializedMeshes savedMeshes;  // the meshes of a saved world loaded into `world`
   std::unique_ptr<PfxWorld> world;
   std::vector<std::string> bodyNames;
   std::unordered_map<std::string, PfxUInt32> bodyByName;
+  std::vector<std::string> warnings;
 };
 
 namespace {
@@ -106,6 +111,27 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
     }
   }
 
+  if (!config.worldFile.empty()) {
+    PfxSceneLoadParam sceneParam;
+    sceneParam.applyPhysics = false;
+    std::string why;
+    if (const PfxInt32 err =
+            pfxLoadSceneFile(world, config.worldFile, sceneParam, built->worldFile, &why);
+        err != PFX_OK) {
+      if (message) *message = why;
+      return err;
+    }
+    const PfxWorldParam& asked = built->worldFile.worldParam;
+    if (asked.timeStep != param.timeStep || asked.subStep != param.subStep ||
+        asked.iteration != param.iteration || asked.gravity != param.gravity) {
+      built->warnings.push_back(config.worldFile +
+                                ": the node runs with its own ~dt, ~substeps, ~iterations and " +
+                                "gravity (0, 0, -9.80665), not the file's");
+    }
+    built->warnings.insert(built->warnings.end(), built->worldFile.warnings.begin(),
+                           built->worldFile.warnings.end());
+  }
+
   PfxUrdfLoadParam urdfParam;
   urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
   urdfParam.fixedBase = config.fixedBase;
@@ -121,9 +147,14 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
     return err;
   }
 
+  built->warnings.insert(built->warnings.end(), built->model.warnings.begin(),
+                         built->model.warnings.end());
   built->bodyNames.assign(world.getNumRigidBodies(), std::string());
   if (config.groundPlane) built->bodyNames[0] = kGroundName;
   if (built->octomap) built->bodyNames[built->octomap->bodyId] = kOctomapName;
+  for (const PfxSceneBody& body : built->worldFile.bodies) {
+    built->bodyNames[body.bodyId] = body.name;
+  }
   nameRobotBodies(built->model, built->bodyNames);
   for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
     if (built->bodyNames[id].empty()) built->bodyNames[id] = "body_" + std::to_string(id);
@@ -142,6 +173,7 @@ PfxInt32 PfxNodeSimulation::load(const PfxNodeSimulationConfig& config, std::str
   m_config = config;
   m_scene = std::move(scene);
   m_wrenches.clear();
+  m_startTime = 0;
   m_stepCount = 0;
   ++m_generation;
   return PFX_OK;
@@ -175,12 +207,89 @@ PfxInt32 PfxNodeSimulation::step() {
   return err;
 }
 
+PfxInt32 PfxNodeSimulation::saveWorld(const std::string& path, std::string* message) const {
+  std::string why;
+  const PfxInt32 err = pfxSaveWorld(*m_scene->world, path.c_str(), &why);
+  if (err != PFX_OK && message) *message = path + ": " + why;
+  return err;
+}
+
+namespace {
+
+// Empty when `saved` holds the bodies, shapes and joints that `built` holds, else the
+// first difference.
+std::string compareWorlds(const PfxWorld& built, const PfxWorld& saved) {
+  if (saved.getNumRigidBodies() != built.getNumRigidBodies()) {
+    return "it holds " + std::to_string(saved.getNumRigidBodies()) + " bodies, the robot and " +
+           "scene " + std::to_string(built.getNumRigidBodies());
+  }
+  if (saved.getNumJoints() != built.getNumJoints()) {
+    return "it holds " + std::to_string(saved.getNumJoints()) + " joints, the robot " +
+           std::to_string(built.getNumJoints());
+  }
+  for (PfxUInt32 id = 0; id < built.getNumRigidBodies(); ++id) {
+    const PfxCollidable& a = built.getCollidable(id);
+    const PfxCollidable& b = saved.getCollidable(id);
+    // Masses match to rounding: a world saved in double precision reads rounded once.
+    const PfxFloat massA = built.getRigidBody(id).getMass();
+    const PfxFloat massB = saved.getRigidBody(id).getMass();
+    bool same = a.getNumShapes() == b.getNumShapes() &&
+                std::abs(massA - massB) <= PfxFloat(1e-5) * std::max(massA, massB);
+    for (PfxUInt32 s = 0; same && s < a.getNumShapes(); ++s) {
+      same = a.getShape(s).getType() == b.getShape(s).getType();
+    }
+    if (!same) return "its body " + std::to_string(id) + " differs from the robot's or scene's";
+  }
+  for (PfxUInt32 id = 0; id < built.getNumJoints(); ++id) {
+    const PfxJoint& a = built.getJoint(id);
+    const PfxJoint& b = saved.getJoint(id);
+    if (a.m_rigidBodyIdA != b.m_rigidBodyIdA || a.m_rigidBodyIdB != b.m_rigidBodyIdB ||
+        a.m_type != b.m_type) {
+      return "its joint " + std::to_string(id) + " differs from the robot's";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* message) {
+  // The robot and scene are built afresh for their names, meshes and map, and checked
+  // against the saved world, which then takes the built world's place.
+  std::unique_ptr<Scene> scene;
+  if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
+  auto saved = std::make_unique<PfxWorld>();
+  std::string why;
+  if (const PfxInt32 err = pfxLoadWorld(*saved, path.c_str(), scene->savedMeshes, &why);
+      err != PFX_OK) {
+    if (message) *message = path + ": " + why;
+    return err;
+  }
+  if (const std::string difference = compareWorlds(*scene->world, *saved); !difference.empty()) {
+    if (message) *message = path + " was not saved from this robot and scene: " + difference;
+    return PFX_ERR_INVALID_VALUE;
+  }
+  scene->world = std::move(saved);
+  const PfxWorldParam& param = scene->world->getParam();
+  m_config.timeStep = param.timeStep;
+  m_config.subSteps = param.subStep;
+  m_config.iterations = param.iteration;
+  m_startTime = scene->world->getSimulatedTime();
+  m_stepCount = 0;
+  m_scene = std::move(scene);
+  m_wrenches.clear();
+  ++m_generation;
+  return PFX_OK;
+}
+
 const std::string& PfxNodeSimulation::getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const {
   const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex);
   return link < 0 ? getBodyName(bodyId) : m_scene->model.links[link].name;
 }
 
 const PfxWorld& PfxNodeSimulation::getWorld() const { return *m_scene->world; }
+
+const std::vector<std::string>& PfxNodeSimulation::getWarnings() const { return m_scene->warnings; }
 
 const PfxUrdfModel& PfxNodeSimulation::getModel() const { return m_scene->model; }
 

@@ -21,7 +21,7 @@ namespace pfx {
 // The node's parameters (private unless said otherwise), as read by PfxNode::initialize.
 struct PfxNodeParam {
   PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
-                                       // ~octomap_file, ~ground_plane, ~ground_size, ~dt,
+                                       // ~octomap_file, ~world_file, ~ground_plane, ~ground_size, ~dt,
                                        // ~substeps, ~iterations, ~fixed_base, ~initial_height,
                                        // ~allow_missing_meshes
   std::string fixedFrame = "world";    // ~fixed_frame

@@ -15,6 +15,7 @@
 #include "pfx/RaycastBatch.h"
 #include "pfx/SetBodyState.h"
 #include "pfx/SetJointCommand.h"
+#include "pfx/WorldFile.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
@@ -35,6 +36,8 @@ class PfxNodeServices {
   bool setBodyState(SetBodyState::Request& req, SetBodyState::Response& res);
   bool setJointCommand(SetJointCommand::Request& req, SetJointCommand::Response& res);
   bool reset(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool saveWorld(WorldFile::Request& req, WorldFile::Response& res);
+  bool loadWorld(WorldFile::Request& req, WorldFile::Response& res);
   bool pause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool unpause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 

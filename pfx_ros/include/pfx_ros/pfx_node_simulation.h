@@ -10,6 +10,7 @@
 
 #include "pfx/high_level/pfx_world.h"
 #include "pfx/loaders/pfx_octomap_loader.h"
+#include "pfx/loaders/pfx_scene_loader.h"
 #include "pfx/loaders/pfx_urdf_loader.h"
 
 namespace pfx {
@@ -19,7 +20,11 @@ struct PfxNodeSimulationConfig {
   // The file the URDF text came from: relative mesh paths resolve against its folder.
   // Empty: against the working directory.
   std::string urdfPath;
-  std::string octomapFile;   // empty: no map
+  std::string octomapFile;  // empty: no map
+  // A scene file (pfx scene XML or an SDFormat world) loaded with the robot, before it;
+  // empty: none. The node's time step, sub-steps and iterations stay; the file's physics
+  // are reported in a warning where they differ.
+  std::string worldFile;
   bool groundPlane = true;   // a fixed box whose top face is the plane z = 0
   PfxFloat groundSize = 20;  // edge of the square ground (m)
   PfxFloat timeStep = PfxFloat(0.004);
@@ -65,13 +70,30 @@ class PfxNodeSimulation {
   // One step of the time step; the wrenches that are due act during it.
   PfxInt32 step();
 
-  double getTime() const { return static_cast<double>(m_stepCount) * m_config.timeStep; }
-  // Counts load() and reset() calls: whoever draws the static bodies draws them again.
+  // Writes the whole world to `path` (pfxSaveWorld: bodies, joints, motor commands,
+  // contacts with their impulses, sleep and the simulated time), so that loadWorld can
+  // resume it exactly. Wrenches still to act are not saved.
+  PfxInt32 saveWorld(const std::string& path, std::string* message) const;
+  // Replaces the world with one that saveWorld wrote for the same robot and scene (the
+  // same bodies with the same shapes, the same joints), which then continues exactly where
+  // it was saved: its clock, time step, sub-steps and iterations included. Pending
+  // wrenches are dropped. On error the world, the clock and the settings stay as they
+  // were, and *message says why (a file that does not read, or one saved from another
+  // robot or scene).
+  PfxInt32 loadWorld(const std::string& path, std::string* message);
+
+  double getTime() const {
+    return m_startTime + static_cast<double>(m_stepCount) * m_config.timeStep;
+  }
+  double getTimeStep() const { return m_config.timeStep; }
+  // Counts load(), reset() and loadWorld() calls: whoever draws the static bodies draws them again.
   PfxUInt32 getGeneration() const { return m_generation; }
   const PfxWorld& getWorld() const;
   const PfxUrdfModel& getModel() const;
+  // Warnings of the robot's and the scene file's loads.
+  const std::vector<std::string>& getWarnings() const;
   // The link a body carries (the one nearest the URDF root when fixed joints lumped
-  // several into it), "ground" or "octomap".
+  // several into it), "ground", "octomap", or the scene file's name for its body.
   const std::string& getBodyName(PfxUInt32 bodyId) const;
   // The link whose <collision> element became shape `shapeIndex` of the body (a contact
   // point's or a ray hit's shape), so that a body lumping a massless helper with the link
@@ -120,6 +142,8 @@ class PfxNodeSimulation {
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;
   std::vector<Wrench> m_wrenches;
+  // Simulated time at the last load (of a saved world), and steps since.
+  double m_startTime = 0;
   PfxUInt64 m_stepCount = 0;
   PfxUInt32 m_generation = 0;
 };
