@@ -31,7 +31,7 @@ if [ "$set_name" = all ]; then
     python3-geometry-msgs python3-std-msgs)
   packages+=(libros-rosgraph-msgs-dev ros-rosgraph-msgs)
   packages+=(rviz xvfb xauth imagemagick)
-  packages+=(libbullet-dev libode-dev libmujoco-dev libembree-dev gnuplot-nox)
+  packages+=(libbullet-dev libbullet-extras-dev libode-dev libmujoco-dev libembree-dev gnuplot-nox)
 fi
 
 missing=()

@@ -77,7 +77,9 @@ const char* usage() {
          "  see bench_octomap.h. The scene urdf (built with the loaders) drives the joint\n"
          "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp. The\n"
          "  scene meshfloor (pfx only, with the loaders) stands a quadruped on a\n"
-         "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h.\n";
+         "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h. The\n"
+         "  scene serialize writes worlds of 4,000 and 100,000 bodies to a file and reads\n"
+         "  them back (pfx, and bullet's serializer), see bench_serialize.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

@@ -22,10 +22,23 @@
 #include "bench_report.h"
 #include "bench_run.h"
 #include "bench_scene.h"
+#include "bench_serialize.h"
 
 using namespace pfxbench;
 
 namespace {
+
+// Scenes that measure something other than stepping (load times, a world written and read
+// back) or that step pfx alone: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h.
+struct ApartScene {
+  const char* name;
+  int (*run)(std::vector<ResultRow>& rows);  // appends its rows, returns its failures
+};
+const ApartScene kApartScenes[] = {
+    {kOctomapSceneName, runOctomapScene},
+    {kMeshFloorSceneName, runMeshFloorScene},
+    {kSerializeSceneName, runSerializeScene},
+};
 
 struct Job {
   const Scene* scene;
@@ -146,18 +159,16 @@ int main(int argc, char** argv) {
     std::printf("%s", usage());
     return 0;
   }
-  // The octomap and rays scenes measure load times and rays per second, not stepping, and
-  // the meshfloor scene steps pfx alone; they run apart (bench_octomap.h, bench_rays.h,
-  // bench_mesh_floor.h).
+  // The rays scene and those of kApartScenes do not step engines side by side: they run
+  // apart, after the stepping scenes.
   const bool fullSweep = options.scenes.empty();
-  const auto octomap = std::remove(options.scenes.begin(), options.scenes.end(),
-                                   std::string(kOctomapSceneName));
-  const bool octomapWanted = fullSweep || octomap != options.scenes.end();
-  options.scenes.erase(octomap, options.scenes.end());
-  const auto meshFloor = std::remove(options.scenes.begin(), options.scenes.end(),
-                                     std::string(kMeshFloorSceneName));
-  const bool meshFloorWanted = fullSweep || meshFloor != options.scenes.end();
-  options.scenes.erase(meshFloor, options.scenes.end());
+  std::vector<const ApartScene*> apartScenes;
+  for (const ApartScene& apart : kApartScenes) {
+    const auto named = std::remove(options.scenes.begin(), options.scenes.end(),
+                                   std::string(apart.name));
+    if (fullSweep || named != options.scenes.end()) apartScenes.push_back(&apart);
+    options.scenes.erase(named, options.scenes.end());
+  }
   RaySceneRequest rays;
   if (fullSweep || !options.scenes.empty()) {
     if (!takeRaySceneRequest(options.scenes, options.engines, rays, error)) {
@@ -256,19 +267,10 @@ int main(int argc, char** argv) {
     }
     std::cout.flush();
   }
-  if (octomapWanted) {
-    std::vector<ResultRow> octomapRows;
-    failures += runOctomapScene(octomapRows);
-    for (const ResultRow& row : octomapRows) {
-      writeTsvRow(std::cout, row);
-      if (tsvFile) writeTsvRow(tsvFile, row);
-    }
-    std::cout.flush();
-  }
-  if (meshFloorWanted) {
-    std::vector<ResultRow> meshFloorRows;
-    failures += runMeshFloorScene(meshFloorRows);
-    for (const ResultRow& row : meshFloorRows) {
+  for (const ApartScene* apart : apartScenes) {
+    std::vector<ResultRow> apartRows;
+    failures += apart->run(apartRows);
+    for (const ResultRow& row : apartRows) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
     }
