@@ -14,29 +14,18 @@
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/loaders/pfx_scene_loader.h"
+#include "pfx_scene_test_util.h"
 
 using namespace pfx;
+using pfx_test::addMarker;
+using pfx_test::body;
+using pfx_test::joint;
+using pfx_test::position;
 
 namespace {
 
 const std::string kData = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/";
 const std::string kExample = kData + "scenes/example.xml";
-
-const PfxSceneBody& body(const PfxSceneModel& model, const std::string& name) {
-  const PfxInt32 i = pfxFindSceneBody(model, name);
-  EXPECT_GE(i, 0) << name;
-  return model.bodies[std::max(i, 0)];
-}
-
-const PfxSceneJoint& joint(const PfxSceneModel& model, const std::string& name) {
-  const PfxInt32 i = pfxFindSceneJoint(model, name);
-  EXPECT_GE(i, 0) << name;
-  return model.joints[std::max(i, 0)];
-}
-
-PfxVector3 position(const PfxWorld& world, const PfxSceneModel& model, const std::string& name) {
-  return world.getRigidState(body(model, name).bodyId).getPosition();
-}
 
 // A scene around `inside`, with a ground box for joints and bodies to refer to.
 std::string scene(const std::string& inside) {
@@ -45,39 +34,11 @@ std::string scene(const std::string& inside) {
          inside + "\n</pfx_scene>\n";
 }
 
-// One body already in the world, so that "unchanged" means more than "empty".
-void addMarker(PfxWorld& world) {
-  PfxBodyInit init;
-  init.position = PfxVector3(1, 2, 3);
-  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.5f)), init), PFX_OK);
-}
-
-// Loads `xml` into an empty world and into one holding a body; both must fail, with the
-// world exactly as before, and give the same message, which is returned.
+// Loads `xml` (see pfx_test::loadError); returns the message.
 std::string loadError(const std::string& xml) {
-  std::string messages[2];
-  for (int withMarker = 0; withMarker < 2; ++withMarker) {
-    PfxWorld world;
-    EXPECT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
-    if (withMarker) addMarker(world);
-    const PfxWorldParam before = world.getParam();
-    PfxSceneModel model;
-    model.name = "untouched";
-    EXPECT_NE(
-        pfxLoadSceneXmlString(world, xml, kData, PfxSceneLoadParam(), model, &messages[withMarker]),
-        PFX_OK);
-    EXPECT_EQ(world.getNumRigidBodies(), PfxUInt32(withMarker));
-    EXPECT_EQ(world.getNumJoints(), 0u);
-    EXPECT_EQ(world.getNumJointCouplings(), 0u);
-    EXPECT_EQ(world.getParam().gravity, before.gravity);
-    EXPECT_EQ(world.getParam().timeStep, before.timeStep);
-    EXPECT_EQ(model.name, "untouched");
-    if (withMarker) {
-      EXPECT_EQ(world.getRigidState(0).getPosition(), PfxVector3(1, 2, 3));
-    }
-  }
-  EXPECT_EQ(messages[0], messages[1]);
-  return messages[0];
+  return pfx_test::loadError([&](PfxWorld& world, PfxSceneModel& model, std::string* message) {
+    return pfxLoadSceneXmlString(world, xml, kData, PfxSceneLoadParam(), model, message);
+  });
 }
 
 class ExampleScene : public ::testing::Test {

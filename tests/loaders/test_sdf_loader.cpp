@@ -14,28 +14,16 @@
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/loaders/pfx_scene_loader.h"
+#include "pfx_scene_test_util.h"
 
 using namespace pfx;
+using pfx_test::body;
+using pfx_test::joint;
+using pfx_test::position;
 
 namespace {
 
 const std::string kSdf = std::string(PFX_SOURCE_DIR) + "/tests/loaders/data/sdf/";
-
-const PfxSceneBody& body(const PfxSceneModel& model, const std::string& name) {
-  const PfxInt32 i = pfxFindSceneBody(model, name);
-  EXPECT_GE(i, 0) << name;
-  return model.bodies[std::max(i, 0)];
-}
-
-const PfxSceneJoint& joint(const PfxSceneModel& model, const std::string& name) {
-  const PfxInt32 i = pfxFindSceneJoint(model, name);
-  EXPECT_GE(i, 0) << name;
-  return model.joints[std::max(i, 0)];
-}
-
-PfxVector3 position(const PfxWorld& world, const PfxSceneModel& model, const std::string& name) {
-  return world.getRigidState(body(model, name).bodyId).getPosition();
-}
 
 bool hasWarning(const PfxSceneModel& model, const std::string& text) {
   for (const std::string& warning : model.warnings) {
@@ -92,31 +80,11 @@ std::string cubeLink(const std::string& name, const std::string& pose,
          inside + "</link>";
 }
 
-void addMarker(PfxWorld& world) {
-  PfxBodyInit init;
-  init.position = PfxVector3(1, 2, 3);
-  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.5f)), init), PFX_OK);
-}
-
-// Loads `sdf` into an empty world and into one holding a body; both must fail and leave
-// the world as it was; returns the message.
+// Loads `sdf` (see pfx_test::loadError); returns the message.
 std::string loadError(const std::string& sdf) {
-  std::string messages[2];
-  for (int withMarker = 0; withMarker < 2; ++withMarker) {
-    PfxWorld world;
-    EXPECT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
-    if (withMarker) addMarker(world);
-    PfxSceneModel model;
-    model.name = "untouched";
-    EXPECT_NE(pfxLoadSdfString(world, sdf, withModels(), model, &messages[withMarker]), PFX_OK);
-    EXPECT_EQ(world.getNumRigidBodies(), PfxUInt32(withMarker));
-    EXPECT_EQ(world.getNumJoints(), 0u);
-    EXPECT_EQ(world.getParam().gravity, PfxWorldParam().gravity);
-    EXPECT_EQ(world.getParam().timeStep, PfxWorldParam().timeStep);
-    EXPECT_EQ(model.name, "untouched");
-  }
-  EXPECT_EQ(messages[0], messages[1]);
-  return messages[0];
+  return pfx_test::loadError([&](PfxWorld& world, PfxSceneModel& model, std::string* message) {
+    return pfxLoadSdfString(world, sdf, withModels(), model, message);
+  });
 }
 
 }  // namespace
