@@ -28,6 +28,22 @@ PfxSerializeError argumentError(PfxInt32 code, const std::string& reason) {
   return error;
 }
 
+// What both entry points do first: check the file and the init callback, then let the
+// callback name the arrays and their sizes.
+PfxInt32 initialize(FILE* file, const PfxSerializeCallbacks& callbacks, const char* function,
+                    PfxSerializeCapacity& capacity, PfxSerializeBuffer& buffer) {
+  if (!file || !callbacks.init) {
+    return report(callbacks, function,
+                  argumentError(PFX_ERR_NULL_POINTER,
+                                file ? "the init callback is null" : "the file is null"));
+  }
+  if (!callbacks.init(capacity, buffer, callbacks.userData)) {
+    return report(callbacks, function,
+                  argumentError(PFX_ERR_OUT_OF_BUFFER, "the init callback returned false"));
+  }
+  return PFX_OK;
+}
+
 // The first count of `needed` that `capacity` falls short of, or null.
 const char* shortfall(const PfxSerializeCapacity& capacity, const PfxSerializeCapacity& needed,
                       PfxUInt32& have, PfxUInt32& need) {
@@ -127,16 +143,11 @@ void store(PfxSerializeImage& image, const PfxSerializeBuffer& b) {
 
 PfxInt32 pfxSerializeWrite(FILE* file, const PfxSerializeCallbacks& callbacks) {
   constexpr const char* kFunction = "pfxSerializeWrite";
-  if (!file || !callbacks.init) {
-    return report(callbacks, kFunction,
-                  argumentError(PFX_ERR_NULL_POINTER,
-                                file ? "the init callback is null" : "the file is null"));
-  }
   PfxSerializeCapacity counts;
   PfxSerializeBuffer buffer;
-  if (!callbacks.init(counts, buffer, callbacks.userData)) {
-    return report(callbacks, kFunction,
-                  argumentError(PFX_ERR_OUT_OF_BUFFER, "the init callback returned false"));
+  if (const PfxInt32 code = initialize(file, callbacks, kFunction, counts, buffer);
+      code != PFX_OK) {
+    return code;
   }
   PfxSerializeError error;
   std::vector<PfxUInt8> bytes;
@@ -160,16 +171,11 @@ PfxInt32 pfxSerializeWrite(FILE* file, const PfxSerializeCallbacks& callbacks) {
 
 PfxInt32 pfxSerializeRead(FILE* file, const PfxSerializeCallbacks& callbacks) {
   constexpr const char* kFunction = "pfxSerializeRead";
-  if (!file || !callbacks.init) {
-    return report(callbacks, kFunction,
-                  argumentError(PFX_ERR_NULL_POINTER,
-                                file ? "the init callback is null" : "the file is null"));
-  }
   PfxSerializeCapacity capacity;
   PfxSerializeBuffer buffer;
-  if (!callbacks.init(capacity, buffer, callbacks.userData)) {
-    return report(callbacks, kFunction,
-                  argumentError(PFX_ERR_OUT_OF_BUFFER, "the init callback returned false"));
+  if (const PfxInt32 code = initialize(file, callbacks, kFunction, capacity, buffer);
+      code != PFX_OK) {
+    return code;
   }
   if (!buffer.worldParam || !buffer.simulatedTime) {
     return report(callbacks, kFunction,
