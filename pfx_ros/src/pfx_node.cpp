@@ -76,6 +76,11 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param("marker_rate", p.markerRate, 10.0);
   nh.param("diagnostics_rate", p.diagnosticsRate, 1.0);
   nh.param("max_batch_rays", p.maxBatchRays, 100000);
+  nh.param<std::string>("agent_frame_prefix", p.agentFramePrefix, "agents");
+  double commandTimeout, maxTurnRate, waypointTolerance;
+  nh.param("agent_cmd_vel_timeout", commandTimeout, 0.5);
+  nh.param("agent_max_turn_rate", maxTurnRate, 3.0);
+  nh.param("agent_waypoint_tolerance", waypointTolerance, 0.1);
 
   const char* invalid = nullptr;
   if (!positiveFinite(dt)) invalid = "~dt must be a positive number of seconds";
@@ -92,6 +97,18 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   }
   if (p.maxBatchRays < 1) invalid = "~max_batch_rays must be at least 1";
   if (p.fixedFrame.empty()) invalid = "~fixed_frame must not be empty";
+  if (!positiveFinite(commandTimeout)) {
+    invalid = "~agent_cmd_vel_timeout must be a positive number of seconds";
+  }
+  if (!positiveFinite(maxTurnRate)) invalid = "~agent_max_turn_rate must be > 0 (rad/s)";
+  if (!positiveFinite(waypointTolerance)) {
+    invalid = "~agent_waypoint_tolerance must be a positive number of metres";
+  }
+  if (!p.agentFramePrefix.empty() &&
+      (p.agentFramePrefix.front() == '/' || p.agentFramePrefix.back() == '/' ||
+       p.agentFramePrefix.find_first_of(" \t") != std::string::npos)) {
+    invalid = "~agent_frame_prefix must not start or end with / nor hold spaces";
+  }
   if (invalid) {
     ROS_FATAL("pfx_node: %s", invalid);
     return false;
@@ -102,6 +119,9 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   p.simulation.iterations = PfxUInt32(iterations);
   p.simulation.initialHeight = PfxFloat(initialHeight);
   p.simulation.placeAboveGround = !heightGiven;
+  p.simulation.agents.commandTimeout = commandTimeout;
+  p.simulation.agents.maxTurnRate = PfxFloat(maxTurnRate);
+  p.simulation.agents.waypointTolerance = PfxFloat(waypointTolerance);
   return true;
 }
 
@@ -117,8 +137,13 @@ bool PfxNode::initialize() {
   }
   ros::param::param("/use_sim_time", m_useSimTime, false);
 
-  m_statePublisher =
-      std::make_unique<PfxNodeStatePublisher>(m_handle, m_param.fixedFrame, m_useSimTime);
+  m_agents = std::make_unique<PfxNodeAgents>(m_handle, m_privateHandle, m_simulation);
+  if (!m_agents->addDeclared(&why)) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
+  m_statePublisher = std::make_unique<PfxNodeStatePublisher>(
+      m_handle, m_param.fixedFrame, m_param.agentFramePrefix, m_useSimTime);
   m_statePublisher->bind(m_simulation);
   m_boundGeneration = m_simulation.getGeneration();
   m_diagnostics = std::make_unique<PfxNodeDiagnostics>(m_handle, m_param.realTimeFactor);
@@ -129,11 +154,11 @@ bool PfxNode::initialize() {
   const PfxUrdfModel& model = m_simulation.getModel();
   ROS_INFO(
       "pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
-      "%u sub-steps, %u iterations, real-time factor %g%s",
+      "%u sub-steps, %u iterations, real-time factor %g, %u agents%s",
       model.name.c_str(), model.links.size(), model.joints.size(),
       m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
       m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
-      m_param.paused ? " (paused)" : "");
+      m_simulation.getAgents().getNumAgents(), m_param.paused ? " (paused)" : "");
   return true;
 }
 

@@ -16,6 +16,9 @@ constexpr double kPointSize = 0.03;   // m
 constexpr PfxFloat kForceScale = PfxFloat(0.0005);  // m/N
 // Arcs (joint limits) become chords of at most this angle.
 constexpr PfxFloat kArcStep = PFX_PI / 16;
+// An agent is drawn as a cylinder, two spheres, an arrow along its heading and its name.
+constexpr PfxInt32 kMarkersPerAgent = 5;
+const PfxVector3 kAgentColor(PfxFloat(1), PfxFloat(0.55), PfxFloat(0.1));
 
 std_msgs::ColorRGBA toColor(const PfxVector3& rgb) {
   std_msgs::ColorRGBA c;
@@ -116,14 +119,18 @@ visualization_msgs::Marker PfxNodeMarkers::makeMarker(const char* ns, PfxInt32 i
   return marker;
 }
 
-void PfxNodeMarkers::addShapes(const PfxWorld& world, bool fixedBodies, const char* ns,
-                               const ros::Time& stamp) {
+void PfxNodeMarkers::addShapes(const PfxNodeSimulation& simulation, bool fixedBodies,
+                               const char* ns, const ros::Time& stamp) {
+  const PfxWorld& world = simulation.getWorld();
+  const PfxNodeAgentSet& agents = simulation.getAgents();
   const PfxUInt32 numBodies = world.getNumRigidBodies();
   m_render.resetVisible(numBodies);
   m_bodyMarkers.assign(numBodies, visualization_msgs::Marker());
+  // Agents have a namespace of their own (addAgents); the parked bodies of removed ones are
+  // fixed, and would otherwise stay in static_shapes.
   for (PfxUInt32 id = 0; id < numBodies; ++id) {
     const bool fixed = world.getRigidState(id).getMotionType() == kPfxMotionTypeFixed;
-    m_render.setVisible(id, fixed == fixedBodies);
+    m_render.setVisible(id, fixed == fixedBodies && !agents.isAgentBody(id));
   }
   m_drawing = Drawing();
   m_render.renderShapes(world);
@@ -167,14 +174,74 @@ void PfxNodeMarkers::addDrawing(const char* ns, const ros::Time& stamp) {
   m_drawing = Drawing();
 }
 
+void PfxNodeMarkers::addAgents(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
+  const PfxNodeAgentSet& agents = simulation.getAgents();
+  std::map<std::string, PfxInt32> drawn;
+  for (PfxUInt32 i = 0; i < agents.getNumAgents(); ++i) {
+    const PfxNodeAgentSpec& spec = agents.getAgentSpec(i);
+    const PfxNodeAgentState state = agents.getAgentState(i);
+    // An agent keeps its ids while it lives, so that rviz replaces its markers in place.
+    const auto known = m_agentIds.find(spec.name);
+    const PfxInt32 first = known != m_agentIds.end() ? known->second : m_nextAgentId;
+    if (known == m_agentIds.end()) m_nextAgentId += kMarkersPerAgent;
+    drawn[spec.name] = first;
+
+    const double radius = spec.radius;
+    const double height = spec.height;
+    const PfxQuat heading(Eigen::AngleAxis<PfxFloat>(state.yaw, PfxVector3::UnitZ()));
+    auto place = [&](visualization_msgs::Marker& marker, double z) {
+      marker.pose.position = pfxToPointMsg(state.foot + PfxVector3(0, 0, PfxFloat(z)));
+      marker.pose.orientation = pfxToQuaternionMsg(heading);
+      marker.color = toColor(kAgentColor);
+    };
+    visualization_msgs::Marker body =
+        makeMarker("agents", first, visualization_msgs::Marker::CYLINDER, stamp);
+    place(body, height / 2);
+    body.scale.x = body.scale.y = 2 * radius;
+    body.scale.z = height - 2 * radius;
+    m_array.markers.push_back(body);
+    for (int end = 0; end < 2; ++end) {
+      visualization_msgs::Marker cap =
+          makeMarker("agents", first + 1 + end, visualization_msgs::Marker::SPHERE, stamp);
+      place(cap, end == 0 ? radius : height - radius);
+      cap.scale.x = cap.scale.y = cap.scale.z = 2 * radius;
+      m_array.markers.push_back(cap);
+    }
+    // Which way it faces: an arrow from the middle of the body, one radius out of it.
+    visualization_msgs::Marker nose =
+        makeMarker("agents", first + 3, visualization_msgs::Marker::ARROW, stamp);
+    place(nose, height / 2);
+    nose.scale.x = 2 * radius;
+    nose.scale.y = nose.scale.z = radius / 3;
+    m_array.markers.push_back(nose);
+    visualization_msgs::Marker label =
+        makeMarker("agents", first + 4, visualization_msgs::Marker::TEXT_VIEW_FACING, stamp);
+    place(label, height + 0.15);
+    label.scale.z = 0.15;
+    label.text = spec.name;
+    m_array.markers.push_back(label);
+  }
+  for (const auto& [name, first] : m_agentIds) {
+    if (drawn.count(name) != 0) continue;
+    for (PfxInt32 k = 0; k < kMarkersPerAgent; ++k) {
+      visualization_msgs::Marker gone =
+          makeMarker("agents", first + k, visualization_msgs::Marker::CYLINDER, stamp);
+      gone.action = visualization_msgs::Marker::DELETE;
+      m_array.markers.push_back(gone);
+    }
+  }
+  m_agentIds.swap(drawn);
+}
+
 void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
   if (m_publisher.getNumSubscribers() == 0) return;
   const PfxWorld& world = simulation.getWorld();
   m_array.markers.clear();
 
-  addShapes(world, false, "shapes", stamp);
+  addShapes(simulation, false, "shapes", stamp);
+  addAgents(simulation, stamp);
   if (m_sendStatic || m_sentGeneration != simulation.getGeneration()) {
-    addShapes(world, true, "static_shapes", stamp);
+    addShapes(simulation, true, "static_shapes", stamp);
     m_sendStatic = false;
     m_sentGeneration = simulation.getGeneration();
   }

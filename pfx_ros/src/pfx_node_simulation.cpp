@@ -17,6 +17,8 @@ struct PfxNodeSimulation::Scene {
   std::unique_ptr<PfxOctomap> octomap;
   PfxSerializedMeshes savedMeshes;  // the meshes of a saved world loaded into `world`
   std::unique_ptr<PfxWorld> world;
+  // After the world, so that it goes first: its controller holds the world.
+  std::unique_ptr<PfxNodeAgentSet> agents;
   std::vector<std::string> bodyNames;
   std::unordered_map<std::string, PfxUInt32> bodyByName;
   std::vector<std::string> warnings;
@@ -30,6 +32,9 @@ const char* const kOctomapName = "octomap";
 // at rest on several points spreads its weight over them differently from one sub-step to
 // the next, and a sleeping body keeps the spread of the sub-step it fell asleep in.
 const PfxFloat kTouchingDistance = PfxFloat(1e-3);
+// An agent may start this deep (m) in a body: one standing on the ground touches it, and
+// a foot given to the centimetre may sink a little.
+const PfxFloat kAgentStartOverlap = PfxFloat(0.01);
 
 std::string folderOf(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -163,6 +168,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   for (const PfxUrdfLink& link : built->model.links) {
     built->bodyByName.emplace(link.name, link.bodyId);
   }
+  built->agents = std::make_unique<PfxNodeAgentSet>(world, config.agents);
   scene = std::move(built);
   return PFX_OK;
 }
@@ -179,9 +185,25 @@ PfxInt32 PfxNodeSimulation::load(const PfxNodeSimulationConfig& config, std::str
   return PFX_OK;
 }
 
+void PfxNodeSimulation::nameAgentBody(Scene& scene, const std::string& name, PfxUInt32 bodyId) {
+  if (scene.bodyNames.size() <= bodyId) scene.bodyNames.resize(bodyId + 1);
+  scene.bodyNames[bodyId] = name;
+  scene.bodyByName[name] = bodyId;
+}
+
 PfxInt32 PfxNodeSimulation::reset(std::string* message) {
   std::unique_ptr<Scene> scene;
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
+  const PfxNodeAgentSet& agents = *m_scene->agents;
+  for (PfxUInt32 i = 0; i < agents.getNumAgents(); ++i) {
+    const PfxNodeAgentSpec& spec = agents.getAgentSpec(i);
+    std::string why;
+    if (const PfxInt32 err = scene->agents->add(spec, &why); err != PFX_OK) {
+      if (message) *message = "agent '" + spec.name + "': " + why;
+      return err;
+    }
+    nameAgentBody(*scene, spec.name, scene->agents->getAgentBody(i));
+  }
   m_scene = std::move(scene);
   m_wrenches.clear();
   ++m_generation;
@@ -197,6 +219,9 @@ PfxInt32 PfxNodeSimulation::step() {
     world.applyForce(link.bodyId, wrench.force, wrench.torque + arm.cross(wrench.force));
     wrench.remainingSteps -= 1;
   }
+  if (const PfxInt32 err = m_scene->agents->update(getTime(), m_config.timeStep); err != PFX_OK) {
+    return err;
+  }
   const PfxInt32 err = world.step();
   ++m_stepCount;
   std::size_t kept = 0;
@@ -207,7 +232,23 @@ PfxInt32 PfxNodeSimulation::step() {
   return err;
 }
 
+bool PfxNodeSimulation::holdsAgentBodies(std::string* message) const {
+  const PfxWorld& world = *m_scene->world;
+  PfxUInt32 bodies = 0;
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    bodies += m_scene->agents->isAgentBody(id) ? 1 : 0;
+  }
+  if (bodies == 0) return false;
+  if (message) {
+    *message = "the world holds " + std::to_string(bodies) + " bodies of agents (" +
+               std::to_string(m_scene->agents->getNumAgents()) +
+               " agents now), which a world file cannot hold: delete the agents and reset first";
+  }
+  return true;
+}
+
 PfxInt32 PfxNodeSimulation::saveWorld(const std::string& path, std::string* message) const {
+  if (holdsAgentBodies(message)) return PFX_ERR_INVALID_VALUE;
   std::string why;
   const PfxInt32 err = pfxSaveWorld(*m_scene->world, path.c_str(), &why);
   if (err != PFX_OK && message) *message = path + ": " + why;
@@ -256,6 +297,7 @@ std::string compareWorlds(const PfxWorld& built, const PfxWorld& saved) {
 PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* message) {
   // The robot and scene are built afresh for their names, meshes and map, and checked
   // against the saved world, which then takes the built world's place.
+  if (holdsAgentBodies(message)) return PFX_ERR_INVALID_VALUE;
   std::unique_ptr<Scene> scene;
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
   auto saved = std::make_unique<PfxWorld>();
@@ -269,7 +311,9 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
     if (message) *message = path + " was not saved from this robot and scene: " + difference;
     return PFX_ERR_INVALID_VALUE;
   }
+  scene->agents.reset();  // it holds the built world
   scene->world = std::move(saved);
+  scene->agents = std::make_unique<PfxNodeAgentSet>(*scene->world, m_config.agents);
   const PfxWorldParam& param = scene->world->getParam();
   m_config.timeStep = param.timeStep;
   m_config.subSteps = param.subStep;
@@ -313,6 +357,48 @@ PfxInt64 PfxNodeSimulation::findBody(const std::string& name) const {
 PfxTransform3 PfxNodeSimulation::getLinkPose(PfxUInt32 linkIndex) const {
   return pfxGetUrdfLinkPose(*m_scene->world, m_scene->model.links[linkIndex]);
 }
+
+PfxInt32 PfxNodeSimulation::addAgent(const PfxNodeAgentSpec& spec, std::string* message) {
+  PfxNodeAgentSet& agents = *m_scene->agents;
+  if (m_scene->bodyByName.count(spec.name) != 0 && agents.find(spec.name) < 0) {
+    if (message) *message = "'" + spec.name + "' names a body of the robot or scene already";
+    return PFX_ERR_INVALID_VALUE;
+  }
+  if (const std::string why = agents.check(spec); !why.empty()) {
+    if (message) *message = why;
+    return PFX_ERR_INVALID_VALUE;
+  }
+  PfxFloat depth = 0;
+  if (const PfxInt64 body = agents.findOverlap(spec, kAgentStartOverlap, depth); body >= 0) {
+    if (message) {
+      *message = "at its start it would be " + std::to_string(int(std::lround(depth * 1000))) +
+                 " mm deep inside '" + getBodyName(PfxUInt32(body)) + "'";
+    }
+    return PFX_ERR_INVALID_VALUE;
+  }
+  if (const PfxInt32 err = agents.add(spec, message); err != PFX_OK) return err;
+  nameAgentBody(*m_scene, spec.name, agents.getAgentBody(agents.getNumAgents() - 1));
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::removeAgent(const std::string& name, std::string* message) {
+  if (const PfxInt32 err = m_scene->agents->remove(name); err != PFX_OK) {
+    if (message) {
+      *message = err == PFX_ERR_OUT_OF_RANGE ? "no agent named '" + name + "'"
+                                             : std::string(pfxErrorString(err));
+    }
+    return err;
+  }
+  m_scene->bodyByName.erase(name);
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::commandAgent(const std::string& name, PfxFloat vx, PfxFloat vy,
+                                         PfxFloat turnRate) {
+  return m_scene->agents->command(name, vx, vy, turnRate, getTime());
+}
+
+const PfxNodeAgentSet& PfxNodeSimulation::getAgents() const { return *m_scene->agents; }
 
 PfxInt32 PfxNodeSimulation::castRay(const PfxRayInput& ray, PfxRayOutput& hit) {
   return m_scene->world->castRay(ray, hit);

@@ -9,8 +9,11 @@
 namespace pfx {
 
 PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
+                                             const std::string& agentFramePrefix,
                                              bool publishClock)
-    : m_fixedFrame(fixedFrame), m_publishClock(publishClock) {
+    : m_fixedFrame(fixedFrame),
+      m_agentFramePrefix(agentFramePrefix.empty() ? "" : agentFramePrefix + "/"),
+      m_publishClock(publishClock) {
   m_jointStates = handle.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (m_publishClock) m_clock = handle.advertise<rosgraph_msgs::Clock>("/clock", 10);
 }
@@ -62,6 +65,18 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
             : PfxTransform3(m_linkPoses[m_parentLink[i]].inverse() * m_linkPoses[i]);
     m_transforms[i].header.stamp = stamp;
     m_transforms[i].transform = pfxToTransformMsg(pose);
+  }
+  // Agents come and go between publications: their frames are made anew each time.
+  const PfxNodeAgentSet& agents = simulation.getAgents();
+  m_transforms.resize(m_linkPoses.size() + agents.getNumAgents());
+  for (PfxUInt32 i = 0; i < agents.getNumAgents(); ++i) {
+    const PfxNodeAgentState state = agents.getAgentState(i);
+    geometry_msgs::TransformStamped& agent = m_transforms[m_linkPoses.size() + i];
+    agent.header.frame_id = m_fixedFrame;
+    agent.header.stamp = stamp;
+    agent.child_frame_id = m_agentFramePrefix + agents.getAgentSpec(i).name;
+    agent.transform = pfxToTransformMsg(pfxMakeTransform(
+        PfxQuat(Eigen::AngleAxis<PfxFloat>(state.yaw, PfxVector3::UnitZ())), state.foot));
   }
   m_broadcaster.sendTransform(m_transforms);
 

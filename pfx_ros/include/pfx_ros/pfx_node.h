@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "pfx_ros/pfx_node_agents.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_markers.h"
 #include "pfx_ros/pfx_node_services.h"
@@ -23,8 +24,11 @@ struct PfxNodeParam {
   PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
                                        // ~octomap_file, ~world_file, ~ground_plane, ~ground_size, ~dt,
                                        // ~substeps, ~iterations, ~fixed_base, ~initial_height,
-                                       // ~allow_missing_meshes
+                                       // ~allow_missing_meshes, ~agent_cmd_vel_timeout,
+                                       // ~agent_max_turn_rate, ~agent_waypoint_tolerance
   std::string fixedFrame = "world";    // ~fixed_frame
+  std::string agentFramePrefix = "agents";  // ~agent_frame_prefix: agents' frames are
+                                            // <prefix>/<name>, or <name> when empty
   double realTimeFactor = 1;           // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
   // 0 for markers or diagnostics means never.
@@ -61,6 +65,7 @@ class PfxNode {
   std::unique_ptr<PfxNodeStatePublisher> m_statePublisher;
   std::unique_ptr<PfxNodeDiagnostics> m_diagnostics;
   std::unique_ptr<PfxNodeMarkers> m_markers;
+  std::unique_ptr<PfxNodeAgents> m_agents;
 };
 
 }  // namespace pfx

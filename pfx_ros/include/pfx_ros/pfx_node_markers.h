@@ -2,13 +2,17 @@
 // 8), in the fixed frame. Namespace "shapes" holds one TRIANGLE_LIST per moving body,
 // "static_shapes" the same for fixed bodies (ground, OctoMap, fixed robot bases), and
 // "contacts", "aabbs", "joints" and "islands" the debug information, each as a LINE_LIST
-// (id 0) and POINTS (id 1). Fixed bodies do not move, so they are sent only when a
+// (id 0) and POINTS (id 1). Namespace "agents" draws each agent (pfx_node_agents.h) as five
+// markers with consecutive ids, kept while it lives: a CYLINDER and two SPHEREs (its
+// capsule), an ARROW along its heading and its name as TEXT_VIEW_FACING; when it is
+// deleted they are sent once with action DELETE. Agents are not in "shapes". Fixed bodies do not move, so they are sent only when a
 // subscriber connects and after a load or reset; rviz keeps them meanwhile.
 #pragma once
 
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,7 +38,9 @@ class PfxNodeMarkers {
   void addLine(const PfxVector3& a, const PfxVector3& b, const PfxVector3& color);
   void addBoxEdges(const PfxTransform3& transform, const PfxVector3& halfExtent,
                    const PfxVector3& color);
-  void addShapes(const PfxWorld& world, bool fixedBodies, const char* ns, const ros::Time& stamp);
+  void addShapes(const PfxNodeSimulation& simulation, bool fixedBodies, const char* ns,
+                 const ros::Time& stamp);
+  void addAgents(const PfxNodeSimulation& simulation, const ros::Time& stamp);
   void addDrawing(const char* ns, const ros::Time& stamp);
   visualization_msgs::Marker makeMarker(const char* ns, PfxInt32 id, PfxInt32 type,
                                         const ros::Time& stamp) const;
@@ -47,6 +53,8 @@ class PfxNodeMarkers {
   Drawing m_drawing;
   std::vector<visualization_msgs::Marker> m_bodyMarkers;  // by body id, while drawing shapes
   visualization_msgs::MarkerArray m_array;
+  std::map<std::string, PfxInt32> m_agentIds;  // first marker id of each agent drawn last
+  PfxInt32 m_nextAgentId = 0;
 };
 
 }  // namespace pfx

@@ -12,6 +12,7 @@
 #include "pfx/loaders/pfx_octomap_loader.h"
 #include "pfx/loaders/pfx_scene_loader.h"
 #include "pfx/loaders/pfx_urdf_loader.h"
+#include "pfx_ros/pfx_node_agent_set.h"
 
 namespace pfx {
 
@@ -41,6 +42,7 @@ struct PfxNodeSimulationConfig {
   // A collision mesh whose file is missing is left out (with a warning) instead of failing
   // the load.
   bool allowMissingMeshes = false;
+  PfxNodeAgentSetParam agents;
 };
 
 // One point where two bodies touch (or pushed on each other during the last step).
@@ -64,8 +66,9 @@ class PfxNodeSimulation {
   // world it had.
   PfxInt32 load(const PfxNodeSimulationConfig& config, std::string* message);
   // Builds the world again as load() built it: every body and joint back at its start and
-  // motor commands and pending wrenches dropped. Simulated time keeps running, so that
-  // time stamps never go back.
+  // motor commands and pending wrenches dropped; the agents of the moment stand at their
+  // starts again (without the overlap check of addAgent), and bodies of removed agents are
+  // gone. Simulated time keeps running, so that time stamps never go back.
   PfxInt32 reset(std::string* message);
   // One step of the time step; the wrenches that are due act during it.
   PfxInt32 step();
@@ -80,6 +83,8 @@ class PfxNodeSimulation {
   // wrenches are dropped. On error the world, the clock and the settings stay as they
   // were, and *message says why (a file that does not read, or one saved from another
   // robot or scene).
+  // Neither saves nor loads while the world holds agents' bodies (those of removed agents
+  // too, until reset()): the file format knows bodies, not the agents that drive them.
   PfxInt32 loadWorld(const std::string& path, std::string* message);
 
   double getTime() const {
@@ -106,6 +111,15 @@ class PfxNodeSimulation {
   // Body id of a link, of "ground" or of "octomap", or -1.
   PfxInt64 findBody(const std::string& name) const;
   PfxTransform3 getLinkPose(PfxUInt32 linkIndex) const;
+
+  // Adds an agent (PfxNodeAgentSet::add) after checking that its name is no body's name
+  // (rays and contacts name it) and that at its start it overlaps no body by more than 1 cm
+  // (standing on the ground, it touches it). On error *message says why and nothing changes.
+  PfxInt32 addAgent(const PfxNodeAgentSpec& spec, std::string* message);
+  PfxInt32 removeAgent(const std::string& name, std::string* message);
+  // PfxNodeAgentSet::command at the current simulated time.
+  PfxInt32 commandAgent(const std::string& name, PfxFloat vx, PfxFloat vy, PfxFloat turnRate);
+  const PfxNodeAgentSet& getAgents() const;
 
   PfxInt32 castRay(const PfxRayInput& ray, PfxRayOutput& hit);
   PfxInt32 castRays(const PfxRayInput* rays, PfxRayOutput* hits, PfxUInt32 numRays);
@@ -138,6 +152,8 @@ class PfxNodeSimulation {
   };
   PfxInt32 buildScene(const PfxNodeSimulationConfig& config, std::unique_ptr<Scene>& scene,
                       std::string* message) const;
+  static void nameAgentBody(Scene& scene, const std::string& name, PfxUInt32 bodyId);
+  bool holdsAgentBodies(std::string* message) const;
 
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;

@@ -4,7 +4,9 @@
 // prismatic joint of the URDF, in the file's order: mimic followers, and joints held at zero
 // under a massless leaf (position and velocity 0) too, so that whoever rebuilds the robot
 // from it (robot_state_publisher, MoveIt) finds each joint it knows. Floating and planar
-// joints have no single coordinate; TF gives their child's pose.
+// joints have no single coordinate; TF gives their child's pose. Each agent has a frame
+// <agent frame prefix>/<name> under the fixed frame, at its foot and turned to its heading,
+// published with the links and no longer once the agent is deleted.
 #pragma once
 
 #include <ros/ros.h>
@@ -20,7 +22,9 @@ namespace pfx {
 
 class PfxNodeStatePublisher {
  public:
-  PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame, bool publishClock);
+  // An empty agentFramePrefix names agents' frames by the agents' names alone.
+  PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
+                        const std::string& agentFramePrefix, bool publishClock);
 
   // Reads the link tree and joint list of the simulation's robot; call after every load
   // or reset.
@@ -29,13 +33,14 @@ class PfxNodeStatePublisher {
 
  private:
   std::string m_fixedFrame;
+  std::string m_agentFramePrefix;  // with its slash
   bool m_publishClock;
   tf2_ros::TransformBroadcaster m_broadcaster;
   ros::Publisher m_jointStates;
   ros::Publisher m_clock;
   // Per link: index of its parent link in the model, or -1 when it hangs from the fixed frame.
   std::vector<PfxInt32> m_parentLink;
-  std::vector<geometry_msgs::TransformStamped> m_transforms;
+  std::vector<geometry_msgs::TransformStamped> m_transforms;  // the links', then the agents'
   std::vector<PfxTransform3> m_linkPoses;
   std::vector<PfxUInt32> m_publishedJoints;  // indices into the model's joints
   std::vector<double> m_positions;
