@@ -58,7 +58,7 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
   for (std::size_t i = 0; i < m_linkPoses.size(); ++i) {
     m_linkPoses[i] = simulation.getLinkPose(PfxUInt32(i));
   }
-  for (std::size_t i = 0; i < m_transforms.size(); ++i) {
+  for (std::size_t i = 0; i < m_linkPoses.size(); ++i) {
     const PfxTransform3 pose =
         m_parentLink[i] < 0
             ? m_linkPoses[i]
