@@ -227,4 +227,10 @@ bool PfxNodeAgentSet::isAgentBody(PfxUInt32 bodyId) const {
   return std::find(m_bodies.begin(), m_bodies.end(), bodyId) != m_bodies.end();
 }
 
+bool PfxNodeAgentSet::isParkedBody(PfxUInt32 bodyId) const {
+  return isAgentBody(bodyId) &&
+         std::none_of(m_agents.begin(), m_agents.end(),
+                      [bodyId](const Agent& agent) { return agent.bodyId == bodyId; });
+}
+
 }  // namespace pfx

@@ -246,6 +246,11 @@ void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Tim
     m_sentGeneration = simulation.getGeneration();
   }
 
+  // A removed agent's body stays in the world, parked where it was: no box or island of it.
+  const PfxNodeAgentSet& agents = simulation.getAgents();
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    if (agents.isParkedBody(id)) m_render.setVisible(id, false);
+  }
   m_drawing = Drawing();
   m_render.renderContact(world);
   addDrawing("contacts", stamp);

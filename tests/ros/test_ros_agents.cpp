@@ -5,13 +5,17 @@
 // Rays and get_contacts name agents. Two agents walking into each other, and one walking
 // into the crate, never overlap beyond a small tolerance. A deleted agent leaves TF,
 // markers, rays and contacts. Every bad request is refused with its reason and changes
-// nothing: no body is added (/diagnostics), no frame appears, other agents stay put.
+// nothing: no body is added (/diagnostics), no frame appears, other agents stay put. A reset
+// puts the agents back at their starts; saving the world waits until no agent's body is
+// left in it.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Twist.h>
+#include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -541,6 +545,38 @@ TEST(Agents, BadRequestsAreRefusedWithTheirReasonAndChangeNothing) {
   // And "newcomer" is still free.
   pfx::SpawnAgent good = call(kNode + "spawn_agent", makeAgent("newcomer", -6, 6));
   EXPECT_TRUE(good.response.success) << good.response.message;
+}
+
+TEST(Agents, ResetPutsAgentsBackAtTheirStartsAndDropsRemovedOnesBodies) {
+  std_srvs::Trigger reset;
+  reset = call(kNode + "reset", reset);
+  ASSERT_TRUE(reset.response.success) << reset.response.message;
+  const double resetAt = shared->clock->now();
+  Pose2 stand, newcomer, crate;
+  ASSERT_TRUE(poseAt("world", "agents/stand", resetAt + 0.1, stand));
+  ASSERT_TRUE(poseAt("world", "agents/newcomer", resetAt + 0.1, newcomer));
+  ASSERT_TRUE(poseAt("world", "crate", resetAt + 0.1, crate));
+  EXPECT_LT(distance(stand, {-4, -1.5, 0}), 0.005);
+  EXPECT_LT(distance(newcomer, {-6, 6, 0}), 0.005);
+  EXPECT_LT(distance(crate, {0, 0, 0}), 0.01);
+  // The ground, the crate and the three agents left (walker, stand, newcomer).
+  EXPECT_EQ(shared->bodies->next(), 5);
+
+  // With every agent deleted and a reset, the world is the robot's and scene's again: it
+  // saves and loads.
+  for (const char* name : {"walker", "stand", "newcomer"}) EXPECT_TRUE(deleteAgent(name).success);
+  pfx::WorldFile file;
+  file.request.path = "/tmp/pfx_agents_test.pfxw";
+  pfx::WorldFile refused = call(kNode + "save_world", file);
+  EXPECT_FALSE(refused.response.success) << "the removed agents' bodies are still there";
+  reset = call(kNode + "reset", reset);
+  ASSERT_TRUE(reset.response.success) << reset.response.message;
+  EXPECT_EQ(shared->bodies->next(), 2);
+  pfx::WorldFile saved = call(kNode + "save_world", file);
+  EXPECT_TRUE(saved.response.success) << saved.response.message;
+  pfx::WorldFile loaded = call(kNode + "load_world", file);
+  EXPECT_TRUE(loaded.response.success) << loaded.response.message;
+  std::remove(file.request.path.c_str());
 }
 
 }  // namespace

@@ -83,6 +83,8 @@ class PfxNodeAgentSet {
   PfxInt32 find(const std::string& name) const;
   // True for the body of an agent, and for the parked body of a removed one.
   bool isAgentBody(PfxUInt32 bodyId) const;
+  // True for the parked body of a removed agent only.
+  bool isParkedBody(PfxUInt32 bodyId) const;
   const PfxNodeAgentSetParam& getParam() const { return m_param; }
 
  private:
