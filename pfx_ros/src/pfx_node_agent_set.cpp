@@ -14,9 +14,9 @@ namespace {
 const PfxFloat kMaxStepHeight = PfxFloat(0.35);
 // Sizes and speeds beyond these are typing mistakes, not people or robots; they would also
 // take the solver out of the range it is tuned for.
-const PfxFloat kMaxSize = 100;     // m
-const PfxFloat kMaxMass = 1e5;     // kg
-const PfxFloat kMaxSpeed = 50;     // m/s
+const PfxFloat kMaxSize = 100;  // m
+const PfxFloat kMaxMass = 1e5;  // kg
+const PfxFloat kMaxSpeed = 50;  // m/s
 
 bool inRange(PfxFloat x, PfxFloat low, PfxFloat high) {
   return std::isfinite(x) && x > low && x <= high;
@@ -28,9 +28,7 @@ std::string number(double x) {
   return s.str();
 }
 
-PfxFloat wrapAngle(PfxFloat angle) {
-  return std::atan2(std::sin(angle), std::cos(angle));
-}
+PfxFloat wrapAngle(PfxFloat angle) { return std::atan2(std::sin(angle), std::cos(angle)); }
 
 }  // namespace
 
@@ -71,14 +69,12 @@ std::string PfxNodeAgentSet::check(const PfxNodeAgentSpec& spec) const {
   for (std::size_t i = 0; i < spec.waypoints.size(); ++i) {
     if (!pfxIsFinite(spec.waypoints[i])) return "waypoint " + std::to_string(i) + " is not finite";
   }
-  if (pfxCheckCharacterParam(characterParam(spec)) != PFX_OK) {
-    return "its character parameters are out of range";  // not reached after the checks above
-  }
+  // What is checked above is what pfxCheckCharacterParam asks of characterParam(spec).
   return "";
 }
 
-PfxInt64 PfxNodeAgentSet::findOverlap(const PfxNodeAgentSpec& spec, PfxFloat tolerance,
-                                      PfxFloat& depth) {
+PfxInt32 PfxNodeAgentSet::findOverlap(const PfxNodeAgentSpec& spec, PfxFloat tolerance,
+                                      PfxInt64& bodyId, PfxFloat& depth) {
   // The capsule the controller would build, queried where it would stand.
   PfxCollidable collidable;
   collidable.reset();
@@ -88,21 +84,23 @@ PfxInt64 PfxNodeAgentSet::findOverlap(const PfxNodeAgentSpec& spec, PfxFloat tol
   collidable.finish();
   PfxContactQueryInput query;
   query.collidable = &collidable;
-  query.transform = pfxMakeTransform(PfxQuat::Identity(),
-                                     spec.foot + PfxVector3(0, 0, spec.height / 2));
+  query.transform =
+      pfxMakeTransform(PfxQuat::Identity(), spec.foot + PfxVector3(0, 0, spec.height / 2));
   PfxQueryContact contacts[64];
   PfxQueryContactsResult result;
+  if (const PfxInt32 err = m_world.queryContacts(query, contacts, 64, result); err != PFX_OK) {
+    return err;
+  }
   depth = 0;
-  PfxInt64 deepest = -1;
-  if (m_world.queryContacts(query, contacts, 64, result) != PFX_OK) return -1;
+  bodyId = -1;
   for (PfxUInt32 i = 0; i < result.numContacts; ++i) {
     const PfxFloat overlap = -contacts[i].m_contact.m_distance;
     if (overlap > tolerance && overlap > depth) {
       depth = overlap;
-      deepest = contacts[i].m_rigidBodyId;
+      bodyId = contacts[i].m_rigidBodyId;
     }
   }
-  return deepest;
+  return PFX_OK;
 }
 
 PfxInt32 PfxNodeAgentSet::add(const PfxNodeAgentSpec& spec, std::string* message) {

@@ -2,7 +2,6 @@
 
 #include <boost/function.hpp>
 #include <cctype>
-#include <cmath>
 #include <set>
 
 #include "pfx_ros/pfx_ros_conversions.h"
@@ -53,9 +52,8 @@ std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxNodeAgentSpec& spec) {
   if (entry.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     return "is not a dict (name, radius, height, mass, max_speed, position, yaw, waypoints)";
   }
-  static const std::set<std::string> kKeys = {"name",     "radius",    "height",
-                                              "mass",     "max_speed", "position",
-                                              "yaw",      "waypoints"};
+  static const std::set<std::string> kKeys = {"name",      "radius",   "height", "mass",
+                                              "max_speed", "position", "yaw",    "waypoints"};
   for (auto& [key, value] : entry) {
     if (kKeys.count(key) == 0) return "unknown key '" + key + "'";
   }
@@ -109,8 +107,7 @@ PfxNodeAgents::PfxNodeAgents(ros::NodeHandle& handle, ros::NodeHandle& privateHa
                              PfxNodeSimulation& simulation)
     : m_handle(handle), m_privateHandle(privateHandle), m_simulation(simulation) {
   m_servers.push_back(privateHandle.advertiseService("spawn_agent", &PfxNodeAgents::spawn, this));
-  m_servers.push_back(
-      privateHandle.advertiseService("delete_agent", &PfxNodeAgents::remove, this));
+  m_servers.push_back(privateHandle.advertiseService("delete_agent", &PfxNodeAgents::remove, this));
 }
 
 bool PfxNodeAgents::add(const PfxNodeAgentSpec& spec, std::string* message) {
@@ -124,7 +121,9 @@ bool PfxNodeAgents::add(const PfxNodeAgentSpec& spec, std::string* message) {
     m_commands[name] = m_handle.subscribe<geometry_msgs::Twist>(
         name + "/cmd_vel", 1,
         boost::function<void(const geometry_msgs::Twist::ConstPtr&)>(
-            [this, name](const geometry_msgs::Twist::ConstPtr& twist) { onCommand(name, *twist); }));
+            [this, name](const geometry_msgs::Twist::ConstPtr& twist) {
+              onCommand(name, *twist);
+            }));
   }
   return true;
 }
@@ -166,10 +165,10 @@ bool PfxNodeAgents::spawn(SpawnAgent::Request& req, SpawnAgent::Response& res) {
   std::string why;
   if (!add(spec, &why)) return reject(res, "spawn_agent", why);
   res.success = true;
-  res.message = "agent '" + spec.name + "' added, " +
-                (spec.waypoints.empty()
-                     ? "driven by " + m_handle.resolveName(spec.name + "/cmd_vel")
-                     : "walking " + std::to_string(spec.waypoints.size()) + " waypoints");
+  res.message =
+      "agent '" + spec.name + "' added, " +
+      (spec.waypoints.empty() ? "driven by " + m_handle.resolveName(spec.name + "/cmd_vel")
+                              : "walking " + std::to_string(spec.waypoints.size()) + " waypoints");
   return true;
 }
 
@@ -185,11 +184,13 @@ bool PfxNodeAgents::remove(DeleteAgent::Request& req, DeleteAgent::Response& res
 }
 
 void PfxNodeAgents::onCommand(const std::string& name, const geometry_msgs::Twist& twist) {
-  const PfxInt32 err = m_simulation.commandAgent(name, PfxFloat(twist.linear.x),
-                                                 PfxFloat(twist.linear.y), PfxFloat(twist.angular.z));
+  const PfxInt32 err = m_simulation.commandAgent(
+      name, PfxFloat(twist.linear.x), PfxFloat(twist.linear.y), PfxFloat(twist.angular.z));
   if (err != PFX_OK) {
-    ROS_WARN_THROTTLE(1.0, "pfx_node: %s/cmd_vel dropped: linear.x, linear.y and angular.z "
-                      "must be finite", name.c_str());
+    ROS_WARN_THROTTLE(1.0,
+                      "pfx_node: %s/cmd_vel dropped: linear.x, linear.y and angular.z "
+                      "must be finite",
+                      name.c_str());
   }
 }
 

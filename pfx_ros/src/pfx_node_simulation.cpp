@@ -368,8 +368,15 @@ PfxInt32 PfxNodeSimulation::addAgent(const PfxNodeAgentSpec& spec, std::string* 
     if (message) *message = why;
     return PFX_ERR_INVALID_VALUE;
   }
+  PfxInt64 body = -1;
   PfxFloat depth = 0;
-  if (const PfxInt64 body = agents.findOverlap(spec, kAgentStartOverlap, depth); body >= 0) {
+  if (const PfxInt32 err = agents.findOverlap(spec, kAgentStartOverlap, body, depth);
+      err != PFX_OK) {
+    if (message)
+      *message = std::string("cannot look for room at its start: ") + pfxErrorString(err);
+    return err;
+  }
+  if (body >= 0) {
     if (message) {
       *message = "at its start it would be " + std::to_string(int(std::lround(depth * 1000))) +
                  " mm deep inside '" + getBodyName(PfxUInt32(body)) + "'";

@@ -9,8 +9,7 @@
 namespace pfx {
 
 PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
-                                             const std::string& agentFramePrefix,
-                                             bool publishClock)
+                                             const std::string& agentFramePrefix, bool publishClock)
     : m_fixedFrame(fixedFrame),
       m_agentFramePrefix(agentFramePrefix.empty() ? "" : agentFramePrefix + "/"),
       m_publishClock(publishClock) {

@@ -42,7 +42,7 @@ struct PfxNodeAgentSetParam {
 struct PfxNodeAgentState {
   PfxVector3 foot = PfxVector3::Zero();
   PfxFloat yaw = 0;
-  PfxUInt32 nextWaypoint = 0;   // index into spec.waypoints of the one it walks to
+  PfxUInt32 nextWaypoint = 0;  // index into spec.waypoints of the one it walks to
   PfxUInt32 waypointsReached = 0;
 };
 
@@ -54,9 +54,11 @@ class PfxNodeAgentSet {
   // Empty when `spec` is a valid agent for this set (a new name, sizes, speeds and poses in
   // range), else the reason. Says nothing about where it stands: see findOverlap.
   std::string check(const PfxNodeAgentSpec& spec) const;
-  // The body that a capsule of `spec` at its start would overlap by more than `tolerance`
-  // (m), and by how much; -1 when none does.
-  PfxInt64 findOverlap(const PfxNodeAgentSpec& spec, PfxFloat tolerance, PfxFloat& depth);
+  // The body that a capsule of `spec` at its start would overlap deepest, by more than
+  // `tolerance` (m), and by how much; bodyId -1 when none does. Fails as
+  // PfxWorld::queryContacts fails (a body whose state went bad), writing nothing.
+  PfxInt32 findOverlap(const PfxNodeAgentSpec& spec, PfxFloat tolerance, PfxInt64& bodyId,
+                       PfxFloat& depth);
   // Adds the agent standing at its start; the id is its index (getAgentSpec, getAgentState)
   // until an agent before it is removed. Rejects what check() rejects (with the reason in
   // *message); nothing changes then.

@@ -2,11 +2,12 @@
 // 8), in the fixed frame. Namespace "shapes" holds one TRIANGLE_LIST per moving body,
 // "static_shapes" the same for fixed bodies (ground, OctoMap, fixed robot bases), and
 // "contacts", "aabbs", "joints" and "islands" the debug information, each as a LINE_LIST
-// (id 0) and POINTS (id 1). Namespace "agents" draws each agent (pfx_node_agents.h) as five
-// markers with consecutive ids, kept while it lives: a CYLINDER and two SPHEREs (its
-// capsule), an ARROW along its heading and its name as TEXT_VIEW_FACING; when it is
-// deleted they are sent once with action DELETE. Agents are not in "shapes". Fixed bodies do not move, so they are sent only when a
-// subscriber connects and after a load or reset; rviz keeps them meanwhile.
+// (id 0) and POINTS (id 1). Fixed bodies do not move, so they are sent only when a
+// subscriber connects and after a load or reset; rviz keeps them meanwhile. Namespace
+// "agents" draws each agent (pfx_node_agents.h) as five markers with consecutive ids, kept
+// while it lives: a CYLINDER and two SPHEREs (its capsule), an ARROW along its heading and
+// its name as TEXT_VIEW_FACING; when it is deleted they are sent once with action DELETE.
+// Agents are not in "shapes", and the parked bodies of deleted ones are drawn nowhere.
 #pragma once
 
 #include <ros/ros.h>
