@@ -65,9 +65,24 @@ std::string PfxNodeAgentSet::check(const PfxNodeAgentSpec& spec) const {
            number(kMaxSpeed);
   }
   if (!pfxIsFinite(spec.foot)) return "position is not finite";
+  // A body that leaves the world's bounds is stopped there for good (outOfWorldBehavior).
+  const PfxWorldParam& world = m_world.getParam();
+  auto inWorld = [&](const PfxVector3& p) {
+    return ((p - world.worldCenter).cwiseAbs().array() <= world.worldExtent.array()).all();
+  };
+  const std::string bounds = "the world (at most " + number(world.worldExtent.x()) + ", " +
+                             number(world.worldExtent.y()) + " and " +
+                             number(world.worldExtent.z()) + " m from its centre along x, y and z)";
+  if (!inWorld(spec.foot) || !inWorld(spec.foot + PfxVector3(0, 0, spec.height))) {
+    return "position is outside " + bounds;
+  }
   if (!std::isfinite(spec.yaw)) return "yaw is not finite";
   for (std::size_t i = 0; i < spec.waypoints.size(); ++i) {
-    if (!pfxIsFinite(spec.waypoints[i])) return "waypoint " + std::to_string(i) + " is not finite";
+    const std::string which = "waypoint " + std::to_string(i);
+    if (!pfxIsFinite(spec.waypoints[i])) return which + " is not finite";
+    PfxVector3 level = spec.waypoints[i];
+    level.z() = spec.foot.z();  // its z is not looked at
+    if (!inWorld(level)) return which + " is outside " + bounds;
   }
   // What is checked above is what pfxCheckCharacterParam asks of characterParam(spec).
   return "";

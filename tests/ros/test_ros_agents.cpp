@@ -498,7 +498,14 @@ TEST(Agents, BadRequestsAreRefusedWithTheirReasonAndChangeNothing) {
       {"negative max_speed", [](auto& s) { s.request.max_speed = -1; }, "max_speed"},
       {"NaN position", [](auto& s) { s.request.position.y = kNaN; }, "position"},
       {"infinite position", [](auto& s) { s.request.position.x = kInf; }, "position"},
+      {"position outside the world", [](auto& s) { s.request.position.x = 5000; },
+       "outside the world"},
       {"NaN yaw", [](auto& s) { s.request.yaw = kNaN; }, "yaw"},
+      {"waypoint outside the world",
+       [](auto& s) {
+         s.request.waypoints = {point(0, 6), point(0, -2000)};
+       },
+       "waypoint 1 is outside the world"},
       {"NaN waypoint",
        [](auto& s) {
          s.request.waypoints = {point(0, 6), point(kNaN, 6)};

@@ -52,7 +52,7 @@ class PfxNodeAgentSet {
   PfxNodeAgentSet(PfxWorld& world, const PfxNodeAgentSetParam& param);
 
   // Empty when `spec` is a valid agent for this set (a new name, sizes, speeds and poses in
-  // range), else the reason. Says nothing about where it stands: see findOverlap.
+  // range, its start and waypoints inside the world's bounds), else the reason. Says nothing about where it stands: see findOverlap.
   std::string check(const PfxNodeAgentSpec& spec) const;
   // The body that a capsule of `spec` at its start would overlap deepest, by more than
   // `tolerance` (m), and by how much; bodyId -1 when none does. Fails as
