@@ -27,8 +27,9 @@ struct PfxNodeParam {
                                        // ~allow_missing_meshes, ~agent_cmd_vel_timeout,
                                        // ~agent_max_turn_rate, ~agent_waypoint_tolerance
   std::string fixedFrame = "world";    // ~fixed_frame
-  std::string agentFramePrefix = "agents";  // ~agent_frame_prefix: agents' frames are
-                                            // <prefix>/<name>, or <name> when empty
+  // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
+  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h).
+  std::string agentFramePrefix = "agents";
   double realTimeFactor = 1;           // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
   // 0 for markers or diagnostics means never.
