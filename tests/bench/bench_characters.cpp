@@ -280,6 +280,10 @@ int runCharactersScene(const Options& options, std::vector<ResultRow>& rows) {
     }
     engines.push_back(side);
   }
+  if (engines.empty()) {
+    std::fprintf(stderr, "characters: skipped, it runs pfx and bullet only\n");
+    return 0;
+  }
   const std::vector<double> timeSteps =
       options.timeStepsGiven ? options.timeSteps : std::vector<double>{1.0 / 60};
   const double seconds = options.seconds > 0 ? options.seconds : kCharacterSceneSeconds;
@@ -333,6 +337,7 @@ int runCharactersScene(const Options& options, std::vector<ResultRow>& rows) {
   }
 
   // The table: one column per run.
+  if (columns.empty()) return failures;
   std::fprintf(stderr, "\ncharacters, %.0f s simulated, one thread\n%-26s", seconds, "");
   for (const Column& c : columns) std::fprintf(stderr, " %18s", c.label.c_str());
   std::fprintf(stderr, "\n");
