@@ -14,6 +14,12 @@ constexpr PfxFloat kSkin = PfxFloat(0.002);
 // Overlap that still counts as room for the capsule (m): resting contacts sink by about the
 // world's contact slop, and a step up must not fail on that.
 constexpr PfxFloat kRoomTolerance = PfxFloat(0.02);
+// A walkable top less than this above the foot is no step (m): it is the ground the foot
+// stands on, sunk into by up to the world's contact slop, and the capsule's round bottom
+// rides over so small an edge anyway. Taking it for a step moved a character a radius
+// forward, into whatever blocked it: a steep ramp's foot in the characters benchmark, where
+// the capsule ended 0.19 m inside the ramp.
+constexpr PfxFloat kLowestStep = PfxFloat(0.02);
 // Desired speeds below this are standing still (m/s).
 constexpr PfxFloat kStandingSpeed = PfxFloat(0.05);
 // A steep surface whose normal points up by less than this (cosine) is a wall, not a slope
@@ -192,7 +198,7 @@ PfxInt32 PfxCharacterController::tryStepUp(const Character& character, const Pfx
     if (-contact.m_normal.dot(upward) < character.cosMaxSlope) continue;
     top = std::max(top, (contact.m_pointB - foot).dot(upward));
   }
-  if (top > kSkin && top <= param.maxStepHeight) rise = top;
+  if (top > kLowestStep && top <= param.maxStepHeight) rise = top;
   return PFX_OK;
 }
 
