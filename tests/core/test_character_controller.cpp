@@ -442,6 +442,43 @@ TEST(CharacterController, TakesNoStepOntoItsOwnFloorAtASteepRampsFoot) {
   EXPECT_LT(deepest, 0.02f);
 }
 
+// Walking off the side of a 0.3 m step (a staircase's side, in the characters benchmark),
+// not over its front edge: the snap down to the floor must not drive the capsule into the
+// step's side face, which the rim holds it above until it has slid off (it went 5.8 cm in).
+TEST(CharacterController, WalksOffTheSideOfAStepWithoutSinkingIntoIt) {
+  PfxWorld world;
+  initWorld(world);
+  addFloor(world);
+  const PfxVector3 stepCenter(0, 0.15f, -1), stepHalf(3, 0.15f, 1);  // its side at z = 0
+  addBox(world, stepCenter, stepHalf);
+  PfxCharacterController controller(world);
+  PfxUInt32 id = 0;
+  const PfxCharacterParam param;
+  ASSERT_EQ(controller.addCharacter(param, PfxVector3(-2, 0.3f, -0.4f), &id), PFX_OK);
+  run(world, controller, 0.3f);
+  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(1.5f, 0, 0.4f)), PFX_OK);
+  // The capsule's overlap with the step: its radius less the distance from its axis
+  // (sampled every 5 cm) to the box.
+  const auto overlap = [&](const PfxVector3& foot) {
+    PfxFloat nearest = 1e9f;
+    for (PfxFloat up = param.radius; up <= param.height - param.radius; up += 0.05f) {
+      const PfxVector3 d =
+          ((foot + PfxVector3(0, up, 0) - stepCenter).cwiseAbs() - stepHalf).eval();
+      nearest = std::min(nearest, d.cwiseMax(0).norm() + std::min(d.maxCoeff(), PfxFloat(0)));
+    }
+    return std::max(PfxFloat(0), param.radius - nearest);
+  };
+  PfxFloat deepest = 0;
+  run(world, controller, 2.5f,
+      [&] { deepest = std::max(deepest, overlap(statusOf(controller, id).footPosition)); });
+  const PfxCharacterStatus status = statusOf(controller, id);
+  std::printf("deepest in the step's side %.4f m; foot at z %.2f, y %.3f\n", double(deepest),
+              double(status.footPosition.z()), double(status.footPosition.y()));
+  EXPECT_GT(status.footPosition.z(), param.radius);  // off the step
+  EXPECT_NEAR(status.footPosition.y(), 0, 0.01f);    // on the floor
+  EXPECT_LT(deepest, 0.02f);
+}
+
 TEST(CharacterController, StaysOnTheGroundDownStairsAndSlopes) {
   PfxWorld world;
   initWorld(world);
