@@ -58,8 +58,7 @@ void addBlock(CharacterCourse& course, double zc, std::mt19937& rng) {
   const Vec3 normal(-std::sin(kRampAngle), std::cos(kRampAngle), 0);
   const double length = kPlateauHeight / std::sin(kRampAngle);
   fixed(Vec3(kRampStart, 0, kRampZ) + along * (length / 2) - normal * 0.1,
-        Vec3(length / 2, 0.1, kRampHalfWidth),
-        Quat(Eigen::AngleAxisd(kRampAngle, Vec3::UnitZ())));
+        Vec3(length / 2, 0.1, kRampHalfWidth), Quat(Eigen::AngleAxisd(kRampAngle, Vec3::UnitZ())));
   const double plateauX = kRampStart + rampRun() + 1;
   fixed(Vec3(plateauX, kPlateauHeight / 2, kRampZ), Vec3(1, kPlateauHeight / 2, kRampHalfWidth));
   course.rampAreas.push_back({kRampStart, plateauX + 1, zc + kRampZ - kRampHalfWidth,
@@ -76,8 +75,8 @@ void addBlock(CharacterCourse& course, double zc, std::mt19937& rng) {
     const double half = 0.2 + 0.1 * unit(rng);
     const double x = 4 + 8 * unit(rng);
     const double z = -kBlockHalfWidth + 2 * kBlockHalfWidth * unit(rng);
-    const bool onPlatform = std::abs(z - kPlatformZ) < sweep &&
-                            std::abs(x - kPlatformX) < kPlatformSlide + sweep;
+    const bool onPlatform =
+        std::abs(z - kPlatformZ) < sweep && std::abs(x - kPlatformX) < kPlatformSlide + sweep;
     if (onPlatform) continue;
     course.looseBoxes.push_back({Vec3(x, half, z + zc), Vec3(half, half, half)});
     ++placed;
@@ -179,7 +178,8 @@ CharacterCourse makeCharacterCourse(int count) {
 }
 
 void platformPose(const CourseBox& base, double t, Vec3& position, Quat& orientation) {
-  position = base.center + Vec3(kPlatformSlide * std::sin(2 * kPi * t / kPlatformSlidePeriod), 0, 0);
+  position =
+      base.center + Vec3(kPlatformSlide * std::sin(2 * kPi * t / kPlatformSlidePeriod), 0, 0);
   orientation = aboutY(kPlatformTurn * std::sin(2 * kPi * t / kPlatformTurnPeriod));
 }
 
@@ -233,7 +233,8 @@ bool runCharacterCourse(CharacterEngine& engine, const CharacterCourse& course, 
       }
       const Vec3 lo = foot, hi = foot + Vec3(0, kCharacterHeight, 0);
       for (std::size_t b = 0; b < bounds.size(); ++b) {
-        if ((hi.array() < bounds[b].lo.array()).any() || (lo.array() > bounds[b].hi.array()).any()) {
+        if ((hi.array() < bounds[b].lo.array()).any() ||
+            (lo.array() > bounds[b].hi.array()).any()) {
           continue;
         }
         figures.penetrationMax =
@@ -311,9 +312,9 @@ int runCharactersScene(const Options& options, std::vector<ResultRow>& rows) {
         }
         // pfx's aim on this course: everyone arrives, nobody falls through or climbs the
         // ramp. The peer's figures are reported as they are.
-        const bool pfxMissed = std::string(side.name) == "pfx" &&
-                               (figures.arrivedShare < 1 || figures.fellThrough > 0 ||
-                                figures.climbedRamp > 0);
+        const bool pfxMissed =
+            std::string(side.name) == "pfx" &&
+            (figures.arrivedShare < 1 || figures.fellThrough > 0 || figures.climbedRamp > 0);
         if (pfxMissed) {
           std::fprintf(stderr, "characters %s: NOT every character arrived safely\n", label);
           ++failures;
@@ -321,8 +322,8 @@ int runCharactersScene(const Options& options, std::vector<ResultRow>& rows) {
         const std::string variant = std::to_string(count);
         const double wallPerSim = figures.msPerStepMean * 1e-3 / dt;
         auto row = [&](const char* metric, double value) {
-          rows.push_back({kCharactersSceneName, side.name, variant, dt, 1, 10, 1, wallPerSim,
-                          metric, value});
+          rows.push_back(
+              {kCharactersSceneName, side.name, variant, dt, 1, 10, 1, wallPerSim, metric, value});
         };
         row("arrived_share", figures.arrivedShare);
         row("last_arrival_s", figures.lastArrival);
@@ -346,17 +347,24 @@ int runCharactersScene(const Options& options, std::vector<ResultRow>& rows) {
     for (const Column& c : columns) std::fprintf(stderr, format, value(c.figures));
     std::fprintf(stderr, "\n");
   };
-  line("reached target (share)", [](const CharacterFigures& f) { return f.arrivedShare; },
-       " %18.3f");
-  line("last arrival (s)", [](const CharacterFigures& f) { return f.lastArrival; }, " %18.1f");
-  line("deepest penetration (m)", [](const CharacterFigures& f) { return f.penetrationMax; },
-       " %18.4f");
-  line("fell through floor", [](const CharacterFigures& f) { return f.fellThrough; }, " %18d");
-  line("climbed steep ramp", [](const CharacterFigures& f) { return f.climbedRamp; }, " %18d");
-  line("CPU ms per step (mean)", [](const CharacterFigures& f) { return f.msPerStepMean; },
-       " %18.3f");
-  line("CPU ms per step (median)", [](const CharacterFigures& f) { return f.msPerStepMedian; },
-       " %18.3f");
+  line(
+      "reached target (share)", [](const CharacterFigures& f) { return f.arrivedShare; },
+      " %18.3f");
+  line(
+      "last arrival (s)", [](const CharacterFigures& f) { return f.lastArrival; }, " %18.1f");
+  line(
+      "deepest penetration (m)", [](const CharacterFigures& f) { return f.penetrationMax; },
+      " %18.4f");
+  line(
+      "fell through floor", [](const CharacterFigures& f) { return f.fellThrough; }, " %18d");
+  line(
+      "climbed steep ramp", [](const CharacterFigures& f) { return f.climbedRamp; }, " %18d");
+  line(
+      "CPU ms per step (mean)", [](const CharacterFigures& f) { return f.msPerStepMean; },
+      " %18.3f");
+  line(
+      "CPU ms per step (median)", [](const CharacterFigures& f) { return f.msPerStepMedian; },
+      " %18.3f");
   return failures;
 }
 

@@ -84,7 +84,7 @@ struct CharacterCourse {
   std::vector<RampArea> rampAreas;    // the ramps and the plateaus behind them
   std::vector<Vec3> starts;           // feet, on the floor
   std::vector<Vec3> targets;
-  Vec3 halfExtent = Vec3::Ones();     // a box about the origin that holds everything
+  Vec3 halfExtent = Vec3::Ones();  // a box about the origin that holds everything
 };
 
 // The course for `count` characters: one block per 100 (the last one partly filled).

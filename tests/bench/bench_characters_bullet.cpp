@@ -35,8 +35,8 @@ class BulletCharacterEngine : public CharacterEngine {
     for (const CourseBox& box : course.looseBoxes) add(box, btScalar(kLooseBoxMass), false);
 
     // btCapsuleShape's height is that of its cylinder, between the two half spheres.
-    m_capsule = std::make_unique<btCapsuleShape>(
-        btScalar(kCharacterRadius), btScalar(kCharacterHeight - 2 * kCharacterRadius));
+    m_capsule = std::make_unique<btCapsuleShape>(btScalar(kCharacterRadius),
+                                                 btScalar(kCharacterHeight - 2 * kCharacterRadius));
     const btVector3 up(0, 1, 0);
     for (const Vec3& start : course.starts) {
       auto ghost = std::make_unique<btPairCachingGhostObject>();
@@ -46,8 +46,8 @@ class BulletCharacterEngine : public CharacterEngine {
           ghost.get(), m_capsule.get(), btScalar(kCharacterStepHeight), up);
       // Placed after the controller is made: its constructor turns the ghost from its own
       // default up axis (Z) to the one given, which would lay a Y capsule on its side.
-      ghost->setWorldTransform(btTransform(
-          btQuaternion::getIdentity(), toBt(start) + up * btScalar(kCharacterHeight / 2)));
+      ghost->setWorldTransform(btTransform(btQuaternion::getIdentity(),
+                                           toBt(start) + up * btScalar(kCharacterHeight / 2)));
       controller->setGravity(btVector3(0, btScalar(-kCharacterGravity), 0));
       controller->setMaxSlope(btScalar(kCharacterMaxSlopeDegrees * SIMD_PI / 180));
       controller->setJumpSpeed(btScalar(kCharacterJumpSpeed));

@@ -29,7 +29,10 @@ class PfxCharacterEngine : public CharacterEngine {
       init.orientation = toPfx(box.orientation);
       init.mass = mass;
       init.motionType = type;
-      code = pfxAddBody(m_world, pfxMakeShape(PfxBox(PfxFloat(box.half.x()), PfxFloat(box.half.y()), PfxFloat(box.half.z()))), init, id);
+      code = pfxAddBody(m_world,
+                        pfxMakeShape(PfxBox(PfxFloat(box.half.x()), PfxFloat(box.half.y()),
+                                            PfxFloat(box.half.z()))),
+                        init, id);
     };
     for (const CourseBox& box : course.fixedBoxes) add(box, 0, kPfxMotionTypeActive, nullptr);
     m_platforms.resize(course.platforms.size());

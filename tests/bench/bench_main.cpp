@@ -38,9 +38,12 @@ struct ApartScene {
   int (*run)(const Options& options, std::vector<ResultRow>& rows);
 };
 const ApartScene kApartScenes[] = {
-    {kOctomapSceneName, [](const Options&, std::vector<ResultRow>& rows) { return runOctomapScene(rows); }},
-    {kMeshFloorSceneName, [](const Options&, std::vector<ResultRow>& rows) { return runMeshFloorScene(rows); }},
-    {kSerializeSceneName, [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
+    {kOctomapSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runOctomapScene(rows); }},
+    {kMeshFloorSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runMeshFloorScene(rows); }},
+    {kSerializeSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
     {kCharactersSceneName, runCharactersScene},
 };
 
