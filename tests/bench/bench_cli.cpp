@@ -61,7 +61,7 @@ bool parsePositiveInts(const std::string& name, const std::string& text, std::ve
 const char* usage() {
   return "usage: pfx_bench [--scene NAME[,NAME...]] [--engine NAME[,NAME...]] [--dt DT[,DT...]]\n"
          "                 [--iterations N[,N...]] [--substeps N[,N...]] [--threads N[,N...]]\n"
-         "                 [--seconds S] [--out DIR] [--same-bits]\n"
+         "                 [--seconds S] [--out DIR] [--same-bits] [--characters N[,N...]]\n"
          "  Steps each scene with each engine for each combination of the settings and\n"
          "  prints one TSV row per error metric on stdout. DT is 1/60 or 0.0166.\n"
          "  Defaults: every scene, every engine built, dt 1/30,1/60,1/120,1/240,1/480,1/960,\n"
@@ -79,7 +79,12 @@ const char* usage() {
          "  scene meshfloor (pfx only, with the loaders) stands a quadruped on a\n"
          "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h. The\n"
          "  scene serialize writes worlds of 4,000 and 100,000 bodies to a file and reads\n"
-         "  them back (pfx, and bullet's serializer), see bench_serialize.h.\n";
+         "  them back (pfx, and bullet's serializer), see bench_serialize.h. The scene\n"
+         "  characters walks 100 and 1,000 characters (--characters) over a course with\n"
+         "  pfx's character controller and Bullet's btKinematicCharacterController, for\n"
+         "  --seconds (30 by default) at each --dt (1/60 by default), and prints a table\n"
+         "  on stderr; it fails when a pfx character does not arrive, falls through the\n"
+         "  floor or climbs the steep ramp. See bench_characters.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {
@@ -95,7 +100,8 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
     }
     static const char* const kOptionsWithValue[] = {"--scene",    "--engine",  "--dt",
                                                     "--iterations", "--substeps", "--threads",
-                                                    "--seconds",  "--out"};
+                                                    "--seconds",  "--out",
+                                                    "--characters"};
     if (std::find(std::begin(kOptionsWithValue), std::end(kOptionsWithValue), option) ==
         std::end(kOptionsWithValue)) {
       error = "unknown option: " + option;
@@ -112,6 +118,7 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
       options.engines = splitList(value);
     } else if (option == "--dt") {
       options.timeSteps.clear();
+      options.timeStepsGiven = true;
       for (const std::string& item : splitList(value)) {
         double dt = 0;
         if (!parseTimeStep(item, dt)) {
@@ -135,6 +142,8 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
         error = "--seconds: not a positive duration: '" + value + "'";
         return false;
       }
+    } else if (option == "--characters") {
+      if (!parsePositiveInts(option, value, options.characterCounts, error)) return false;
     } else if (option == "--out") {
       options.outDir = value;
     }

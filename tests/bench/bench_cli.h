@@ -11,10 +11,12 @@ struct Options {
   std::vector<std::string> scenes;   // empty: every scene
   std::vector<std::string> engines;  // empty: every engine that was built
   std::vector<double> timeSteps{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
+  bool timeStepsGiven = false;  // --dt was given (the characters scene runs 1/60 otherwise)
   std::vector<int> iterations{10};
   std::vector<int> substeps{1};
   std::vector<int> threads{1};
   double seconds = 0;  // 0: each scene's own duration
+  std::vector<int> characterCounts{100, 1000};  // the characters scene's runs
   std::string outDir;  // empty: TSV on stdout only
   // Runs that differ only in their number of threads must end in bit-identical states;
   // a run that does not fails the benchmark.

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_characters.h"
 #include "bench_cli.h"
 #include "bench_engine.h"
 #include "bench_mesh_floor.h"
@@ -29,15 +30,21 @@ using namespace pfxbench;
 namespace {
 
 // Scenes that measure something other than stepping (load times, a world written and read
-// back) or that step pfx alone: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h.
+// back), that step pfx alone, or that drive each engine through its own character
+// controller: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h, bench_characters.h.
 struct ApartScene {
   const char* name;
-  int (*run)(std::vector<ResultRow>& rows);  // appends its rows, returns its failures
+  // Appends its rows, returns its failures.
+  int (*run)(const Options& options, std::vector<ResultRow>& rows);
 };
 const ApartScene kApartScenes[] = {
-    {kOctomapSceneName, runOctomapScene},
-    {kMeshFloorSceneName, runMeshFloorScene},
-    {kSerializeSceneName, runSerializeScene},
+    {kOctomapSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runOctomapScene(rows); }},
+    {kMeshFloorSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runMeshFloorScene(rows); }},
+    {kSerializeSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
+    {kCharactersSceneName, runCharactersScene},
 };
 
 struct Job {
@@ -269,7 +276,7 @@ int main(int argc, char** argv) {
   }
   for (const ApartScene* apart : apartScenes) {
     std::vector<ResultRow> apartRows;
-    failures += apart->run(apartRows);
+    failures += apart->run(options, apartRows);
     for (const ResultRow& row : apartRows) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);

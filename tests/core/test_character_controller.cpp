@@ -1,7 +1,8 @@
 // The character controller (pfx_character_controller.h) and the world's contact query it
 // senses with (pfx_query_contacts.h): known answers first (a query's distance and normal,
 // the step climbed and the one refused, the slope limit, a jump's height, the push force),
-// then behaviour over time (stairs and slopes down, a moving platform, walls at speed, a
+// then behaviour over time (stairs and slopes down, no false step at a steep ramp's foot, a
+// moving platform, walls at speed, a
 // large-mesh floor, characters meeting), then bad input.
 #include <gtest/gtest.h>
 
@@ -405,6 +406,77 @@ TEST(CharacterController, SlidesDownASteepSlope) {
       [&] { slid = slid || statusOf(controller, id).state == kPfxCharacterSliding; });
   EXPECT_TRUE(slid);
   EXPECT_LT(statusOf(controller, id).footPosition.y(), 0.05f);
+}
+
+// Walking into the foot of a ramp too steep to climb with the foot 4 mm deep in the floor,
+// which the world leaves as it is (within its contact slop, 5 mm) and which a crowd pressing
+// on a character brings about: the floor under the foot is no step to climb (taking it
+// for one moved the capsule a radius forward, 0.19 m into the ramp, in the characters
+// benchmark), so the character stays out of the ramp.
+TEST(CharacterController, TakesNoStepOntoItsOwnFloorAtASteepRampsFoot) {
+  PfxWorld world;
+  PfxWorldParam worldParam;
+  worldParam.timeStep = PfxFloat(1) / 30;
+  ASSERT_EQ(world.initialize(worldParam), PFX_OK);
+  addFloor(world);
+  const PfxFloat angle = 50 * kDegree;
+  addRamp(world, angle, 0, 4);
+  PfxCharacterController controller(world);
+  PfxUInt32 id = 0;
+  const PfxCharacterParam param;
+  ASSERT_EQ(controller.addCharacter(param, PfxVector3(-1, -0.004f, 0), &id), PFX_OK);
+  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(3, 0, 0)), PFX_OK);
+  // How deep the capsule's lower half sphere is in the ramp's top face.
+  const PfxVector3 normal(-std::sin(angle), std::cos(angle), 0);
+  PfxFloat deepest = 0;
+  for (int i = 0; i < 90; ++i) {
+    ASSERT_EQ(controller.update(), PFX_OK);
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxVector3 center =
+        statusOf(controller, id).footPosition + PfxVector3(0, param.radius, 0);
+    deepest = std::max(deepest, param.radius - normal.dot(center));
+  }
+  std::printf("deepest in the ramp %.4f m, %u steps climbed\n", double(deepest),
+              statusOf(controller, id).numSteps);
+  EXPECT_EQ(statusOf(controller, id).numSteps, 0u);
+  EXPECT_LT(deepest, 0.02f);
+}
+
+// Walking off the side of a 0.3 m step (a staircase's side, in the characters benchmark),
+// not over its front edge: the snap down to the floor must not drive the capsule into the
+// step's side face, which the rim holds it above until it has slid off (it went 5.8 cm in).
+TEST(CharacterController, WalksOffTheSideOfAStepWithoutSinkingIntoIt) {
+  PfxWorld world;
+  initWorld(world);
+  addFloor(world);
+  const PfxVector3 stepCenter(0, 0.15f, -1), stepHalf(3, 0.15f, 1);  // its side at z = 0
+  addBox(world, stepCenter, stepHalf);
+  PfxCharacterController controller(world);
+  PfxUInt32 id = 0;
+  const PfxCharacterParam param;
+  ASSERT_EQ(controller.addCharacter(param, PfxVector3(-2, 0.3f, -0.4f), &id), PFX_OK);
+  run(world, controller, 0.3f);
+  ASSERT_EQ(controller.setDesiredVelocity(id, PfxVector3(1.5f, 0, 0.4f)), PFX_OK);
+  // The capsule's overlap with the step: its radius less the distance from its axis
+  // (sampled every 5 cm) to the box.
+  const auto overlap = [&](const PfxVector3& foot) {
+    PfxFloat nearest = 1e9f;
+    for (PfxFloat up = param.radius; up <= param.height - param.radius; up += 0.05f) {
+      const PfxVector3 d =
+          ((foot + PfxVector3(0, up, 0) - stepCenter).cwiseAbs() - stepHalf).eval();
+      nearest = std::min(nearest, d.cwiseMax(0).norm() + std::min(d.maxCoeff(), PfxFloat(0)));
+    }
+    return std::max(PfxFloat(0), param.radius - nearest);
+  };
+  PfxFloat deepest = 0;
+  run(world, controller, 2.5f,
+      [&] { deepest = std::max(deepest, overlap(statusOf(controller, id).footPosition)); });
+  const PfxCharacterStatus status = statusOf(controller, id);
+  std::printf("deepest in the step's side %.4f m; foot at z %.2f, y %.3f\n", double(deepest),
+              double(status.footPosition.z()), double(status.footPosition.y()));
+  EXPECT_GT(status.footPosition.z(), param.radius);  // off the step
+  EXPECT_NEAR(status.footPosition.y(), 0, 0.01f);    // on the floor
+  EXPECT_LT(deepest, 0.02f);
 }
 
 TEST(CharacterController, StaysOnTheGroundDownStairsAndSlopes) {

@@ -2,6 +2,7 @@
 // query, the state machine, steps up and down, and the velocity each body is given.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pfx/high_level/pfx_character_controller.h"
 
@@ -14,6 +15,12 @@ constexpr PfxFloat kSkin = PfxFloat(0.002);
 // Overlap that still counts as room for the capsule (m): resting contacts sink by about the
 // world's contact slop, and a step up must not fail on that.
 constexpr PfxFloat kRoomTolerance = PfxFloat(0.02);
+// A walkable top less than this above the foot is no step (m): it is the ground the foot
+// stands on, sunk into by up to the world's contact slop, and the capsule's round bottom
+// rides over so small an edge anyway. Taking it for a step moved a character a radius
+// forward, into whatever blocked it: a steep ramp's foot in the characters benchmark, where
+// the capsule ended 0.19 m inside the ramp.
+constexpr PfxFloat kLowestStep = PfxFloat(0.02);
 // Desired speeds below this are standing still (m/s).
 constexpr PfxFloat kStandingSpeed = PfxFloat(0.05);
 // A steep surface whose normal points up by less than this (cosine) is a wall, not a slope
@@ -161,6 +168,23 @@ PfxVector3 PfxCharacterController::withoutWalls(const Character& character, PfxU
   return velocity;
 }
 
+// How far the capsule can move straight down before it meets any surface below it, as far as
+// the sensed contacts tell: the ground is one of them, but so is the rim of a step beside
+// the feet, too steep to stand on, which a snap down to the ground below would drive the
+// capsule's side into. Each surface counts as the plane through its contact point, which
+// is never further than the surface itself.
+PfxFloat PfxCharacterController::clearanceBelow(PfxUInt32 numContacts) const {
+  const PfxVector3 upward = up();
+  PfxFloat clearance = std::numeric_limits<PfxFloat>::max();
+  for (PfxUInt32 i = 0; i < numContacts; ++i) {
+    const PfxContactCandidate& contact = m_contacts[i].m_contact;
+    const PfxFloat cosine = -contact.m_normal.dot(upward);
+    if (cosine <= kWallCosine) continue;
+    clearance = std::min(clearance, contact.m_distance / cosine);
+  }
+  return clearance;
+}
+
 // Whether a step lies ahead in `direction`: room for the capsule lifted by maxStepHeight,
 // then moved forward by its radius (its axis then stands over the step's edge, whose top is
 // ground under it), and a walkable top there no higher than maxStepHeight above the foot.
@@ -192,7 +216,7 @@ PfxInt32 PfxCharacterController::tryStepUp(const Character& character, const Pfx
     if (-contact.m_normal.dot(upward) < character.cosMaxSlope) continue;
     top = std::max(top, (contact.m_pointB - foot).dot(upward));
   }
-  if (top > kSkin && top <= param.maxStepHeight) rise = top;
+  if (top > kLowestStep && top <= param.maxStepHeight) rise = top;
   return PFX_OK;
 }
 
@@ -250,6 +274,8 @@ PfxInt32 PfxCharacterController::sense(Character& character, Plan& plan) {
     return err;
   }
   const Ground ground = findGround(character, numContacts);
+  // Read now: a step up's queries below overwrite m_contacts.
+  const PfxFloat clearance = clearanceBelow(numContacts);
   const bool onGround =
       !rising && ground.found && (ground.drop <= param.groundProbe || wasOnGround);
 
@@ -270,8 +296,13 @@ PfxInt32 PfxCharacterController::sense(Character& character, Plan& plan) {
       ++status.numSteps;
     }
   }
+  // The snap down stops at anything in the way, such as the rim of a step beside the feet;
+  // held up there, the character falls off the rim (below) instead of being driven into it.
+  bool heldAboveGround = false;
   if (onGround && position == center && ground.drop > 2 * kSkin) {
-    position -= upward * (ground.drop - kSkin);
+    const PfxFloat drop = std::min(ground.drop, clearance);
+    heldAboveGround = drop < ground.drop - kSkin;
+    if (drop > 2 * kSkin) position -= upward * (drop - kSkin);
   }
 
   const PfxFloat maxChange = param.maxForce / param.mass * timeStep;
@@ -294,6 +325,11 @@ PfxInt32 PfxCharacterController::sense(Character& character, Plan& plan) {
       // contact takes.
       const PfxVector3& gravity = worldParam.gravity;
       next = carried + steered - (gravity - normal * normal.dot(gravity)) * timeStep;
+      if (heldAboveGround) {
+        // Gravity as in the air, the fall so far kept: the solver slides the capsule along
+        // the rim that holds it, down onto the ground.
+        next += upward * std::min(velocity.dot(upward), PfxFloat(0)) + gravity * timeStep;
+      }
     }
   } else if (desired.norm() > PFX_EPSILON) {
     // In the air it only speeds up towards the desired velocity: braking there would hold

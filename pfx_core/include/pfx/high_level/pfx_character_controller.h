@@ -22,7 +22,9 @@
 // surface within groundProbe below the capsule whose normal is within maxSlope of up (not
 // another character: one that lands on a head slides off); after a step on the ground it
 // is sought down to maxStepHeight + groundProbe, and the body is moved down onto it, which
-// keeps it on stairs and slopes going down. Steeper surfaces of bodies that forces do not
+// keeps it on stairs and slopes going down; no further than any surface below the capsule
+// allows, though, so that the rim of a step beside the feet is not driven into the step's
+// side: held up there, gravity acts as in the air and the body slides off the rim. Steeper surfaces of bodies that forces do not
 // move (fixed, keyframe) are walls: the desired velocity loses its part into them, so it
 // cannot creep up a steep ramp and slides down one. A wall lower than maxStepHeight in
 // front of a character on the ground is a step when there is room for the capsule above it
@@ -165,6 +167,7 @@ class PfxCharacterController {
   PfxInt32 query(const Character& character, const PfxVector3& center, PfxFloat threshold,
                  PfxUInt32& numContacts);
   Ground findGround(const Character& character, PfxUInt32 numContacts) const;
+  PfxFloat clearanceBelow(PfxUInt32 numContacts) const;
   PfxInt32 tryStepUp(const Character& character, const PfxVector3& center,
                      const PfxVector3& direction, PfxFloat& rise);
   PfxVector3 groundVelocity(const Ground& ground, const PfxVector3& center) const;
