@@ -35,7 +35,7 @@ PfxInt32 pfxIntegrateParticles(const PfxIntegrateParticlesParam& param,
                               p.m_velocity.setZero();
                               continue;
                             }
-                            p.m_velocity = (p.m_velocity + param.gravity * h) * keep;
+                            p.m_velocity = p.m_velocity * keep + param.gravity * h;
                             p.m_position += p.m_velocity * h;
                           }
                         });

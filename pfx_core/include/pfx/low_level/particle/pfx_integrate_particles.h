@@ -15,7 +15,8 @@ struct PfxIntegrateParticlesParam {
   PfxUInt32 numParticles = 0;
   PfxVector3 gravity = PfxVector3(0, PfxFloat(-9.80665), 0);
   // Fraction of the velocity lost per second (1/s; air drag on cloth and hair), applied as
-  // v / (1 + linearDamping * timeStep) so that it never reverses the velocity.
+  // v / (1 + linearDamping * timeStep) so that it never reverses the velocity, and before
+  // gravity, so that it slows motion without lightening what hangs at rest.
   PfxFloat linearDamping = 0;
   PfxFloat timeStep = PfxFloat(1) / 60;  // of the sub-step (s)
 };
