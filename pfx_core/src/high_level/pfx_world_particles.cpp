@@ -9,6 +9,7 @@
 #include "pfx/high_level/pfx_world.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
+#include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_solve_particle_constraints.h"
 #include "pfx/low_level/particle/pfx_update_particles.h"
 
@@ -251,6 +252,20 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
         return err;
       }
     }
+    if (g.numContacts > 0) {
+      PfxStageTimer timer(m_stats, kPfxStageDetectParticleContacts);
+      PfxRefreshParticleContactsParam param;
+      param.particles = g.particles.data();
+      param.numParticles = numParticles;
+      param.contacts = g.contacts.data();
+      param.numContacts = g.numContacts;
+      param.offsetRigidStates = m_states.data();
+      param.offsetCollidables = m_collidables.data();
+      param.numRigidBodies = getNumRigidBodies();
+      if (const PfxInt32 err = pfxRefreshParticleContacts(param, &m_taskManager); err != PFX_OK) {
+        return err;
+      }
+    }
     {
       PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
       PfxSolveParticleConstraintsParam param;
@@ -279,6 +294,9 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.particles = g.particles.data();
       param.numParticles = numParticles;
       param.timeStep = timeStep;
+      param.contacts = g.contacts.data();
+      param.numContacts = g.numContacts;
+      param.offsetRigidStates = m_states.data();
       if (const PfxInt32 err = pfxUpdateParticles(param, &m_taskManager); err != PFX_OK) {
         return err;
       }

@@ -68,7 +68,12 @@ class PfxParticleGroupBuilder {
     PfxFloat radius = PfxFloat(0.01);         // m
     PfxFloat friction = PfxFloat(0.5);
     PfxFloat stretchCompliance = 0;           // m/N
-    // Resistance to bending, rad/(N m); a negative value adds no angle constraints.
+    // Softness in bending; a negative value adds no bending constraints. A rope's bending is
+    // angle constraints, in rad/(N m); a cloth's is distance constraints across two
+    // particles, in m/N. Bending much stiffer than the stretch constraints can follow in
+    // one iteration (below about 0.1 m/N for cloth of 2 g particles) fights the contacts of
+    // a cloth folding over an edge and gains speed from them: give stiff cloth more
+    // iterations per sub-step (PfxParticleGroupDesc::iteration).
     PfxFloat bendCompliance = -1;
     PfxUInt32 contactFilterSelf = 1;
     PfxUInt32 contactFilterTarget = 0xffffffffu;
@@ -91,7 +96,9 @@ class PfxParticleGroupBuilder {
   void setMass(PfxUInt32 particle, PfxFloat mass);
   // Adds a tether from every particle of the range [first, first + count) of a rope to
   // `anchor`, one of its particles, as long as the rope's rest length between them: the
-  // long-range attachments that keep a hanging rope or cloth from stretching.
+  // long-range attachments that keep a hanging rope or cloth from stretching. Only for
+  // material that hangs freely from the anchor: a tether pulls in a straight line, so on a
+  // rope wrapped over an edge it presses the rope into the edge and friction locks it.
   void tetherRope(PfxUInt32 first, PfxUInt32 count, PfxUInt32 anchor);
   // The same for a cloth from addCloth: each particle to `anchor` with the shortest rest
   // distance along the cloth's grid, as the crow flies on its flat rest shape.

@@ -99,6 +99,7 @@ void detectRigid(const PfxDetectParticleContactsParam& param, PfxUInt32 i, const
     c.m_kind = kPfxParticleContactRigidBody;
     c.m_particle = i;
     c.m_other = q.m_rigidBodyId;
+    c.m_shapeId = q.m_contact.m_shapeIdB;
     c.m_localPoint = toBody * (q.m_contact.m_pointB - state.getPosition());
     c.m_localNormal = toBody * (-q.m_contact.m_normal);
     c.m_friction = std::sqrt(p.m_friction *

@@ -182,6 +182,7 @@ PfxFloat frictionMultiplier(PfxParticleContact& c, const PfxVector3& slide, PfxF
 void solveRigidContact(PfxParticleContact& c, PfxParticle* particles, const RigidAccess& rigid) {
   PfxParticle& p = particles[c.m_particle];
   const PfxUInt32 body = c.m_other;
+  if (c.m_localNormal.squaredNorm() == 0) return;  // out of reach this sub-step
   const PfxVector3 point = rigid.worldPoint(body, c.m_localPoint);
   const PfxVector3 n = rigid.states[body].getOrientation() * c.m_localNormal;
   const PfxFloat depth = (p.m_position - point).dot(n) - p.m_radius;
@@ -386,14 +387,15 @@ PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& par
     // Tethers after the chain: they take out what the chain's unconverged solve stretched.
     for (PfxUInt32 i = 0; i < param.numTethers; ++i) solveTether(param.tethers[i], particles);
     for (PfxUInt32 i = 0; i < param.numPins; ++i) solvePin(param.pins[i], particles, rigid, alphaScale);
-    // Contacts last, so that what is left of the sub-step's error is never penetration.
+    // Contacts last, and those with bodies after those among particles, so that what is
+    // left of the sub-step's error is never a particle inside a body.
     for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
       PfxParticleContact& c = param.contacts[i];
-      if (c.m_kind == kPfxParticleContactRigidBody) {
-        solveRigidContact(c, particles, rigid);
-      } else {
-        solveParticleContact(c, particles);
-      }
+      if (c.m_kind == kPfxParticleContactParticle) solveParticleContact(c, particles);
+    }
+    for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+      PfxParticleContact& c = param.contacts[i];
+      if (c.m_kind == kPfxParticleContactRigidBody) solveRigidContact(c, particles, rigid);
     }
   }
   return PFX_OK;

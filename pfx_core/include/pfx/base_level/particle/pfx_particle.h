@@ -82,7 +82,8 @@ enum PfxParticleContactKind : PfxUInt8 {
 // A contact found once per step (pfxDetectParticleContacts) and solved in every sub-step.
 // Against a rigid body it is a plane fixed to the body: the point on the body's surface and
 // the normal out of the body, both in the body's frame, so that the plane moves with the
-// body through the sub-steps. Between two particles it is just the pair.
+// body through the sub-steps; pfxRefreshParticleContacts turns it to follow a curved shape
+// at each sub-step. Between two particles it is just the pair.
 struct PfxParticleContact {
   PfxVector3 m_localPoint = PfxVector3::Zero();
   PfxVector3 m_localNormal = PfxVector3::Zero();
@@ -90,6 +91,7 @@ struct PfxParticleContact {
   PfxUInt32 m_other = 0;  // rigid body id or particle index
   PfxFloat m_friction = 0;  // of the pair (geometric mean)
   PfxUInt8 m_kind = kPfxParticleContactRigidBody;
+  PfxUInt8 m_shapeId = 0;  // the body's shape touched (its index in the body's collidable)
   // Solver scratch: the sub-step's accumulated normal and friction multipliers (kg m).
   PfxFloat m_lambdaNormal = 0;
   PfxFloat m_lambdaTangent = 0;
