@@ -9,6 +9,7 @@
 
 #include "pfx_large_mesh_test_util.h"
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_debug_render.h"
 #include "pfx/high_level/pfx_world.h"
 #include "pfx/low_level/pfx_error_detail.h"
 
@@ -212,6 +213,7 @@ TEST(WorldParticles, RopeDraggedOverABoxEdgeDoesNotPassThrough) {
 }
 
 TEST(WorldParticles, BodyHangsOnARope) {
+  for (const bool bodyTether : {false, true})
   for (PfxFloat bodyMass : {PfxFloat(1), PfxFloat(10)}) {
     PfxWorld world;
     ASSERT_EQ(world.initialize(particleWorldParam(8)), PFX_OK);
@@ -230,6 +232,7 @@ TEST(WorldParticles, BodyHangsOnARope) {
     rope.setMass(0, 0);
     rope.tetherRope(0, 21, 0);
     rope.pinToBody(20, body, PfxVector3(0, 0.1, 0));
+    if (bodyTether) rope.tetherBody(body, PfxVector3(0, 0.1, 0), 0, length);
     rope.iteration = 2;
     PfxUInt32 id = 0;
     ASSERT_EQ(world.addParticleGroup(rope.desc(), &id), PFX_OK) << pfxGetLastErrorDetail();
@@ -251,11 +254,11 @@ TEST(WorldParticles, BodyHangsOnARope) {
     const PfxVector3 anchor = s.getPosition() + s.getOrientation() * PfxVector3(0, 0.1, 0);
     const PfxFloat finalStretch = (anchor - top).norm() / length - 1;
     const PfxFloat energyChange = (bodyEnergy() - startEnergy) / (bodyMass * gravity * 0.3f);
-    std::printf("body of %.0f kg on a rope of 0.2 kg, %.3f m, swinging 10 s: largest stretch "
-                "%.2f%%, at the end %.2f%%; body's energy changed by %.1f%% of its drop\n",
-                double(bodyMass), double(length), 100 * worstStretch, 100 * finalStretch,
-                100 * double(energyChange));
-    EXPECT_LT(worstStretch, bodyMass > 5 ? 0.06 : 0.02);
+    std::printf("body of %2.0f kg on a rope of 0.2 kg, %.3f m, %s, swinging 10 s: largest "
+                "stretch %.2f%%, at the end %.2f%%; body's energy changed by %.1f%% of its drop\n",
+                double(bodyMass), double(length), bodyTether ? "tethered" : "pinned only",
+                100 * worstStretch, 100 * finalStretch, 100 * double(energyChange));
+    EXPECT_LT(worstStretch, bodyTether ? 0.002 : bodyMass > 5 ? 0.06 : 0.02);
     // The rope held it: it swings below the pin, and gains no energy from the coupling.
     EXPECT_LT(anchor.y(), top.y() - 0.8);
     EXPECT_LT(energyChange, 0.05);
@@ -457,4 +460,35 @@ TEST(WorldParticles, GroupsAreAddedRemovedAndBadOnesRefused) {
   EXPECT_EQ(world.setParticlePosition(0, 99, PfxVector3::Zero()), PFX_ERR_OUT_OF_RANGE);
   EXPECT_EQ(world.setParticlePosition(0, 1, PfxVector3::Constant(NAN)), PFX_ERR_INVALID_VALUE);
   ASSERT_EQ(world.step(), PFX_OK);
+}
+
+TEST(WorldParticles, DebugRenderDrawsPointsLinesAndTriangles) {
+  PfxWorld world;
+  PfxBodyInit init;
+  init.motionType = kPfxMotionTypeKeyframe;
+  PfxUInt32 body = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.1)), init, &body), PFX_OK);
+  PfxParticleGroupBuilder b;
+  b.addCloth(PfxVector3(0, 1, 0), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 3, 3, clothMaterial());
+  b.pinToBody(0, body, PfxVector3(0, 0.1, 0));
+  ASSERT_EQ(world.addParticleGroup(b.desc()), PFX_OK);
+  PfxUInt32 points = 0, lines = 0, triangles = 0;
+  PfxDebugRender render;
+  render.setDebugRenderPointFunc([&](const PfxVector3&, const PfxVector3&) { ++points; });
+  render.setDebugRenderLineFunc([&](const PfxVector3&, const PfxVector3&, const PfxVector3&) { ++lines; });
+  render.setDebugRenderTriangleFunc([&](const PfxVector3&, const PfxVector3&, const PfxVector3&,
+                                        const PfxVector3&, PfxUInt32 id) {
+    EXPECT_EQ(id, PFX_PARTICLE_DRAW_ID);
+    ++triangles;
+  });
+  render.renderParticles(world);
+  EXPECT_EQ(points, 9u);
+  EXPECT_EQ(lines, static_cast<PfxUInt32>(b.distanceConstraints.size()) + 1);  // and the pin
+  EXPECT_EQ(triangles, 8u);
+  PfxUInt32 bad[3] = {0, 1, 9};
+  EXPECT_EQ(render.renderParticles(b.particles.data(), 9, nullptr, 0, bad, 1, PfxVector3::Ones()),
+            PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(render.renderParticles(nullptr, 9, nullptr, 0, nullptr, 0, PfxVector3::Ones()),
+            PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(points, 9u);
 }

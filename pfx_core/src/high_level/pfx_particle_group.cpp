@@ -155,6 +155,16 @@ void PfxParticleGroupBuilder::tetherRope(PfxUInt32 first, PfxUInt32 count, PfxUI
   }
 }
 
+void PfxParticleGroupBuilder::tetherBody(PfxUInt32 rigidBodyId, const PfxVector3& localAnchor,
+                                         PfxUInt32 anchor, PfxFloat maxDistance) {
+  PfxParticleTether t;
+  t.m_anchorParticle = anchor;
+  t.m_maxDistance = maxDistance;
+  t.m_rigidBodyId = rigidBodyId;
+  t.m_localAnchor = localAnchor;
+  tethers.push_back(t);
+}
+
 void PfxParticleGroupBuilder::tetherCloth(PfxUInt32 first, PfxUInt32 numU, PfxUInt32 numV,
                                           PfxUInt32 anchor) {
   for (PfxUInt32 i = first; i < first + numU * numV; ++i) {

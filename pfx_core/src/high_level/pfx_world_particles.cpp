@@ -126,6 +126,11 @@ bool PfxWorld::particlesPinBodyBeyond(PfxUInt32 numBodies) const {
         return true;
       }
     }
+    for (const PfxParticleTether& tether : group->tethers) {
+      if (tether.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && tether.m_rigidBodyId >= numBodies) {
+        return true;
+      }
+    }
   }
   return false;
 }

@@ -100,6 +100,11 @@ class PfxParticleGroupBuilder {
   // material that hangs freely from the anchor: a tether pulls in a straight line, so on a
   // rope wrapped over an edge it presses the rope into the edge and friction locks it.
   void tetherRope(PfxUInt32 first, PfxUInt32 count, PfxUInt32 anchor);
+  // Tethers the point localAnchor of a body (the weight at the end of a rope) to `anchor`,
+  // no further than maxDistance: the long-range attachment that keeps a heavy body from
+  // stretching the rope it hangs on.
+  void tetherBody(PfxUInt32 rigidBodyId, const PfxVector3& localAnchor, PfxUInt32 anchor,
+                  PfxFloat maxDistance);
   // The same for a cloth from addCloth: each particle to `anchor` with the shortest rest
   // distance along the cloth's grid, as the crow flies on its flat rest shape.
   void tetherCloth(PfxUInt32 first, PfxUInt32 numU, PfxUInt32 numV, PfxUInt32 anchor);

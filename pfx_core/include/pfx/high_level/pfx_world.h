@@ -247,7 +247,7 @@ class PfxWorld {
   // Rejects what pfxCheckParticleConstraints rejects (invalid particles, constraints or pins
   // naming particles or bodies that do not exist, negative compliance, ...), an iteration
   // count of 0 and a negative damping, with the detail in pfxGetLastErrorDetail(); the world
-  // is unchanged then. Pins to bodies keep the bodies from being truncated away.
+  // is unchanged then. Pins and tethers to bodies keep the bodies from being truncated away.
   PfxInt32 addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32* outId = nullptr);
   // Removes a group; its id becomes free. PFX_ERR_OUT_OF_RANGE for an id without a group.
   PfxInt32 removeParticleGroup(PfxUInt32 id);

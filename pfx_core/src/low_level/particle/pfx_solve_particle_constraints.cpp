@@ -136,8 +136,19 @@ void solveAngle(PfxParticleAngleConstraint& c, PfxParticle* particles, PfxFloat 
   cc.m_position += cc.m_massInv * dLambda * gradC;
 }
 
-// The tether only moves the particle: its anchor is where the material hangs from.
-void solveTether(const PfxParticleTether& t, PfxParticle* particles) {
+// The tether only moves the particle or body: its anchor is where the material hangs from.
+void solveTether(const PfxParticleTether& t, PfxParticle* particles, const RigidAccess& rigid) {
+  if (t.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
+    const PfxVector3 point = rigid.worldPoint(t.m_rigidBodyId, t.m_localAnchor);
+    const PfxVector3 d = point - particles[t.m_anchorParticle].m_position;
+    const PfxFloat length = d.norm();
+    if (length <= t.m_maxDistance) return;
+    const PfxVector3 n = d / length;
+    const PfxFloat w = rigid.inverseMassAt(t.m_rigidBodyId, point, n);
+    if (w == 0) return;
+    rigid.applyPositionImpulse(t.m_rigidBodyId, point, n * (-(length - t.m_maxDistance) / w));
+    return;
+  }
   PfxParticle& p = particles[t.m_particle];
   if (p.m_massInv == 0) return;
   const PfxVector3 d = p.m_position - particles[t.m_anchorParticle].m_position;
@@ -312,9 +323,17 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
   for (PfxUInt32 i = 0; i < param.numTethers; ++i) {
     const PfxParticleTether& t = param.tethers[i];
     const char* array = "tethers";
-    if ((err = checkParticleIndex(array, i, "particle", t.m_particle, n)) != PFX_OK ||
-        (err = checkParticleIndex(array, i, "anchorParticle", t.m_anchorParticle, n)) != PFX_OK ||
-        (err = checkDistinct(array, i, t.m_particle, t.m_anchorParticle)) != PFX_OK) {
+    if ((err = checkParticleIndex(array, i, "anchorParticle", t.m_anchorParticle, n)) != PFX_OK) {
+      return err;
+    }
+    if (t.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
+      if ((err = checkBodyIndex(array, i, t.m_rigidBodyId, param)) != PFX_OK) return err;
+      if (!pfxIsFinite(t.m_localAnchor)) {
+        return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::tethers[%u].localAnchor is not finite",
+                              kAt.stage, kAt.param, i);
+      }
+    } else if ((err = checkParticleIndex(array, i, "particle", t.m_particle, n)) != PFX_OK ||
+               (err = checkDistinct(array, i, t.m_particle, t.m_anchorParticle)) != PFX_OK) {
       return err;
     }
     if (!nonNegative(t.m_maxDistance)) {
@@ -385,7 +404,9 @@ PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& par
       solveAngle(param.angleConstraints[i], particles, alphaScale);
     }
     // Tethers after the chain: they take out what the chain's unconverged solve stretched.
-    for (PfxUInt32 i = 0; i < param.numTethers; ++i) solveTether(param.tethers[i], particles);
+    for (PfxUInt32 i = 0; i < param.numTethers; ++i) {
+      solveTether(param.tethers[i], particles, rigid);
+    }
     for (PfxUInt32 i = 0; i < param.numPins; ++i) solvePin(param.pins[i], particles, rigid, alphaScale);
     // Contacts last, and those with bodies after those among particles, so that what is
     // left of the sub-step's error is never a particle inside a body.

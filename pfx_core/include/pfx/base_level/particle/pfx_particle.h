@@ -55,13 +55,21 @@ struct PfxParticleAngleConstraint {
 // with maxDistance the length of the path along the material between them. It only pulls;
 // it costs one projection per particle and stops the stretch that a long chain of distance
 // constraints shows under its own weight when the solver has not converged.
+//
+// The tethered end may be a point of a rigid body instead (a weight hanging on a rope): the
+// body is then moved back within reach, by its own inverse mass at the point, and a heavy
+// body no longer stretches the rope by the many iterations a chain of light particles needs
+// to carry it.
 struct PfxParticleTether {
-  PfxUInt32 m_particle = 0;
+  PfxUInt32 m_particle = 0;  // ignored when m_rigidBodyId names a body
   PfxUInt32 m_anchorParticle = 0;
   PfxFloat m_maxDistance = 0;
+  PfxUInt32 m_rigidBodyId = 0xffffffffu;  // PFX_PARTICLE_PIN_WORLD: the particle is tethered
+  PfxVector3 m_localAnchor = PfxVector3::Zero();  // the tethered point, in the body's frame
 };
 
-// PfxParticlePin::m_rigidBodyId of a pin to a fixed point of the world.
+// PfxParticlePin::m_rigidBodyId of a pin to a fixed point of the world, and
+// PfxParticleTether::m_rigidBodyId of a tether that holds a particle.
 constexpr PfxUInt32 PFX_PARTICLE_PIN_WORLD = 0xffffffffu;
 
 // Ties a particle to a point of a rigid body (in the body's frame: a cable tied to a robot
