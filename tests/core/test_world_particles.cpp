@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <cstring>
 
+#include "pfx_allocation_counter.h"
 #include "pfx_large_mesh_test_util.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_debug_render.h"
+#include "pfx/high_level/pfx_serialize.h"
 #include "pfx/high_level/pfx_world.h"
 #include "pfx/low_level/pfx_error_detail.h"
 
@@ -491,4 +493,39 @@ TEST(WorldParticles, DebugRenderDrawsPointsLinesAndTriangles) {
   EXPECT_EQ(render.renderParticles(nullptr, 9, nullptr, 0, nullptr, 0, PfxVector3::Ones()),
             PFX_ERR_NULL_POINTER);
   EXPECT_EQ(points, 9u);
+}
+
+TEST(WorldParticles, AStepAllocatesNothingAfterWarmUp) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);
+  addGround(world);
+  PfxBodyInit ball;
+  ball.position = PfxVector3(0, 0.5, 0);
+  PfxUInt32 body = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.2)), ball, &body), PFX_OK);
+  PfxParticleGroupBuilder b;
+  b.addCloth(PfxVector3(-0.5, 1, -0.5), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 12, 12,
+             clothMaterial());
+  b.pinToBody(0, body, PfxVector3::Zero());
+  ASSERT_EQ(world.addParticleGroup(b.desc()), PFX_OK);
+  for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const long before = pfx_test::pfxAllocationCount();
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_EQ(pfx_test::pfxAllocationCount() - before, 0);
+}
+
+TEST(WorldParticles, SavingAWorldWithParticlesIsRefusedNotTruncated) {
+  PfxWorld world;
+  addGround(world);
+  PfxParticleGroupBuilder rope;
+  rope.addRope(PfxVector3(0, 1, 0), PfxVector3(1, 1, 0), 5, PfxParticleGroupBuilder::Material());
+  ASSERT_EQ(world.addParticleGroup(rope.desc()), PFX_OK);
+  std::string error;
+  const std::string path = ::testing::TempDir() + "pfx_particles_refused.pfxw";
+  std::remove(path.c_str());
+  EXPECT_EQ(pfxSaveWorld(world, path.c_str(), &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("particle groups"), std::string::npos) << error;
+  FILE* file = std::fopen(path.c_str(), "rb");
+  EXPECT_EQ(file, nullptr);  // no file was made for it
+  if (file) std::fclose(file);
 }

@@ -156,7 +156,10 @@ class PfxSerializedMeshes {
 // Saves the whole world: parameters, simulated time, bodies, shapes and meshes (each mesh
 // once), joints, couplings, exclusions, contact pairs and manifolds with their impulses,
 // sleep, pending forces and keyframe motion. `error` (optional) receives the reason of a
-// failure, starting with the tags of the place.
+// failure, starting with the tags of the place. The format has no place for particle
+// groups yet: a world holding any is refused (PFX_ERR_INVALID_VALUE) before anything is
+// written or a file is opened, rather than saved without them. A load replaces the world,
+// its particle groups included.
 PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error = nullptr);
 PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* error = nullptr);
 
