@@ -193,6 +193,26 @@ TEST(Particles, SoftPendulumStretchesAsItsComplianceSays) {
   }
 }
 
+TEST(Particles, WorldPinsHoldExactlyOrAsCompliantAsAsked) {
+  // A 10-particle rope of 10 g particles hangs from a pin on its first particle (which has
+  // a mass of its own): a rigid pin holds it where it was put; a pin of compliance 1e-3 m/N
+  // gives way by the weight it carries times that compliance.
+  for (const PfxFloat compliance : {PfxFloat(0), PfxFloat(1e-3)}) {
+    PfxParticleGroupBuilder b;
+    PfxParticleGroupBuilder::Material m;
+    m.particleMass = PfxFloat(0.01);
+    b.addRope(PfxVector3::Zero(), PfxVector3(0, -1, 0), 10, m);
+    b.pinToWorld(0);
+    b.pins[0].m_compliance = compliance;
+    for (int step = 0; step < 600; ++step) stepParticles(b, PfxFloat(1) / 60, 10, 2, 2);
+    const double sag = -b.particles[0].m_position.y();
+    const double expected = compliance * 10 * 0.01 * kGravity;
+    std::printf("world pin of compliance %g m/N under 0.98 N: gives %.4f mm, expected %.4f mm\n",
+                double(compliance), 1000 * sag, 1000 * expected);
+    EXPECT_NEAR(sag, expected, 1e-4 + 0.02 * expected);
+  }
+}
+
 TEST(Particles, HangingRopeMatchesTheCatenary) {
   std::printf("catenary, rope 2 m between pins 1.6 m apart, 41 particles, 20 s settled:\n");
   std::printf("  tethers  sub-steps  iterations  max error (mm)  cpu ms per simulated s\n");

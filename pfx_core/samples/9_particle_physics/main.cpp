@@ -5,6 +5,7 @@
 // the world with a weight at its end swings into a row of boxes and knocks them over.
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_debug_render.h"
@@ -66,6 +67,17 @@ bool clothScene() {
       intoFloor = std::max(intoFloor, p.m_radius - p.m_position.y());
     }
   }
+  // The cloth did not pass through itself: no two of its particles overlap (a particle's
+  // radius, 0.39 of the spacing, leaves no gap in the sheet another particle could pass).
+  const std::vector<PfxParticle>& particles = world.getParticleGroup(id)->particles;
+  PfxFloat selfOverlap = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    for (std::size_t j = i + 1; j < particles.size(); ++j) {
+      const PfxFloat gap = (particles[i].m_position - particles[j].m_position).norm() -
+                           particles[i].m_radius - particles[j].m_radius;
+      selfOverlap = std::max(selfOverlap, -gap);
+    }
+  }
   // Count what the cloth's triangles look like to a renderer, through the debug render.
   PfxUInt32 triangles = 0;
   PfxDebugRender render;
@@ -74,15 +86,17 @@ bool clothScene() {
   render.renderParticles(world);
   const PfxWorldStats& stats = world.getStats();
   std::printf("cloth: %u particles over a sphere and a box, %s after %.2f s; deepest into the "
-              "sphere %.2f mm, the box %.2f mm, the floor %.2f mm; %u triangles drawn; "
+              "sphere %.2f mm, the box %.2f mm, the floor %.2f mm, into itself %.2f mm; "
+              "%u triangles drawn; "
               "particle stages %.2f ms in the last step\n",
               stats.numParticles, world.getParticleGroup(id)->asleep ? "asleep" : "still moving",
-              steps / 60.0, 1000 * intoSphere, 1000 * intoBox, 1000 * intoFloor, triangles,
+              steps / 60.0, 1000 * intoSphere, 1000 * intoBox, 1000 * intoFloor,
+              1000 * selfOverlap, triangles,
               1000 * (stats.stageSeconds[kPfxStageIntegrateParticles] +
                       stats.stageSeconds[kPfxStageSolveParticleConstraints] +
                       stats.stageSeconds[kPfxStageUpdateParticles]));
   return world.getParticleGroup(id)->asleep && intoSphere < 0.005f && intoBox < 0.005f &&
-         intoFloor < 0.005f && triangles == 2 * 35 * 23;
+         intoFloor < 0.005f && selfOverlap < 0.005f && triangles == 2 * 35 * 23;
 }
 
 bool hairScene() {

@@ -95,7 +95,8 @@ enum PfxStage : PfxUInt8 {
   kPfxStageCorrectJointPositions,
   // Once per step, after collision detection: islands, then waking and putting them to sleep.
   kPfxStageGenerateIsland,
-  // Particles (pfx_particle_group.h): contacts once per step, the rest once per sub-step.
+  // Particles (pfx_particle_group.h): contacts once per step (their planes' per-sub-step
+  // refresh, pfxRefreshParticleContacts, counts here too), the rest once per sub-step.
   kPfxStageDetectParticleContacts,
   kPfxStageIntegrateParticles,
   kPfxStageSolveParticleConstraints,
