@@ -529,3 +529,30 @@ TEST(WorldParticles, SavingAWorldWithParticlesIsRefusedNotTruncated) {
   EXPECT_EQ(file, nullptr);  // no file was made for it
   if (file) std::fclose(file);
 }
+
+TEST(WorldParticles, SameBitsWithAnyNumberOfThreads) {
+  std::vector<PfxParticle> results[2];
+  const PfxUInt32 threads[2] = {1, 4};
+  for (int run = 0; run < 2; ++run) {
+    PfxWorldParam param = particleWorldParam(4);
+    param.numThreads = threads[run];
+    PfxWorld world;
+    ASSERT_EQ(world.initialize(param), PFX_OK);
+    addGround(world);
+    PfxBodyInit sphere;
+    sphere.mass = 0;
+    sphere.position = PfxVector3(0, 0.3, 0);
+    ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.3)), sphere), PFX_OK);
+    PfxParticleGroupBuilder cloth;
+    cloth.addCloth(PfxVector3(-0.6, 0.8, -0.6), PfxVector3(1.2, 0, 0), PfxVector3(0, 0, 1.2), 40,
+                   40, clothMaterial());
+    PfxUInt32 id = 0;
+    ASSERT_EQ(world.addParticleGroup(cloth.desc(), &id), PFX_OK);
+    for (int step = 0; step < 60; ++step) ASSERT_EQ(world.step(), PFX_OK);
+    results[run] = world.getParticleGroup(id)->particles;
+  }
+  ASSERT_EQ(results[0].size(), results[1].size());
+  EXPECT_EQ(std::memcmp(results[0].data(), results[1].data(),
+                        results[0].size() * sizeof(PfxParticle)),
+            0);
+}
