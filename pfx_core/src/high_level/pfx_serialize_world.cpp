@@ -18,17 +18,6 @@ PfxInt32 fail(const char* function, const PfxSerializeError& error, std::string*
   return pfxRejectParam(error.code, "%s: %s", function, error.describe().c_str());
 }
 
-PfxInt32 refuseParticles(const PfxWorld& world, std::string* message) {
-  for (PfxUInt32 id = 0; id < world.getParticleGroupCapacity(); ++id) {
-    if (!world.getParticleGroup(id)) continue;
-    PfxSerializeError error;
-    error.code = PFX_ERR_INVALID_VALUE;
-    error.reason = "the world holds particle groups, which the format cannot save yet";
-    return fail("pfxSaveWorld", error, message);
-  }
-  return PFX_OK;
-}
-
 // The message leaves the path to the caller, who named it; the error detail names it.
 PfxInt32 failOpen(const char* function, const char* path, const char* mode, std::string* message) {
   if (!path) {
@@ -140,6 +129,24 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.countSleepingContacts();
   world.generateIslands();
 
+  // Groups by id: a free id is held by a placeholder while the later groups are added, so
+  // that every group keeps its id. The reader checked each group as addParticleGroup does.
+  const PfxParticle placeholderParticle;
+  PfxParticleGroupDesc placeholder;
+  placeholder.particles = &placeholderParticle;
+  placeholder.numParticles = 1;
+  for (const auto& group : image.particleGroups) {
+    world.addParticleGroup(group ? group->desc() : placeholder);
+  }
+  for (PfxUInt32 id = 0; id < image.particleGroups.size(); ++id) {
+    if (!image.particleGroups[id]) {
+      world.removeParticleGroup(id);
+      continue;
+    }
+    world.m_particleGroups[id]->asleep = image.particleGroups[id]->asleep;
+    world.m_particleGroups[id]->sleepCount = image.particleGroups[id]->sleepCount;
+  }
+
   meshes.clear();
   meshes.m_convexMeshes.swap(image.convexMeshes);
   meshes.m_largeMeshes.swap(image.largeMeshes);
@@ -147,7 +154,6 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
 
 PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
   constexpr const char* kFunction = "pfxSaveWorld";
-  if (const PfxInt32 err = refuseParticles(world, error); err != PFX_OK) return err;
   PfxSerializeError failure;
   if (!file) {
     failure.code = PFX_ERR_NULL_POINTER;
@@ -160,7 +166,7 @@ PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
   double time = 0;
   PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
   std::vector<PfxUInt8> bytes;
-  if (pfxEncodeSerialized(counts, buffer, bytes, failure) != PFX_OK) {
+  if (pfxEncodeSerialized(counts, buffer, bytes, failure, &PfxSerializeAccess::particleGroups(world)) != PFX_OK) {
     return fail(kFunction, failure, error);
   }
   {
@@ -178,7 +184,6 @@ PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
 }
 
 PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* error) {
-  if (const PfxInt32 err = refuseParticles(world, error); err != PFX_OK) return err;
   FILE* file = path ? std::fopen(path, "wb") : nullptr;
   if (!file) return failOpen("pfxSaveWorld", path, "writing", error);
   const PfxInt32 err = pfxSaveWorld(world, file, error);
