@@ -559,6 +559,28 @@ TEST(WorldParticles, SavedAndLoadedWorldContinuesBitForBit) {
     EXPECT_EQ(world.getParticleGroup(id)->asleep, loaded.getParticleGroup(id)->asleep);
   }
   EXPECT_EQ(std::memcmp(&world.getRigidState(body), &loaded.getRigidState(body), sizeof(PfxRigidState)), 0);
+
+  // The seed-level read has no buffers for particle groups: it refuses the file, and says so.
+  struct Arrays {
+    PfxWorldParam param;
+    double time = 0;
+    bool called = false;
+  } arrays;
+  PfxSerializeCallbacks callbacks;
+  callbacks.userData = &arrays;
+  callbacks.init = [](PfxSerializeCapacity&, PfxSerializeBuffer& buffer, void* user) {
+    Arrays& a = *static_cast<Arrays*>(user);
+    buffer.worldParam = &a.param;
+    buffer.simulatedTime = &a.time;
+    a.called = true;
+    return true;
+  };
+  FILE* file = std::fopen(path.c_str(), "rb");
+  ASSERT_NE(file, nullptr);
+  EXPECT_EQ(pfxSerializeRead(file, callbacks), PFX_ERR_OUT_OF_BUFFER);
+  std::fclose(file);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "particle groups"), nullptr) << pfxGetLastErrorDetail();
+  EXPECT_EQ(arrays.time, 0);
   std::remove(path.c_str());
 }
 
