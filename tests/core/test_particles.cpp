@@ -13,6 +13,7 @@
 #include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
+#include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_solve_particle_constraints.h"
 #include "pfx/low_level/particle/pfx_update_particles.h"
 #include "pfx/low_level/pfx_error_detail.h"
@@ -427,4 +428,55 @@ TEST_F(ParticleBadInput, TooSmallBuffersAreRejected) {
   EXPECT_EQ(pfxDetectParticleContacts(param, result), PFX_OK);
   EXPECT_EQ(result.numContacts, 2u);
   EXPECT_TRUE(result.truncated);
+}
+
+TEST_F(ParticleBadInput, ContactsNamingMissingBodiesOrShapesAreRejected) {
+  PfxParticleContact contact;
+  contact.m_particle = 1;
+  contact.m_other = 0;
+  contact.m_localNormal = PfxVector3::UnitY();
+  contact.m_lambdaNormal = 1;
+  const std::vector<PfxParticle> before = b.particles;
+
+  // Velocities after a solve need the bodies the contacts name.
+  PfxUpdateParticlesParam update;
+  update.particles = b.particles.data();
+  update.numParticles = static_cast<PfxUInt32>(b.particles.size());
+  update.contacts = &contact;
+  update.numContacts = 1;
+  EXPECT_EQ(pfxUpdateParticles(update), PFX_ERR_NULL_POINTER);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "offsetRigidStates is null"), nullptr)
+      << pfxGetLastErrorDetail();
+
+  // A refresh of a contact with body 0 of no bodies, then with shape 3 of a body of one.
+  PfxRigidState state;
+  state.reset();
+  PfxCollidable collidable;
+  collidable.reset();
+  PfxShape sphere;
+  sphere.reset();
+  sphere.setSphere(PfxSphere(1));
+  collidable.addShape(sphere);
+  collidable.finish();
+  PfxRefreshParticleContactsParam refresh;
+  refresh.particles = b.particles.data();
+  refresh.numParticles = static_cast<PfxUInt32>(b.particles.size());
+  refresh.contacts = &contact;
+  refresh.numContacts = 1;
+  EXPECT_EQ(pfxRefreshParticleContacts(refresh), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "names rigid body 0, but numRigidBodies is 0"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  refresh.offsetRigidStates = &state;
+  refresh.offsetCollidables = &collidable;
+  refresh.numRigidBodies = 1;
+  contact.m_shapeId = 3;
+  const PfxParticleContact contactBefore = contact;
+  EXPECT_EQ(pfxRefreshParticleContacts(refresh), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "names shape 3 of rigid body 0, which has 1"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  EXPECT_EQ(contact.m_localNormal, contactBefore.m_localNormal);
+  EXPECT_EQ(contact.m_localPoint, contactBefore.m_localPoint);
+  expectUnchanged(before);
 }
