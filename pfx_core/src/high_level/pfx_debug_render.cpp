@@ -694,3 +694,69 @@ void PfxDebugRender::renderLargeMeshByFlag(const PfxWorld& world) {
 }
 
 }  // namespace pfx
+
+namespace pfx {
+
+PfxInt32 PfxDebugRender::renderParticles(const PfxParticle* particles, PfxUInt32 numParticles,
+                                         const PfxParticleDistanceConstraint* distanceConstraints,
+                                         PfxUInt32 numDistanceConstraints,
+                                         const PfxUInt32* triangleIndices, PfxUInt32 numTriangles,
+                                         const PfxVector3& color) {
+  if ((numParticles > 0 && !particles) || (numDistanceConstraints > 0 && !distanceConstraints) ||
+      (numTriangles > 0 && !triangleIndices)) {
+    return PFX_ERR_NULL_POINTER;
+  }
+  for (PfxUInt32 i = 0; i < numDistanceConstraints; ++i) {
+    if (distanceConstraints[i].m_particleA >= numParticles ||
+        distanceConstraints[i].m_particleB >= numParticles) {
+      return PFX_ERR_OUT_OF_RANGE;
+    }
+  }
+  for (PfxUInt32 i = 0; i < 3 * numTriangles; ++i) {
+    if (triangleIndices[i] >= numParticles) return PFX_ERR_OUT_OF_RANGE;
+  }
+  if (m_point) {
+    for (PfxUInt32 i = 0; i < numParticles; ++i) m_point(particles[i].m_position, color);
+  }
+  for (PfxUInt32 i = 0; i < numDistanceConstraints; ++i) {
+    drawLine(particles[distanceConstraints[i].m_particleA].m_position,
+             particles[distanceConstraints[i].m_particleB].m_position, color);
+  }
+  for (PfxUInt32 t = 0; t < numTriangles; ++t) {
+    const PfxVector3& a = particles[triangleIndices[3 * t]].m_position;
+    const PfxVector3& b = particles[triangleIndices[3 * t + 1]].m_position;
+    const PfxVector3& c = particles[triangleIndices[3 * t + 2]].m_position;
+    if (m_triangle) {
+      m_triangle(a, b, c, color, PFX_PARTICLE_DRAW_ID);
+    } else {
+      drawLine(a, b, color);
+      drawLine(b, c, color);
+      drawLine(c, a, color);
+    }
+  }
+  return PFX_OK;
+}
+
+void PfxDebugRender::renderParticles(const PfxWorld& world) {
+  const PfxVector3 awake(PfxFloat(0.2), PfxFloat(0.4), 1);
+  const PfxVector3 asleep(PfxFloat(0.5), PfxFloat(0.5), PfxFloat(0.5));
+  const PfxVector3 pinColor(1, PfxFloat(0.6), 0);
+  for (PfxUInt32 id = 0; id < world.getParticleGroupCapacity(); ++id) {
+    const PfxParticleGroup* group = world.getParticleGroup(id);
+    if (!group) continue;
+    const PfxParticleGroupDesc d = group->desc();
+    renderParticles(d.particles, d.numParticles, d.distanceConstraints, d.numDistanceConstraints,
+                    d.triangleIndices, d.numTriangles, group->asleep ? asleep : awake);
+    for (const PfxParticlePin& pin : group->pins) {
+      PfxVector3 anchor = pin.m_anchor;
+      if (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
+        if (!isVisible(pin.m_rigidBodyId)) continue;
+        const PfxRigidState& s = world.getRigidState(pin.m_rigidBodyId);
+        anchor = s.getPosition() + s.getOrientation() * pin.m_anchor;
+      }
+      drawLine(group->particles[pin.m_particle].m_position, anchor, pinColor);
+    }
+  }
+}
+
+}  // namespace pfx

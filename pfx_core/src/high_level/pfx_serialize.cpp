@@ -191,6 +191,13 @@ PfxInt32 pfxSerializeRead(FILE* file, const PfxSerializeCallbacks& callbacks) {
   if (pfxDecodeSerialized(bytes, image, error, callbacks.update, callbacks.userData) != PFX_OK) {
     return report(callbacks, kFunction, error);
   }
+  if (!image.particleGroups.empty()) {
+    error.code = PFX_ERR_OUT_OF_BUFFER;
+    error.tags = {"particle groups"};
+    error.reason = "the file holds a world's particle groups, which PfxSerializeBuffer has no "
+                   "place for: load it with pfxLoadWorld";
+    return report(callbacks, kFunction, error);
+  }
   const PfxSerializeCapacity needed = image.capacity();
   PfxUInt32 have = 0, need = 0;
   if (const char* name = shortfall(capacity, needed, have, need)) {

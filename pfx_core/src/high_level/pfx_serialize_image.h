@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "high_level/pfx_serialize_format.h"
@@ -36,6 +37,8 @@ struct PfxSerializeImage {
   std::vector<PfxBroadphasePair> sleepingPairs;
   std::vector<PfxConvexMesh*> convexMeshes;
   std::vector<PfxLargeTriMesh*> largeMeshes;
+  // PfxWorld's particle groups by id (null for a free id), from the optional section PART.
+  std::vector<std::unique_ptr<PfxParticleGroup>> particleGroups;
 
   PfxUInt32 numBodies() const { return static_cast<PfxUInt32>(states.size()); }
   // Counts as PfxSerializeCapacity names them (compound shapes only).
@@ -44,8 +47,18 @@ struct PfxSerializeImage {
 
 // Encodes what the buffers name (header, sections, checksum) into `bytes`. Rejects null
 // arrays where their count is not 0 (PFX_ERR_NULL_POINTER) and shapes without their mesh.
-PfxInt32 pfxEncodeSerialized(const PfxSerializeCapacity& counts, const PfxSerializeBuffer& buffer,
-                             std::vector<PfxUInt8>& bytes, PfxSerializeError& error);
+// A world's particle groups (null for a free id), written as the section PART after CONT
+// when there is at least one; files without them stay as version 1 always wrote them.
+PfxInt32 pfxEncodeSerialized(
+    const PfxSerializeCapacity& counts, const PfxSerializeBuffer& buffer,
+    std::vector<PfxUInt8>& bytes, PfxSerializeError& error,
+    const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups = nullptr);
+
+// The section PART, both ways (pfx_serialize_particles.cpp). The reader checks each group
+// as PfxWorld::addParticleGroup would, against the bodies already read.
+void pfxEncodeParticleGroups(PfxByteWriter& w,
+                             const std::vector<std::unique_ptr<PfxParticleGroup>>& groups);
+bool pfxDecodeParticleGroups(PfxByteReader& r, PfxSerializeImage& image);
 
 // Reads the header and the body it announces from the stream, and no further. The buffer
 // grows only as bytes arrive, so a length the stream does not hold allocates nothing.
@@ -68,6 +81,10 @@ class PfxSerializeAccess {
   }
   static void setNumContacts(PfxContactManifold& manifold, PfxUInt32 numContacts) {
     manifold.m_numContacts = numContacts;
+  }
+  static const std::vector<std::unique_ptr<PfxParticleGroup>>& particleGroups(
+      const PfxWorld& world) {
+    return world.m_particleGroups;
   }
   static PfxInt32 checkWorldParam(const PfxWorldParam& param) {
     return PfxWorld::checkParam(param);

@@ -129,6 +129,24 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.countSleepingContacts();
   world.generateIslands();
 
+  // Groups by id: a free id is held by a placeholder while the later groups are added, so
+  // that every group keeps its id. The reader checked each group as addParticleGroup does.
+  const PfxParticle placeholderParticle;
+  PfxParticleGroupDesc placeholder;
+  placeholder.particles = &placeholderParticle;
+  placeholder.numParticles = 1;
+  for (const auto& group : image.particleGroups) {
+    world.addParticleGroup(group ? group->desc() : placeholder);
+  }
+  for (PfxUInt32 id = 0; id < image.particleGroups.size(); ++id) {
+    if (!image.particleGroups[id]) {
+      world.removeParticleGroup(id);
+      continue;
+    }
+    world.m_particleGroups[id]->asleep = image.particleGroups[id]->asleep;
+    world.m_particleGroups[id]->sleepCount = image.particleGroups[id]->sleepCount;
+  }
+
   meshes.clear();
   meshes.m_convexMeshes.swap(image.convexMeshes);
   meshes.m_largeMeshes.swap(image.largeMeshes);
@@ -148,7 +166,7 @@ PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
   double time = 0;
   PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
   std::vector<PfxUInt8> bytes;
-  if (pfxEncodeSerialized(counts, buffer, bytes, failure) != PFX_OK) {
+  if (pfxEncodeSerialized(counts, buffer, bytes, failure, &PfxSerializeAccess::particleGroups(world)) != PFX_OK) {
     return fail(kFunction, failure, error);
   }
   {

@@ -424,7 +424,8 @@ bool Encoder::contacts() {
 }  // namespace
 
 PfxInt32 pfxEncodeSerialized(const PfxSerializeCapacity& counts, const PfxSerializeBuffer& buffer,
-                             std::vector<PfxUInt8>& bytes, PfxSerializeError& error) {
+                             std::vector<PfxUInt8>& bytes, PfxSerializeError& error,
+                             const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups) {
   PfxByteWriter w;
   Encoder encoder(counts, buffer, w, error);
   if (!encoder.checkBuffer() || !encoder.collectMeshes()) return error.code;
@@ -451,6 +452,9 @@ PfxInt32 pfxEncodeSerialized(const PfxSerializeCapacity& counts, const PfxSerial
   bool contactsOk = true;
   section("CONT", [&] { contactsOk = encoder.contacts(); });
   if (!contactsOk) return error.code;
+  if (particleGroups && !particleGroups->empty()) {
+    section("PART", [&] { pfxEncodeParticleGroups(w, *particleGroups); });
+  }
 
   std::vector<PfxUInt8>& out = w.bytes();
   const std::size_t bodyBytes = out.size() - kPfxSerializeHeaderBytes;

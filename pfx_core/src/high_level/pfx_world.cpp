@@ -17,6 +17,7 @@
 #include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
+#include "high_level/pfx_world_stage_timer.h"
 
 namespace pfx {
 
@@ -24,20 +25,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Times one stage into the step's statistics.
-class StageTimer {
- public:
-  StageTimer(PfxWorldStats& stats, PfxStage stage)
-      : m_stats(stats), m_stage(stage), m_start(Clock::now()) {}
-  ~StageTimer() {
-    m_stats.stageSeconds[m_stage] += std::chrono::duration<double>(Clock::now() - m_start).count();
-  }
-
- private:
-  PfxWorldStats& m_stats;
-  PfxStage m_stage;
-  Clock::time_point m_start;
-};
+using StageTimer = PfxStageTimer;
 
 // A point may move this far (squared, in A's frame) between frames and keep its impulses.
 constexpr PfxFloat kMatchDistanceSq = PfxFloat(0.02 * 0.02);
@@ -55,7 +43,8 @@ const char* pfxStageName(PfxStage stage) {
       "decompose_pairs",      "refresh_contacts",          "detect_collision",
       "setup_solver_bodies",  "setup_contact_constraints", "setup_joint_constraints",
       "solve_constraints",    "update_rigid_states",       "correct_joint_positions",
-      "generate_island"};
+      "generate_island",      "detect_particle_contacts",  "integrate_particles",
+      "solve_particle_constraints", "update_particles"};
   return stage < kPfxStageCount ? kNames[stage] : "unknown";
 }
 
@@ -109,6 +98,7 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_jointedPairKeys.clear();
   m_excludedPairKeys.clear();
   m_solverWork.clear();
+  m_particleGroups.clear();
   m_numSleepingPairs = 0;
   m_numSleepingBodies = 0;
   countSleepingContacts();
@@ -424,6 +414,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
       return PFX_ERR_OUT_OF_RANGE;
     }
   }
+  if (particlesPinBodyBeyond(numBodies)) return PFX_ERR_OUT_OF_RANGE;
   wakeBeforeTruncate(numBodies, numJoints, numJointCouplings);
   m_jointCouplings.erase(m_jointCouplings.begin() + numJointCouplings, m_jointCouplings.end());
   for (PfxUInt32 i = numJoints; i < getNumJoints(); ++i) {
@@ -870,6 +861,10 @@ PfxInt32 PfxWorld::step() {
   m_rayProxiesStale = true;
   for (double& seconds : m_stats.stageSeconds) seconds = 0;
   {
+    StageTimer timer(m_stats, kPfxStageDetectParticleContacts);
+    if (const PfxInt32 err = detectParticleContacts(); err != PFX_OK) return err;
+  }
+  {
     StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies);
     if (const PfxInt32 err = updateBroadphase(); err != PFX_OK) return err;
   }
@@ -895,7 +890,10 @@ PfxInt32 PfxWorld::step() {
   const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
   for (PfxUInt32 i = 0; i < m_param.subStep; ++i) {
     if (const PfxInt32 err = subStep(subTimeStep); err != PFX_OK) return err;
+    if (const PfxInt32 err = particleSubStep(subTimeStep); err != PFX_OK) return err;
   }
+  // The particles moved bodies, and the rays' hierarchy was built for their contacts.
+  m_rayProxiesStale = true;
   std::fill(m_forces.begin(), m_forces.end(), PfxVector3::Zero());
   std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
   m_simulatedTime += m_param.timeStep;
@@ -903,8 +901,10 @@ PfxInt32 PfxWorld::step() {
     StageTimer timer(m_stats, kPfxStageGenerateIsland);
     updateSleep();
   }
+  updateParticleSleep();
   gatherStats();
   gatherSleepStats();
+  gatherParticleStats();
   if (m_param.measureConservation) {
     const PfxConservedQuantities after = measureConservedQuantities();
     m_stats.energyChange = after.energy - before.energy;

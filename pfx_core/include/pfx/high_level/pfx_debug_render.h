@@ -51,6 +51,9 @@ constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_NORMAL = 1u << 3;       // its normal, 
 constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_THICKNESS = 1u << 4;    // its prism below the face
 constexpr PfxUInt32 PFX_DRENDER_MESH_FLG_ALL = 0x1f;
 
+// The rigid body id the triangle callback receives for a particle group's triangles.
+constexpr PfxUInt32 PFX_PARTICLE_DRAW_ID = 0xffffffffu;
+
 class PfxDebugRender {
  public:
   void setDebugRenderPointFunc(PfxDebugRenderPointFunc f) { m_point = std::move(f); }
@@ -141,6 +144,17 @@ class PfxDebugRender {
   PfxInt32 renderLargeMeshByFlag(const PfxRigidState* states, const PfxCollidable* collidables,
                                  PfxUInt32 numRigidBodies);
   void renderLargeMeshByFlag(const PfxWorld& world);
+  // Particles (seed sample 9): each particle as a point, each distance constraint as a line,
+  // and the group's triangles filled through the triangle callback (rigid body id
+  // PFX_PARTICLE_DRAW_ID), or as their edges when it is not set. A world draws every group,
+  // awake groups in blue, sleeping ones in grey, and its pins as lines from the particle to
+  // the anchor. Rejects null arrays with counts (PFX_ERR_NULL_POINTER) and indices beyond
+  // numParticles (PFX_ERR_OUT_OF_RANGE) without drawing.
+  PfxInt32 renderParticles(const PfxParticle* particles, PfxUInt32 numParticles,
+                           const PfxParticleDistanceConstraint* distanceConstraints,
+                           PfxUInt32 numDistanceConstraints, const PfxUInt32* triangleIndices,
+                           PfxUInt32 numTriangles, const PfxVector3& color);
+  void renderParticles(const PfxWorld& world);
 
  private:
   struct LargeMeshFlag {

@@ -156,7 +156,10 @@ class PfxSerializedMeshes {
 // Saves the whole world: parameters, simulated time, bodies, shapes and meshes (each mesh
 // once), joints, couplings, exclusions, contact pairs and manifolds with their impulses,
 // sleep, pending forces and keyframe motion. `error` (optional) receives the reason of a
-// failure, starting with the tags of the place.
+// failure, starting with the tags of the place. Particle groups (with their ids, sleep and
+// the particles' velocities) go in the optional section PART; a world without them writes
+// the same bytes as before, and files without PART load as before. pfxSerializeRead, which
+// has no buffers for particle groups, refuses a file holding them (PFX_ERR_OUT_OF_BUFFER).
 PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error = nullptr);
 PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* error = nullptr);
 

@@ -17,8 +17,10 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_tbb_task_manager.h"
+#include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
 #include "pfx/low_level/collision/pfx_query_contacts.h"
+#include "pfx/low_level/particle/pfx_query_particles.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
 #include "pfx/low_level/solver/pfx_island_generation.h"
 
@@ -93,6 +95,12 @@ enum PfxStage : PfxUInt8 {
   kPfxStageCorrectJointPositions,
   // Once per step, after collision detection: islands, then waking and putting them to sleep.
   kPfxStageGenerateIsland,
+  // Particles (pfx_particle_group.h): contacts once per step (their planes' per-sub-step
+  // refresh, pfxRefreshParticleContacts, counts here too), the rest once per sub-step.
+  kPfxStageDetectParticleContacts,
+  kPfxStageIntegrateParticles,
+  kPfxStageSolveParticleConstraints,
+  kPfxStageUpdateParticles,
   kPfxStageCount
 };
 
@@ -127,6 +135,14 @@ struct PfxWorldStats {
   PfxUInt32 numAwakeBodies = 0;
   PfxUInt32 numSleepingBodies = 0;
   PfxUInt32 numSleepingPairs = 0;
+  // Particles, after the step: in all groups, the groups awake and asleep, the contacts the
+  // step solved (with bodies and among particles), and the deepest overlap of a particle
+  // with a body at the end of the step (m, >= 0).
+  PfxUInt32 numParticles = 0;
+  PfxUInt32 numAwakeParticleGroups = 0;
+  PfxUInt32 numSleepingParticleGroups = 0;
+  PfxUInt32 numParticleContacts = 0;
+  PfxFloat maxParticlePenetration = 0;
 };
 
 // Totals over the bodies that forces move (active and one-way, awake or asleep).
@@ -226,6 +242,35 @@ class PfxWorld {
   // (PFX_ERR_OUT_OF_RANGE); nothing changes then.
   PfxInt32 truncate(PfxUInt32 numBodies, PfxUInt32 numJoints, PfxUInt32 numJointCouplings);
 
+  // Particle groups (seed sample 9; pfx_particle_group.h), stepped with the bodies in every
+  // step: at each sub-step after the bodies, so that a rope pinned to a body pulls it and a
+  // body a rope rests on pushes it in the same sub-step. A group gets the lowest free id.
+  // Rejects what pfxCheckParticleConstraints rejects (invalid particles, constraints or pins
+  // naming particles or bodies that do not exist, negative compliance, ...), an iteration
+  // count of 0 and a negative damping, with the detail in pfxGetLastErrorDetail(); the world
+  // is unchanged then. Pins and tethers to bodies keep the bodies from being truncated away.
+  PfxInt32 addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32* outId = nullptr);
+  // Removes a group; its id becomes free. PFX_ERR_OUT_OF_RANGE for an id without a group.
+  PfxInt32 removeParticleGroup(PfxUInt32 id);
+  // Ids run below getParticleGroupCapacity(); getParticleGroup is null for a free id.
+  PfxUInt32 getParticleGroupCapacity() const {
+    return static_cast<PfxUInt32>(m_particleGroups.size());
+  }
+  const PfxParticleGroup* getParticleGroup(PfxUInt32 id) const {
+    return id < m_particleGroups.size() ? m_particleGroups[id].get() : nullptr;
+  }
+  // Moves one particle (and its sub-step start, so it gains no velocity), waking its group:
+  // how an application drives particles of zero mass. Rejects an unknown group or particle
+  // (PFX_ERR_OUT_OF_RANGE) and a non-finite position (PFX_ERR_INVALID_VALUE).
+  PfxInt32 setParticlePosition(PfxUInt32 groupId, PfxUInt32 particle, const PfxVector3& position);
+  // The closest particle a ray hits, over every group (pfx_query_particles.h); castRay
+  // reports bodies only, so a caller wanting both compares the two fractions.
+  PfxInt32 castParticleRay(const PfxRayInput& in, PfxParticleRayOutput& out) const;
+  // The particles within the query's threshold of a collidable at a pose, as queryContacts
+  // gives bodies (pfx_query_particles.h).
+  PfxInt32 queryParticleContacts(const PfxContactQueryInput& query, PfxParticleQueryContact* out,
+                                 PfxUInt32 maxContacts, PfxQueryContactsResult& result) const;
+
   // One step of param.timeStep.
   PfxInt32 step();
   // Seconds simulated since initialize(): the sum of the steps taken (a loaded world goes
@@ -318,6 +363,14 @@ class PfxWorld {
   void gatherSleepStats();
   PfxInt32 updateRayProxies();
   PfxRayCastParam rayCastParam() const;
+  // Particles (pfx_world_particles.cpp).
+  PfxInt32 detectParticleContacts();
+  PfxInt32 detectGroupContacts(PfxParticleGroup& group, PfxFloat bodyReach);
+  PfxInt32 particleSubStep(PfxFloat timeStep);
+  void updateParticleSleep();
+  void wakeSleepingParticleGroups();
+  void gatherParticleStats();
+  bool particlesPinBodyBeyond(PfxUInt32 numBodies) const;
 
   PfxWorldParam m_param;
   PfxWorldStats m_stats;
@@ -387,6 +440,9 @@ class PfxWorld {
   PfxUInt32 m_numRayProxies = 0;
   bool m_rayProxiesStale = true;
   std::vector<PfxSortData16> m_rayOrderWork;  // castRays' Morton order
+
+  // Particle groups by id; null for a removed group's id.
+  std::vector<std::unique_ptr<PfxParticleGroup>> m_particleGroups;
 };
 
 }  // namespace pfx

@@ -1,0 +1,403 @@
+// PfxWorld's particle groups (seed sample 9): adding and removing them, their stages in the
+// world's step, sleep, statistics and queries.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "high_level/pfx_world_stage_timer.h"
+#include "low_level/pfx_param_checks.h"
+#include "pfx/high_level/pfx_world.h"
+#include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
+#include "pfx/low_level/particle/pfx_integrate_particles.h"
+#include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
+#include "pfx/low_level/particle/pfx_solve_particle_constraints.h"
+#include "pfx/low_level/particle/pfx_update_particles.h"
+
+namespace pfx {
+
+namespace {
+
+// The first contact buffer of a group: room for a particle resting on a body and touching a
+// neighbour or two; a step that finds more grows it.
+constexpr PfxUInt32 kInitialContactsPerParticle = 4;
+
+template <typename T>
+void copyInto(std::vector<T>& to, const T* from, PfxUInt32 count) {
+  to.assign(from, from + count);
+}
+
+bool bodyMoves(const PfxRigidState& s, const PfxWorldParam& param) {
+  return s.isAwake() && s.getMotionType() != kPfxMotionTypeFixed &&
+         (s.getLinearVelocity().norm() > param.sleepLinearVelocity ||
+          s.getAngularVelocity().norm() > param.sleepAngularVelocity);
+}
+
+}  // namespace
+
+PfxInt32 PfxWorld::addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32* outId) {
+  const PfxParamNames at{"PfxWorld::addParticleGroup", "PfxParticleGroupDesc"};
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckValue(at, "iteration", desc.iteration, desc.iteration > 0, "at least 1")) !=
+          PFX_OK ||
+      (err = pfxCheckValue(at, "linearDamping", desc.linearDamping,
+                           desc.linearDamping >= 0 && pfxIsFinite(desc.linearDamping),
+                           "zero or positive and finite")) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{desc.triangleIndices, "triangleIndices"}}, "numTriangles",
+                              desc.numTriangles)) != PFX_OK) {
+    return err;
+  }
+  for (PfxUInt32 i = 0; i < 3 * desc.numTriangles; ++i) {
+    if (desc.triangleIndices[i] >= desc.numParticles) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "PfxWorld::addParticleGroup: PfxParticleGroupDesc::triangleIndices[%u] "
+                            "is %u, but numParticles is %u",
+                            i, desc.triangleIndices[i], desc.numParticles);
+    }
+  }
+  // The solve stage's own checks, run once here on the description as given.
+  PfxSolveParticleConstraintsParam check;
+  check.particles = const_cast<PfxParticle*>(desc.particles);
+  check.numParticles = desc.numParticles;
+  check.distanceConstraints = const_cast<PfxParticleDistanceConstraint*>(desc.distanceConstraints);
+  check.numDistanceConstraints = desc.numDistanceConstraints;
+  check.angleConstraints = const_cast<PfxParticleAngleConstraint*>(desc.angleConstraints);
+  check.numAngleConstraints = desc.numAngleConstraints;
+  check.tethers = desc.tethers;
+  check.numTethers = desc.numTethers;
+  check.pins = const_cast<PfxParticlePin*>(desc.pins);
+  check.numPins = desc.numPins;
+  check.offsetRigidStates = m_states.data();
+  check.offsetRigidBodies = m_bodies.data();
+  check.numRigidBodies = getNumRigidBodies();
+  check.timeStep = m_param.timeStep;
+  check.iteration = desc.iteration;
+  if ((err = pfxCheckParticleConstraints(check)) != PFX_OK) return err;
+
+  auto group = std::make_unique<PfxParticleGroup>();
+  copyInto(group->particles, desc.particles, desc.numParticles);
+  copyInto(group->distanceConstraints, desc.distanceConstraints, desc.numDistanceConstraints);
+  copyInto(group->angleConstraints, desc.angleConstraints, desc.numAngleConstraints);
+  copyInto(group->tethers, desc.tethers, desc.numTethers);
+  copyInto(group->pins, desc.pins, desc.numPins);
+  copyInto(group->triangleIndices, desc.triangleIndices, 3 * desc.numTriangles);
+  group->linearDamping = desc.linearDamping;
+  group->iteration = desc.iteration;
+  group->selfCollision = desc.selfCollision;
+  group->contacts.resize(std::max<std::size_t>(16, kInitialContactsPerParticle * desc.numParticles));
+  const std::size_t workBytes = pfxGetWorkBytesOfDetectParticleContacts(desc.numParticles);
+  group->detectWork.resize((workBytes + sizeof(PfxVector4) - 1) / sizeof(PfxVector4));
+
+  const auto freeSlot = std::find(m_particleGroups.begin(), m_particleGroups.end(), nullptr);
+  const PfxUInt32 id = static_cast<PfxUInt32>(freeSlot - m_particleGroups.begin());
+  if (freeSlot == m_particleGroups.end()) {
+    m_particleGroups.push_back(std::move(group));
+  } else {
+    *freeSlot = std::move(group);
+  }
+  if (outId) *outId = id;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::removeParticleGroup(PfxUInt32 id) {
+  if (!getParticleGroup(id)) return PFX_ERR_OUT_OF_RANGE;
+  m_particleGroups[id].reset();
+  while (!m_particleGroups.empty() && !m_particleGroups.back()) m_particleGroups.pop_back();
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::setParticlePosition(PfxUInt32 groupId, PfxUInt32 particle,
+                                       const PfxVector3& position) {
+  PfxParticleGroup* group = groupId < m_particleGroups.size() ? m_particleGroups[groupId].get()
+                                                               : nullptr;
+  if (!group || particle >= group->particles.size()) return PFX_ERR_OUT_OF_RANGE;
+  if (!pfxIsFinite(position)) return PFX_ERR_INVALID_VALUE;
+  group->particles[particle].m_position = position;
+  group->particles[particle].m_previousPosition = position;
+  group->asleep = false;
+  group->sleepCount = 0;
+  return PFX_OK;
+}
+
+bool PfxWorld::particlesPinBodyBeyond(PfxUInt32 numBodies) const {
+  for (const auto& group : m_particleGroups) {
+    if (!group) continue;
+    for (const PfxParticlePin& pin : group->pins) {
+      if (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && pin.m_rigidBodyId >= numBodies) {
+        return true;
+      }
+    }
+    for (const PfxParticleTether& tether : group->tethers) {
+      if (tether.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && tether.m_rigidBodyId >= numBodies) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void PfxWorld::wakeSleepingParticleGroups() {
+  const PfxFloat margin = m_param.contactMargin;
+  for (const auto& group : m_particleGroups) {
+    if (!group || !group->asleep) continue;
+    bool wake = false;
+    for (const PfxParticlePin& pin : group->pins) {
+      wake = wake || (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD &&
+                      bodyMoves(m_states[pin.m_rigidBodyId], m_param));
+    }
+    if (!wake && !group->particles.empty()) {
+      PfxVector3 lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
+      PfxVector3 hi = -lo;
+      for (const PfxParticle& p : group->particles) {
+        lo = lo.cwiseMin(p.m_position - PfxVector3::Constant(p.m_radius + margin));
+        hi = hi.cwiseMax(p.m_position + PfxVector3::Constant(p.m_radius + margin));
+      }
+      for (PfxUInt32 id = 0; id < getNumRigidBodies() && !wake; ++id) {
+        if (!bodyMoves(m_states[id], m_param)) continue;
+        PfxVector3 center, half;
+        m_collidables[id].getWorldAabb(m_states[id].getTransform(), center, half);
+        wake = ((center - half).array() <= hi.array()).all() &&
+               ((center + half).array() >= lo.array()).all();
+      }
+    }
+    if (wake) {
+      group->asleep = false;
+      group->sleepCount = 0;
+    }
+  }
+}
+
+PfxInt32 PfxWorld::detectGroupContacts(PfxParticleGroup& group, PfxFloat bodyReach) {
+  const PfxUInt32 numParticles = static_cast<PfxUInt32>(group.particles.size());
+  PfxDetectParticleContactsParam param;
+  param.workBuff = group.detectWork.data();
+  param.workBytes = static_cast<PfxUInt32>(group.detectWork.size() * sizeof(PfxVector4));
+  param.particles = group.particles.data();
+  param.numParticles = numParticles;
+  param.rigidBodies.offsetRigidStates = m_states.data();
+  param.rigidBodies.offsetCollidables = m_collidables.data();
+  param.rigidBodies.numProxies = m_numRayProxies;
+  param.rigidBodies.rangeCenter = m_param.worldCenter;
+  param.rigidBodies.rangeExtent = m_param.worldExtent;
+  if (m_numRayProxies > 0) {
+    param.rigidBodies.bvhNodes = m_rayBvh.data();
+    param.rigidBodies.bvhProxies = m_rayProxies.data();
+  }
+  param.offsetRigidBodies = m_bodies.data();
+  param.detectParticleContacts = group.selfCollision;
+  param.contactMargin = m_param.contactMargin + bodyReach;
+  param.timeStep = m_param.timeStep;
+  for (;;) {
+    param.contacts = group.contacts.data();
+    param.maxContacts = static_cast<PfxUInt32>(group.contacts.size());
+    PfxDetectParticleContactsResult result;
+    if (const PfxInt32 err = pfxDetectParticleContacts(param, result, &m_taskManager);
+        err != PFX_OK) {
+      return err;
+    }
+    if (!result.truncated) {
+      group.numContacts = result.numContacts;
+      return PFX_OK;
+    }
+    group.contacts.resize(group.contacts.size() * 2);
+  }
+}
+
+PfxInt32 PfxWorld::detectParticleContacts() {
+  if (m_particleGroups.empty()) return PFX_OK;
+  wakeSleepingParticleGroups();
+  const bool anyAwake = std::any_of(m_particleGroups.begin(), m_particleGroups.end(),
+                                    [](const auto& g) { return g && !g->asleep; });
+  if (!anyAwake) return PFX_OK;
+  if (const PfxInt32 err = updateRayProxies(); err != PFX_OK) return err;
+  // How far a body may move toward a particle during the step: contacts within it are kept.
+  PfxFloat bodyReach = 0;
+  for (PfxUInt32 id = 0; id < getNumRigidBodies(); ++id) {
+    const PfxRigidState& s = m_states[id];
+    if (s.isAsleep() || s.getMotionType() == kPfxMotionTypeFixed) continue;
+    const PfxFloat radius = m_collidables[id].getHalf().norm();
+    bodyReach = std::max(bodyReach, (s.getLinearVelocity().norm() +
+                                     s.getAngularVelocity().norm() * radius) * m_param.timeStep);
+  }
+  for (const auto& group : m_particleGroups) {
+    if (!group || group->asleep) continue;
+    if (const PfxInt32 err = detectGroupContacts(*group, bodyReach); err != PFX_OK) return err;
+    // A moving group wakes the bodies it touches or hangs from, so that they can respond.
+    PfxFloat maxSpeed = 0;
+    for (const PfxParticle& p : group->particles) maxSpeed = std::max(maxSpeed, p.m_velocity.norm());
+    if (maxSpeed <= m_param.sleepLinearVelocity) continue;
+    for (PfxUInt32 i = 0; i < group->numContacts; ++i) {
+      const PfxParticleContact& c = group->contacts[i];
+      if (c.m_kind == kPfxParticleContactRigidBody && m_states[c.m_other].isAsleep()) {
+        wakeIslandOf(c.m_other);
+      }
+    }
+    for (const PfxParticlePin& pin : group->pins) {
+      if (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && m_states[pin.m_rigidBodyId].isAsleep()) {
+        wakeIslandOf(pin.m_rigidBodyId);
+      }
+    }
+  }
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
+  for (const auto& group : m_particleGroups) {
+    if (!group || group->asleep) continue;
+    PfxParticleGroup& g = *group;
+    const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
+    {
+      PfxStageTimer timer(m_stats, kPfxStageIntegrateParticles);
+      PfxIntegrateParticlesParam param;
+      param.particles = g.particles.data();
+      param.numParticles = numParticles;
+      param.gravity = m_param.gravity;
+      param.linearDamping = g.linearDamping;
+      param.timeStep = timeStep;
+      if (const PfxInt32 err = pfxIntegrateParticles(param, &m_taskManager); err != PFX_OK) {
+        return err;
+      }
+    }
+    if (g.numContacts > 0) {
+      PfxStageTimer timer(m_stats, kPfxStageDetectParticleContacts);
+      PfxRefreshParticleContactsParam param;
+      param.particles = g.particles.data();
+      param.numParticles = numParticles;
+      param.contacts = g.contacts.data();
+      param.numContacts = g.numContacts;
+      param.offsetRigidStates = m_states.data();
+      param.offsetCollidables = m_collidables.data();
+      param.numRigidBodies = getNumRigidBodies();
+      if (const PfxInt32 err = pfxRefreshParticleContacts(param, &m_taskManager); err != PFX_OK) {
+        return err;
+      }
+    }
+    {
+      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      PfxSolveParticleConstraintsParam param;
+      param.particles = g.particles.data();
+      param.numParticles = numParticles;
+      param.distanceConstraints = g.distanceConstraints.data();
+      param.numDistanceConstraints = static_cast<PfxUInt32>(g.distanceConstraints.size());
+      param.angleConstraints = g.angleConstraints.data();
+      param.numAngleConstraints = static_cast<PfxUInt32>(g.angleConstraints.size());
+      param.tethers = g.tethers.data();
+      param.numTethers = static_cast<PfxUInt32>(g.tethers.size());
+      param.pins = g.pins.data();
+      param.numPins = static_cast<PfxUInt32>(g.pins.size());
+      param.contacts = g.contacts.data();
+      param.numContacts = g.numContacts;
+      param.offsetRigidStates = m_states.data();
+      param.offsetRigidBodies = m_bodies.data();
+      param.numRigidBodies = getNumRigidBodies();
+      param.timeStep = timeStep;
+      param.iteration = g.iteration;
+      if (const PfxInt32 err = pfxSolveParticleConstraints(param); err != PFX_OK) return err;
+    }
+    {
+      PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
+      PfxUpdateParticlesParam param;
+      param.particles = g.particles.data();
+      param.numParticles = numParticles;
+      param.timeStep = timeStep;
+      param.contacts = g.contacts.data();
+      param.numContacts = g.numContacts;
+      param.offsetRigidStates = m_states.data();
+      if (const PfxInt32 err = pfxUpdateParticles(param, &m_taskManager); err != PFX_OK) {
+        return err;
+      }
+    }
+  }
+  return PFX_OK;
+}
+
+void PfxWorld::updateParticleSleep() {
+  const PfxUInt32 stepsToSleep =
+      static_cast<PfxUInt32>(std::ceil(double(m_param.sleepTime) / m_param.timeStep));
+  for (const auto& group : m_particleGroups) {
+    if (!group || group->asleep) continue;
+    if (!m_param.enableSleep) {
+      group->sleepCount = 0;
+      continue;
+    }
+    bool still = true;
+    for (const PfxParticle& p : group->particles) {
+      still = still && p.m_velocity.norm() <= m_param.sleepLinearVelocity;
+    }
+    // A group hanging from a moving body moves with it.
+    for (const PfxParticlePin& pin : group->pins) {
+      still = still && (pin.m_rigidBodyId == PFX_PARTICLE_PIN_WORLD ||
+                        !bodyMoves(m_states[pin.m_rigidBodyId], m_param));
+    }
+    group->sleepCount = still ? group->sleepCount + 1 : 0;
+    if (group->sleepCount >= stepsToSleep) {
+      group->asleep = true;
+      group->numContacts = 0;
+      for (PfxParticle& p : group->particles) p.m_velocity.setZero();
+    }
+  }
+}
+
+void PfxWorld::gatherParticleStats() {
+  m_stats.numParticles = 0;
+  m_stats.numAwakeParticleGroups = 0;
+  m_stats.numSleepingParticleGroups = 0;
+  m_stats.numParticleContacts = 0;
+  m_stats.maxParticlePenetration = 0;
+  for (const auto& group : m_particleGroups) {
+    if (!group) continue;
+    m_stats.numParticles += static_cast<PfxUInt32>(group->particles.size());
+    if (group->asleep) {
+      ++m_stats.numSleepingParticleGroups;
+      continue;
+    }
+    ++m_stats.numAwakeParticleGroups;
+    m_stats.numParticleContacts += group->numContacts;
+    for (PfxUInt32 i = 0; i < group->numContacts; ++i) {
+      const PfxParticleContact& c = group->contacts[i];
+      if (c.m_kind != kPfxParticleContactRigidBody) continue;
+      const PfxRigidState& s = m_states[c.m_other];
+      const PfxParticle& p = group->particles[c.m_particle];
+      const PfxVector3 point = s.getPosition() + s.getOrientation() * c.m_localPoint;
+      const PfxFloat depth = p.m_radius - (p.m_position - point).dot(s.getOrientation() * c.m_localNormal);
+      m_stats.maxParticlePenetration = std::max(m_stats.maxParticlePenetration, depth);
+    }
+  }
+}
+
+PfxInt32 PfxWorld::castParticleRay(const PfxRayInput& in, PfxParticleRayOutput& out) const {
+  PfxParticleRayOutput best;
+  if (const PfxInt32 err = pfxCastParticleRay(in, nullptr, 0, best); err != PFX_OK) return err;
+  for (PfxUInt32 id = 0; id < getParticleGroupCapacity(); ++id) {
+    const PfxParticleGroup* group = getParticleGroup(id);
+    if (!group) continue;
+    const PfxFloat closestBefore = best.m_variable;
+    pfxCastParticleRay(in, group->particles.data(), static_cast<PfxUInt32>(group->particles.size()),
+                       best);
+    if (best.m_variable < closestBefore) best.m_particleGroupId = id;
+  }
+  out = best;
+  return PFX_OK;
+}
+
+PfxInt32 PfxWorld::queryParticleContacts(const PfxContactQueryInput& query,
+                                         PfxParticleQueryContact* out, PfxUInt32 maxContacts,
+                                         PfxQueryContactsResult& result) const {
+  PfxQueryContactsResult found;
+  if (const PfxInt32 err = pfxQueryParticleContacts(query, nullptr, 0, out, maxContacts, found);
+      err != PFX_OK) {
+    return err;
+  }
+  for (PfxUInt32 id = 0; id < getParticleGroupCapacity(); ++id) {
+    const PfxParticleGroup* group = getParticleGroup(id);
+    if (!group) continue;
+    const PfxUInt32 first = found.numContacts;
+    pfxQueryParticleContacts(query, group->particles.data(),
+                             static_cast<PfxUInt32>(group->particles.size()), out, maxContacts,
+                             found);
+    for (PfxUInt32 i = first; i < found.numContacts; ++i) out[i].m_particleGroupId = id;
+  }
+  result = found;
+  return PFX_OK;
+}
+
+}  // namespace pfx

@@ -1,0 +1,425 @@
+#include "pfx/low_level/particle/pfx_solve_particle_constraints.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "low_level/particle/pfx_particle_checks.h"
+
+namespace pfx {
+
+namespace {
+
+constexpr PfxFloat kPi = PfxFloat(3.14159265358979323846);
+// Below this length (m) a direction is not defined and the constraint waits for the others.
+constexpr PfxFloat kMinLength = PfxFloat(1e-9);
+
+const PfxParamNames kAt{"pfxSolveParticleConstraints", "PfxSolveParticleConstraintsParam"};
+
+PfxInt32 rejectIndex(const char* array, PfxUInt32 i, const char* field, PfxUInt32 value,
+                     const char* countField, PfxUInt32 count) {
+  return pfxRejectParam(PFX_ERR_OUT_OF_RANGE, "%s: %s::%s[%u].%s is %u, but %s is %u", kAt.stage,
+                        kAt.param, array, i, field, value, countField, count);
+}
+
+PfxInt32 rejectValue(const char* array, PfxUInt32 i, const char* field, double value,
+                     const char* requirement) {
+  return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::%s[%u].%s is %g; it must be %s",
+                        kAt.stage, kAt.param, array, i, field, value, requirement);
+}
+
+bool nonNegative(PfxFloat x) { return x >= 0 && pfxIsFinite(x); }
+
+// A rigid body as the particle solve sees it: whether corrections move it, and how.
+//
+// Why this coupling is stable with heavy bodies: a correction between a particle and a body
+// is split by their generalized inverse masses at the contact point, w = 1/m + (r x n)^T
+// I^-1 (r x n), exactly as the particle-particle corrections are split by 1/m; a heavy body
+// has a small w and moves little, and no correction ever moves the pair further than the
+// constraint error. The body's velocity then changes by its position change over the
+// sub-step, which is the impulse lambda / h the constraint exerted (XPBD's velocity
+// update, Müller et al. 2020): the rigid solver of the next sub-step sees the body moving
+// as the rope or cloth left it, and energy is never added, only removed when a constraint
+// absorbs motion. Applying an impulse on velocities alone would be the alternative, but it
+// needs the particle's velocity at the same moment, which position based particles do not
+// have until the end of the sub-step.
+struct RigidAccess {
+  PfxRigidState* states;
+  const PfxRigidBody* bodies;
+  PfxFloat timeStep;
+
+  bool moves(PfxUInt32 id) const {
+    const PfxRigidState& s = states[id];
+    return pfxMotionTypeIsDynamic(s.getMotionType()) && s.isAwake();
+  }
+  PfxMatrix3 inertiaInvWorld(PfxUInt32 id) const {
+    return pfxRotateInertia(states[id].getOrientation().toRotationMatrix(),
+                            bodies[id].getInertiaInv());
+  }
+  // w of the body at the world point `point` along unit `direction`; 0 when it does not move.
+  PfxFloat inverseMassAt(PfxUInt32 id, const PfxVector3& point, const PfxVector3& direction) const {
+    if (!moves(id)) return 0;
+    const PfxVector3 rn = (point - states[id].getPosition()).cross(direction);
+    return bodies[id].getMassInv() + rn.dot(inertiaInvWorld(id) * rn);
+  }
+  // Moves the body by a positional impulse (kg m) at a world point, and its velocity with it.
+  void applyPositionImpulse(PfxUInt32 id, const PfxVector3& point,
+                            const PfxVector3& impulse) const {
+    if (!moves(id)) return;
+    PfxRigidState& s = states[id];
+    const PfxVector3 dp = impulse * bodies[id].getMassInv();
+    const PfxVector3 dtheta = inertiaInvWorld(id) * (point - s.getPosition()).cross(impulse);
+    s.setPosition(s.getPosition() + dp);
+    const PfxQuat& q = s.getOrientation();
+    const PfxQuat spin(0, dtheta.x() / 2, dtheta.y() / 2, dtheta.z() / 2);
+    const PfxQuat turn = spin * q;
+    PfxQuat turned(q.w() + turn.w(), q.x() + turn.x(), q.y() + turn.y(), q.z() + turn.z());
+    turned.normalize();
+    s.setOrientation(turned);
+    s.setLinearVelocity(s.getLinearVelocity() + dp / timeStep);
+    s.setAngularVelocity(s.getAngularVelocity() + dtheta / timeStep);
+  }
+  PfxVector3 worldPoint(PfxUInt32 id, const PfxVector3& local) const {
+    return states[id].getPosition() + states[id].getOrientation() * local;
+  }
+  PfxVector3 pointVelocity(PfxUInt32 id, const PfxVector3& point) const {
+    const PfxRigidState& s = states[id];
+    return s.getLinearVelocity() + s.getAngularVelocity().cross(point - s.getPosition());
+  }
+};
+
+void solveDistance(PfxParticleDistanceConstraint& c, PfxParticle* particles, PfxFloat alphaScale) {
+  PfxParticle& a = particles[c.m_particleA];
+  PfxParticle& b = particles[c.m_particleB];
+  const PfxFloat w = a.m_massInv + b.m_massInv;
+  const PfxVector3 d = a.m_position - b.m_position;
+  const PfxFloat length = d.norm();
+  if (w == 0 || length < kMinLength) return;
+  const PfxVector3 n = d / length;
+  const PfxFloat alpha = c.m_compliance * alphaScale;
+  const PfxFloat dLambda = (-(length - c.m_restLength) - alpha * c.m_lambda) / (w + alpha);
+  c.m_lambda += dLambda;
+  a.m_position += a.m_massInv * dLambda * n;
+  b.m_position -= b.m_massInv * dLambda * n;
+}
+
+void solveAngle(PfxParticleAngleConstraint& c, PfxParticle* particles, PfxFloat alphaScale) {
+  PfxParticle& a = particles[c.m_particleA];
+  PfxParticle& b = particles[c.m_particleB];
+  PfxParticle& cc = particles[c.m_particleC];
+  const PfxVector3 e1 = a.m_position - b.m_position;
+  const PfxVector3 e2 = cc.m_position - b.m_position;
+  const PfxFloat l1 = e1.norm();
+  const PfxFloat l2 = e2.norm();
+  if (l1 < kMinLength || l2 < kMinLength) return;
+  const PfxVector3 u1 = e1 / l1;
+  const PfxVector3 u2 = e2 / l2;
+  const PfxFloat cosAngle = std::clamp(u1.dot(u2), PfxFloat(-1), PfxFloat(1));
+  // The parts of each segment's direction across the other: the angle opens when A moves
+  // away from C's direction and C away from A's. Both vanish on a straight line, where the
+  // angle has no gradient; a straight rest shape is then already met.
+  const PfxVector3 across1 = u2 - cosAngle * u1;
+  const PfxVector3 across2 = u1 - cosAngle * u2;
+  const PfxFloat sinAngle = across1.norm();
+  if (sinAngle < PfxFloat(1e-6)) return;
+  const PfxVector3 gradA = -across1 / (sinAngle * l1);
+  const PfxVector3 gradC = -across2 / (sinAngle * l2);
+  const PfxVector3 gradB = -(gradA + gradC);
+  const PfxFloat w = a.m_massInv * gradA.squaredNorm() + b.m_massInv * gradB.squaredNorm() +
+                     cc.m_massInv * gradC.squaredNorm();
+  if (w == 0) return;
+  const PfxFloat angle = std::atan2(sinAngle, cosAngle);
+  const PfxFloat alpha = c.m_compliance * alphaScale;
+  const PfxFloat dLambda = (-(angle - c.m_restAngle) - alpha * c.m_lambda) / (w + alpha);
+  c.m_lambda += dLambda;
+  a.m_position += a.m_massInv * dLambda * gradA;
+  b.m_position += b.m_massInv * dLambda * gradB;
+  cc.m_position += cc.m_massInv * dLambda * gradC;
+}
+
+// The tether only moves the particle or body: its anchor is where the material hangs from.
+void solveTether(const PfxParticleTether& t, PfxParticle* particles, const RigidAccess& rigid) {
+  if (t.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
+    const PfxVector3 point = rigid.worldPoint(t.m_rigidBodyId, t.m_localAnchor);
+    const PfxVector3 d = point - particles[t.m_anchorParticle].m_position;
+    const PfxFloat length = d.norm();
+    if (length <= t.m_maxDistance) return;
+    const PfxVector3 n = d / length;
+    const PfxFloat w = rigid.inverseMassAt(t.m_rigidBodyId, point, n);
+    if (w == 0) return;
+    rigid.applyPositionImpulse(t.m_rigidBodyId, point, n * (-(length - t.m_maxDistance) / w));
+    return;
+  }
+  PfxParticle& p = particles[t.m_particle];
+  if (p.m_massInv == 0) return;
+  const PfxVector3 d = p.m_position - particles[t.m_anchorParticle].m_position;
+  const PfxFloat length = d.norm();
+  if (length <= t.m_maxDistance) return;
+  p.m_position -= d * ((length - t.m_maxDistance) / length);
+}
+
+void solvePin(PfxParticlePin& pin, PfxParticle* particles, const RigidAccess& rigid,
+              PfxFloat alphaScale) {
+  PfxParticle& p = particles[pin.m_particle];
+  const bool onBody = pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD;
+  const PfxVector3 anchor = onBody ? rigid.worldPoint(pin.m_rigidBodyId, pin.m_anchor) : pin.m_anchor;
+  const PfxVector3 d = p.m_position - anchor;
+  const PfxFloat length = d.norm();
+  if (length < kMinLength) return;
+  const PfxVector3 n = d / length;
+  const PfxFloat wBody = onBody ? rigid.inverseMassAt(pin.m_rigidBodyId, anchor, n) : 0;
+  const PfxFloat alpha = pin.m_compliance * alphaScale;
+  const PfxFloat w = p.m_massInv + wBody;
+  if (w + alpha == 0) return;
+  const PfxFloat dLambda = (-length - alpha * pin.m_lambda) / (w + alpha);
+  pin.m_lambda += dLambda;
+  p.m_position += p.m_massInv * dLambda * n;
+  if (onBody) rigid.applyPositionImpulse(pin.m_rigidBodyId, anchor, -dLambda * n);
+}
+
+// Friction on positions (Macklin et al. 2014, "Unified particle physics"): the sliding of
+// the particle against the other side over the sub-step is undone, as far as the friction
+// cone of the normal multiplier accumulated so far allows.
+PfxFloat frictionMultiplier(PfxParticleContact& c, const PfxVector3& slide, PfxFloat w,
+                            PfxVector3& direction) {
+  const PfxFloat slideLength = slide.norm();
+  if (slideLength < kMinLength || w == 0) return 0;
+  direction = slide / slideLength;
+  const PfxFloat allowed = c.m_friction * c.m_lambdaNormal - c.m_lambdaTangent;
+  const PfxFloat dLambda = std::min(slideLength / w, std::max(allowed, PfxFloat(0)));
+  c.m_lambdaTangent += dLambda;
+  return dLambda;
+}
+
+void solveRigidContact(PfxParticleContact& c, PfxParticle* particles, const RigidAccess& rigid) {
+  PfxParticle& p = particles[c.m_particle];
+  const PfxUInt32 body = c.m_other;
+  if (c.m_localNormal.squaredNorm() == 0) return;  // out of reach this sub-step
+  const PfxVector3 point = rigid.worldPoint(body, c.m_localPoint);
+  const PfxVector3 n = rigid.states[body].getOrientation() * c.m_localNormal;
+  const PfxFloat depth = (p.m_position - point).dot(n) - p.m_radius;
+  if (depth >= 0) return;
+  const PfxFloat w = p.m_massInv + rigid.inverseMassAt(body, point, n);
+  if (w == 0) return;
+  const PfxFloat dLambda = -depth / w;
+  c.m_lambdaNormal += dLambda;
+  p.m_position += p.m_massInv * dLambda * n;
+  rigid.applyPositionImpulse(body, point, -dLambda * n);
+
+  const PfxVector3 travel = (p.m_position - p.m_previousPosition) -
+                            rigid.pointVelocity(body, point) * rigid.timeStep;
+  const PfxVector3 slide = travel - travel.dot(n) * n;
+  PfxVector3 t = PfxVector3::Zero();
+  const PfxFloat wT = p.m_massInv + (slide.squaredNorm() > 0 ? rigid.inverseMassAt(body, point,
+                                                                  slide.normalized())
+                                                             : 0);
+  const PfxFloat dLambdaT = frictionMultiplier(c, slide, wT, t);
+  if (dLambdaT == 0) return;
+  p.m_position -= p.m_massInv * dLambdaT * t;
+  rigid.applyPositionImpulse(body, point, dLambdaT * t);
+}
+
+void solveParticleContact(PfxParticleContact& c, PfxParticle* particles) {
+  PfxParticle& a = particles[c.m_particle];
+  PfxParticle& b = particles[c.m_other];
+  const PfxFloat w = a.m_massInv + b.m_massInv;
+  const PfxVector3 d = a.m_position - b.m_position;
+  const PfxFloat length = d.norm();
+  const PfxFloat depth = length - (a.m_radius + b.m_radius);
+  if (w == 0 || depth >= 0 || length < kMinLength) return;
+  const PfxVector3 n = d / length;
+  const PfxFloat dLambda = -depth / w;
+  c.m_lambdaNormal += dLambda;
+  a.m_position += a.m_massInv * dLambda * n;
+  b.m_position -= b.m_massInv * dLambda * n;
+
+  const PfxVector3 travel =
+      (a.m_position - a.m_previousPosition) - (b.m_position - b.m_previousPosition);
+  const PfxVector3 slide = travel - travel.dot(n) * n;
+  PfxVector3 t = PfxVector3::Zero();
+  const PfxFloat dLambdaT = frictionMultiplier(c, slide, w, t);
+  a.m_position -= a.m_massInv * dLambdaT * t;
+  b.m_position += b.m_massInv * dLambdaT * t;
+}
+
+PfxInt32 checkParticleIndex(const char* array, PfxUInt32 i, const char* field, PfxUInt32 index,
+                            PfxUInt32 numParticles) {
+  if (index < numParticles) return PFX_OK;
+  return rejectIndex(array, i, field, index, "numParticles", numParticles);
+}
+
+PfxInt32 checkBodyIndex(const char* array, PfxUInt32 i, PfxUInt32 id,
+                        const PfxSolveParticleConstraintsParam& param) {
+  if (id >= param.numRigidBodies) {
+    return rejectIndex(array, i, "rigid body id", id, "numRigidBodies", param.numRigidBodies);
+  }
+  if (!param.offsetRigidStates || !param.offsetRigidBodies) {
+    return pfxRejectParam(PFX_ERR_NULL_POINTER,
+                          "%s: %s::offsetRigidStates or offsetRigidBodies is null, but %s[%u] "
+                          "names rigid body %u",
+                          kAt.stage, kAt.param, array, i, id);
+  }
+  return PFX_OK;
+}
+
+PfxInt32 checkDistinct(const char* array, PfxUInt32 i, PfxUInt32 a, PfxUInt32 b) {
+  if (a != b) return PFX_OK;
+  return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::%s[%u] names particle %u twice",
+                        kAt.stage, kAt.param, array, i, a);
+}
+
+}  // namespace
+
+PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& param) {
+  const PfxUInt32 n = param.numParticles;
+  PfxInt32 err = PFX_OK;
+  if ((err = pfxCheckTimeStep(kAt, param.timeStep)) != PFX_OK ||
+      (err = pfxCheckValue(kAt, "iteration", param.iteration, param.iteration > 0,
+                           "at least 1")) != PFX_OK ||
+      (err = pfxCheckParticles(kAt, param.particles, n)) != PFX_OK ||
+      (err = pfxCheckRequired(kAt, {{param.distanceConstraints, "distanceConstraints"}},
+                              "numDistanceConstraints", param.numDistanceConstraints)) != PFX_OK ||
+      (err = pfxCheckRequired(kAt, {{param.angleConstraints, "angleConstraints"}},
+                              "numAngleConstraints", param.numAngleConstraints)) != PFX_OK ||
+      (err = pfxCheckRequired(kAt, {{param.tethers, "tethers"}}, "numTethers",
+                              param.numTethers)) != PFX_OK ||
+      (err = pfxCheckRequired(kAt, {{param.pins, "pins"}}, "numPins", param.numPins)) != PFX_OK ||
+      (err = pfxCheckRequired(kAt, {{param.contacts, "contacts"}}, "numContacts",
+                              param.numContacts)) != PFX_OK) {
+    return err;
+  }
+  for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
+    const PfxParticleDistanceConstraint& c = param.distanceConstraints[i];
+    const char* array = "distanceConstraints";
+    if ((err = checkParticleIndex(array, i, "particleA", c.m_particleA, n)) != PFX_OK ||
+        (err = checkParticleIndex(array, i, "particleB", c.m_particleB, n)) != PFX_OK ||
+        (err = checkDistinct(array, i, c.m_particleA, c.m_particleB)) != PFX_OK) {
+      return err;
+    }
+    if (!nonNegative(c.m_restLength)) {
+      return rejectValue(array, i, "restLength", c.m_restLength, "zero or positive and finite");
+    }
+    if (!nonNegative(c.m_compliance)) {
+      return rejectValue(array, i, "compliance", c.m_compliance, "zero or positive and finite");
+    }
+  }
+  for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) {
+    const PfxParticleAngleConstraint& c = param.angleConstraints[i];
+    const char* array = "angleConstraints";
+    if ((err = checkParticleIndex(array, i, "particleA", c.m_particleA, n)) != PFX_OK ||
+        (err = checkParticleIndex(array, i, "particleB", c.m_particleB, n)) != PFX_OK ||
+        (err = checkParticleIndex(array, i, "particleC", c.m_particleC, n)) != PFX_OK ||
+        (err = checkDistinct(array, i, c.m_particleA, c.m_particleB)) != PFX_OK ||
+        (err = checkDistinct(array, i, c.m_particleB, c.m_particleC)) != PFX_OK ||
+        (err = checkDistinct(array, i, c.m_particleA, c.m_particleC)) != PFX_OK) {
+      return err;
+    }
+    if (!(c.m_restAngle >= 0 && c.m_restAngle <= kPi)) {
+      return rejectValue(array, i, "restAngle", c.m_restAngle, "in [0, pi]");
+    }
+    if (!nonNegative(c.m_compliance)) {
+      return rejectValue(array, i, "compliance", c.m_compliance, "zero or positive and finite");
+    }
+  }
+  for (PfxUInt32 i = 0; i < param.numTethers; ++i) {
+    const PfxParticleTether& t = param.tethers[i];
+    const char* array = "tethers";
+    if ((err = checkParticleIndex(array, i, "anchorParticle", t.m_anchorParticle, n)) != PFX_OK) {
+      return err;
+    }
+    if (t.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
+      if ((err = checkBodyIndex(array, i, t.m_rigidBodyId, param)) != PFX_OK) return err;
+      if (!pfxIsFinite(t.m_localAnchor)) {
+        return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::tethers[%u].localAnchor is not finite",
+                              kAt.stage, kAt.param, i);
+      }
+    } else if ((err = checkParticleIndex(array, i, "particle", t.m_particle, n)) != PFX_OK ||
+               (err = checkDistinct(array, i, t.m_particle, t.m_anchorParticle)) != PFX_OK) {
+      return err;
+    }
+    if (!nonNegative(t.m_maxDistance)) {
+      return rejectValue(array, i, "maxDistance", t.m_maxDistance, "zero or positive and finite");
+    }
+  }
+  for (PfxUInt32 i = 0; i < param.numPins; ++i) {
+    const PfxParticlePin& pin = param.pins[i];
+    const char* array = "pins";
+    if ((err = checkParticleIndex(array, i, "particle", pin.m_particle, n)) != PFX_OK) return err;
+    if (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD &&
+        (err = checkBodyIndex(array, i, pin.m_rigidBodyId, param)) != PFX_OK) {
+      return err;
+    }
+    if (!pfxIsFinite(pin.m_anchor)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::pins[%u].anchor is not finite",
+                            kAt.stage, kAt.param, i);
+    }
+    if (!nonNegative(pin.m_compliance)) {
+      return rejectValue(array, i, "compliance", pin.m_compliance, "zero or positive and finite");
+    }
+  }
+  for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+    const PfxParticleContact& c = param.contacts[i];
+    const char* array = "contacts";
+    if ((err = checkParticleIndex(array, i, "particle", c.m_particle, n)) != PFX_OK) return err;
+    if (c.m_kind == kPfxParticleContactParticle) {
+      if ((err = checkParticleIndex(array, i, "other", c.m_other, n)) != PFX_OK ||
+          (err = checkDistinct(array, i, c.m_particle, c.m_other)) != PFX_OK) {
+        return err;
+      }
+    } else if (c.m_kind == kPfxParticleContactRigidBody) {
+      if ((err = checkBodyIndex(array, i, c.m_other, param)) != PFX_OK) return err;
+      if (!pfxIsFinite(c.m_localPoint) || !pfxIsFinite(c.m_localNormal)) {
+        return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                              "%s: %s::contacts[%u]: point or normal is not finite", kAt.stage,
+                              kAt.param, i);
+      }
+    } else {
+      return pfxRejectParam(PFX_ERR_INVALID_FLAG, "%s: %s::contacts[%u].kind is %u", kAt.stage,
+                            kAt.param, i, unsigned(c.m_kind));
+    }
+    if (!nonNegative(c.m_friction)) {
+      return rejectValue(array, i, "friction", c.m_friction, "zero or positive and finite");
+    }
+  }
+  return PFX_OK;
+}
+
+PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param) {
+  if (const PfxInt32 err = pfxCheckParticleConstraints(param); err != PFX_OK) return err;
+  PfxParticle* particles = param.particles;
+  const RigidAccess rigid{param.offsetRigidStates, param.offsetRigidBodies, param.timeStep};
+  // XPBD's time-step-scaled compliance, alpha / h^2.
+  const PfxFloat alphaScale = 1 / (param.timeStep * param.timeStep);
+  for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) param.distanceConstraints[i].m_lambda = 0;
+  for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) param.angleConstraints[i].m_lambda = 0;
+  for (PfxUInt32 i = 0; i < param.numPins; ++i) param.pins[i].m_lambda = 0;
+  for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+    param.contacts[i].m_lambdaNormal = 0;
+    param.contacts[i].m_lambdaTangent = 0;
+  }
+  for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
+    for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
+      solveDistance(param.distanceConstraints[i], particles, alphaScale);
+    }
+    for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) {
+      solveAngle(param.angleConstraints[i], particles, alphaScale);
+    }
+    // Tethers after the chain: they take out what the chain's unconverged solve stretched.
+    for (PfxUInt32 i = 0; i < param.numTethers; ++i) {
+      solveTether(param.tethers[i], particles, rigid);
+    }
+    for (PfxUInt32 i = 0; i < param.numPins; ++i) solvePin(param.pins[i], particles, rigid, alphaScale);
+    // Contacts last, and those with bodies after those among particles, so that what is
+    // left of the sub-step's error is never a particle inside a body.
+    for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+      PfxParticleContact& c = param.contacts[i];
+      if (c.m_kind == kPfxParticleContactParticle) solveParticleContact(c, particles);
+    }
+    for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+      PfxParticleContact& c = param.contacts[i];
+      if (c.m_kind == kPfxParticleContactRigidBody) solveRigidContact(c, particles, rigid);
+    }
+  }
+  return PFX_OK;
+}
+
+}  // namespace pfx

@@ -1,0 +1,482 @@
+// The particle stages on their own (low_level/particle): known answers first (a pendulum's
+// period, a hanging rope against the analytic catenary), then a rope carrying a payload a
+// thousand times its own mass, then bad input, each rejected with a detail naming it and
+// nothing changed.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "pfx/high_level/pfx_particle_group.h"
+#include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
+#include "pfx/low_level/particle/pfx_integrate_particles.h"
+#include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
+#include "pfx/low_level/particle/pfx_solve_particle_constraints.h"
+#include "pfx/low_level/particle/pfx_update_particles.h"
+#include "pfx/low_level/pfx_error_detail.h"
+
+using namespace pfx;
+
+namespace {
+
+constexpr double kGravity = 9.80665;
+constexpr double kPi = 3.14159265358979323846;
+
+// The three sub-step stages over a builder's arrays, without bodies or contacts.
+void stepParticles(PfxParticleGroupBuilder& b, PfxFloat timeStep, PfxUInt32 subSteps,
+                   PfxUInt32 iterations, PfxFloat damping = 0) {
+  const PfxFloat h = timeStep / PfxFloat(subSteps);
+  const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
+  for (PfxUInt32 s = 0; s < subSteps; ++s) {
+    PfxIntegrateParticlesParam integrate;
+    integrate.particles = b.particles.data();
+    integrate.numParticles = n;
+    integrate.linearDamping = damping;
+    integrate.timeStep = h;
+    ASSERT_EQ(pfxIntegrateParticles(integrate), PFX_OK) << pfxGetLastErrorDetail();
+    PfxSolveParticleConstraintsParam solve;
+    solve.particles = b.particles.data();
+    solve.numParticles = n;
+    solve.distanceConstraints = b.distanceConstraints.data();
+    solve.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+    solve.angleConstraints = b.angleConstraints.data();
+    solve.numAngleConstraints = static_cast<PfxUInt32>(b.angleConstraints.size());
+    solve.tethers = b.tethers.data();
+    solve.numTethers = static_cast<PfxUInt32>(b.tethers.size());
+    solve.pins = b.pins.data();
+    solve.numPins = static_cast<PfxUInt32>(b.pins.size());
+    solve.timeStep = h;
+    solve.iteration = iterations;
+    ASSERT_EQ(pfxSolveParticleConstraints(solve), PFX_OK) << pfxGetLastErrorDetail();
+    PfxUpdateParticlesParam update;
+    update.particles = b.particles.data();
+    update.numParticles = n;
+    update.timeStep = h;
+    ASSERT_EQ(pfxUpdateParticles(update), PFX_OK) << pfxGetLastErrorDetail();
+  }
+}
+
+// Period of a pendulum of any amplitude: 2 pi sqrt(L / g) / AGM(1, cos(amplitude / 2)).
+double exactPendulumPeriod(double length, double amplitude) {
+  double a = 1, b = std::cos(amplitude / 2);
+  for (int i = 0; i < 30; ++i) {
+    const double mean = (a + b) / 2;
+    b = std::sqrt(a * b);
+    a = mean;
+  }
+  return 2 * kPi * std::sqrt(length / kGravity) / a;
+}
+
+double measurePendulumPeriod(PfxUInt32 subSteps, PfxFloat compliance) {
+  const double length = 1, amplitude = 0.3;
+  PfxParticleGroupBuilder b;
+  PfxParticleGroupBuilder::Material m;
+  m.particleMass = 1;
+  m.stretchCompliance = compliance;
+  b.addRope(PfxVector3::Zero(),
+            PfxVector3(PfxFloat(length * std::sin(amplitude)), PfxFloat(-length * std::cos(amplitude)), 0),
+            2, m);
+  b.setMass(0, 0);
+  const PfxFloat dt = PfxFloat(1) / 60;
+  std::vector<double> upCrossings;
+  double previousX = b.particles[1].m_position.x();
+  for (int step = 0; step < 60 * 20; ++step) {
+    stepParticles(b, dt, subSteps, 1);
+    const double x = b.particles[1].m_position.x();
+    if (previousX < 0 && x >= 0) {
+      upCrossings.push_back((step + previousX / (previousX - x)) * dt);
+    }
+    previousX = x;
+  }
+  if (upCrossings.size() < 2) return 0;
+  return (upCrossings.back() - upCrossings.front()) / double(upCrossings.size() - 1);
+}
+
+// The catenary through (-halfSpan, 0) and (halfSpan, 0) of the given length:
+// y = c (cosh(x / c) - cosh(halfSpan / c)) with 2 c sinh(halfSpan / c) = length.
+double catenaryParameter(double halfSpan, double length) {
+  double lo = 1e-3, hi = 1e3;
+  for (int i = 0; i < 200; ++i) {
+    const double c = std::sqrt(lo * hi);
+    (2 * c * std::sinh(halfSpan / c) > length ? lo : hi) = c;
+  }
+  return std::sqrt(lo * hi);
+}
+
+struct CatenaryRun {
+  double maxError;         // m, largest distance of a particle to the curve
+  double cpuSecondsPerSimulatedSecond;
+};
+
+CatenaryRun runCatenary(PfxUInt32 numParticles, PfxUInt32 subSteps, PfxUInt32 iterations,
+                        bool tethers) {
+  const double halfSpan = 0.8, length = 2.0;
+  // Start as a V of the rope's length, the tip below the middle, and let it settle.
+  const double drop = std::sqrt((length / 2) * (length / 2) - halfSpan * halfSpan);
+  PfxParticleGroupBuilder b;
+  PfxParticleGroupBuilder::Material m;
+  m.particleMass = PfxFloat(0.01);
+  const PfxUInt32 half = (numParticles - 1) / 2;
+  b.addRope(PfxVector3(PfxFloat(-halfSpan), 0, 0), PfxVector3(0, PfxFloat(-drop), 0), half + 1, m);
+  // Second leg: continue from the tip without repeating it.
+  PfxParticleGroupBuilder leg;
+  leg.addRope(PfxVector3(0, PfxFloat(-drop), 0), PfxVector3(PfxFloat(halfSpan), 0, 0), half + 1, m);
+  for (PfxUInt32 i = 1; i < leg.particles.size(); ++i) b.particles.push_back(leg.particles[i]);
+  for (const PfxParticleDistanceConstraint& c : leg.distanceConstraints) {
+    PfxParticleDistanceConstraint shifted = c;
+    shifted.m_particleA += half;
+    shifted.m_particleB += half;
+    b.distanceConstraints.push_back(shifted);
+  }
+  const PfxUInt32 last = static_cast<PfxUInt32>(b.particles.size() - 1);
+  b.setMass(0, 0);
+  b.setMass(last, 0);
+  if (tethers) {
+    b.tetherRope(0, last + 1, 0);
+    b.tetherRope(0, last + 1, last);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const double seconds = 20;
+  const PfxFloat dt = PfxFloat(1) / 60;
+  for (int step = 0; step < int(seconds * 60); ++step) {
+    stepParticles(b, dt, subSteps, iterations, PfxFloat(1.0));
+  }
+  const double cpu = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double c = catenaryParameter(halfSpan, length);
+  constexpr int kSamples = 20001;
+  std::vector<PfxVector3> curve(kSamples);
+  for (int k = 0; k < kSamples; ++k) {
+    const double x = -halfSpan + 2 * halfSpan * k / (kSamples - 1);
+    curve[k] = PfxVector3(PfxFloat(x), PfxFloat(c * (std::cosh(x / c) - std::cosh(halfSpan / c))), 0);
+  }
+  double maxError = 0;
+  for (const PfxParticle& p : b.particles) {
+    double nearest = 1e9;
+    for (const PfxVector3& q : curve) nearest = std::min(nearest, double((p.m_position - q).norm()));
+    maxError = std::max(maxError, nearest);
+  }
+  return {maxError, cpu / seconds};
+}
+
+}  // namespace
+
+TEST(Particles, PendulumKeepsItsPeriod) {
+  const double expected = exactPendulumPeriod(1, 0.3);
+  for (PfxUInt32 subSteps : {4u, 10u, 20u}) {
+    const double period = measurePendulumPeriod(subSteps, 0);
+    const double error = std::abs(period - expected) / expected;
+    std::printf("particle pendulum, 1 m, amplitude 0.3 rad, dt 1/60, %2u sub-steps: period %.5f s, "
+                "exact %.5f s, error %.3f%%\n",
+                subSteps, period, expected, 100 * error);
+    EXPECT_LT(error, 0.01) << subSteps << " sub-steps";
+  }
+}
+
+TEST(Particles, SoftPendulumStretchesAsItsComplianceSays) {
+  // A 1 kg bob hanging still on a distance constraint of compliance 1e-3 m/N stretches by
+  // m g alpha = 9.8 mm, whatever the sub-step or iteration count.
+  for (PfxUInt32 subSteps : {1u, 4u, 16u}) {
+    for (PfxUInt32 iterations : {1u, 8u}) {
+      PfxParticleGroupBuilder b;
+      PfxParticleGroupBuilder::Material m;
+      m.particleMass = 1;
+      m.stretchCompliance = PfxFloat(1e-3);
+      b.addRope(PfxVector3::Zero(), PfxVector3(0, -1, 0), 2, m);
+      b.setMass(0, 0);
+      for (int step = 0; step < 600; ++step) stepParticles(b, PfxFloat(1) / 60, subSteps, iterations, 2);
+      const double stretch = -b.particles[1].m_position.y() - 1;
+      EXPECT_NEAR(stretch, kGravity * 1e-3, 2e-4) << subSteps << " sub-steps, " << iterations
+                                                  << " iterations";
+    }
+  }
+}
+
+TEST(Particles, WorldPinsHoldExactlyOrAsCompliantAsAsked) {
+  // A 10-particle rope of 10 g particles hangs from a pin on its first particle (which has
+  // a mass of its own): a rigid pin holds it where it was put; a pin of compliance 1e-3 m/N
+  // gives way by the weight it carries times that compliance.
+  for (const PfxFloat compliance : {PfxFloat(0), PfxFloat(1e-3)}) {
+    PfxParticleGroupBuilder b;
+    PfxParticleGroupBuilder::Material m;
+    m.particleMass = PfxFloat(0.01);
+    b.addRope(PfxVector3::Zero(), PfxVector3(0, -1, 0), 10, m);
+    b.pinToWorld(0);
+    b.pins[0].m_compliance = compliance;
+    for (int step = 0; step < 600; ++step) stepParticles(b, PfxFloat(1) / 60, 10, 2, 2);
+    const double sag = -b.particles[0].m_position.y();
+    const double expected = compliance * 10 * 0.01 * kGravity;
+    std::printf("world pin of compliance %g m/N under 0.98 N: gives %.4f mm, expected %.4f mm\n",
+                double(compliance), 1000 * sag, 1000 * expected);
+    EXPECT_NEAR(sag, expected, 1e-4 + 0.02 * expected);
+  }
+}
+
+TEST(Particles, HangingRopeMatchesTheCatenary) {
+  std::printf("catenary, rope 2 m between pins 1.6 m apart, 41 particles, 20 s settled:\n");
+  std::printf("  tethers  sub-steps  iterations  max error (mm)  cpu ms per simulated s\n");
+  struct Setting {
+    PfxUInt32 subSteps, iterations;
+    bool tethers;
+    double bound;  // m
+  };
+  const Setting settings[] = {
+      {1, 1, false, 1},      {1, 10, false, 0.2},    {4, 1, false, 0.15},  {4, 10, false, 0.015},
+      {10, 1, false, 0.03},  {20, 1, false, 0.008},  {20, 5, false, 0.002}, {1, 10, true, 0.08},
+      {4, 1, true, 0.06},    {20, 1, true, 0.006},
+  };
+  for (const Setting& s : settings) {
+    const CatenaryRun run = runCatenary(41, s.subSteps, s.iterations, s.tethers);
+    std::printf("  %-7s  %9u  %10u  %14.3f  %22.2f\n", s.tethers ? "yes" : "no", s.subSteps,
+                s.iterations, 1000 * run.maxError, 1000 * run.cpuSecondsPerSimulatedSecond);
+    EXPECT_LT(run.maxError, s.bound) << s.subSteps << " sub-steps, " << s.iterations
+                                     << " iterations, tethers " << s.tethers;
+  }
+}
+
+TEST(Particles, RopeCarriesAThousandTimesItsMassWithinOnePercent) {
+  // 1 m, 21 particles of 1 g (the top one pinned), and at the end a payload of 1,000 times
+  // the 20 g that hang: 20 kg, released with the rope horizontal, so that it swings through
+  // the bottom at three times its weight.
+  for (bool tethers : {true, false}) {
+    PfxParticleGroupBuilder b;
+    PfxParticleGroupBuilder::Material m;
+    m.particleMass = PfxFloat(0.001);
+    b.addRope(PfxVector3::Zero(), PfxVector3(1, 0, 0), 21, m);
+    b.setMass(0, 0);
+    b.setMass(20, 20);
+    // Tethered from both ends: the payload weighs 20,000 times a particle, so it anchors the
+    // rope's lower end as the pin anchors the upper one.
+    if (tethers) {
+      b.tetherRope(0, 21, 0);
+      b.tetherRope(0, 21, 20);
+    }
+    double worstStretch = 0, worstPayloadStretch = 0;
+    bool finite = true;
+    for (int step = 0; step < 60 * 10; ++step) {
+      stepParticles(b, PfxFloat(1) / 60, 4, 2);
+      double length = 0;
+      for (PfxUInt32 i = 0; i < 20; ++i) {
+        length += (b.particles[i + 1].m_position - b.particles[i].m_position).norm();
+      }
+      for (const PfxParticle& p : b.particles) finite = finite && pfxIsFinite(p.m_position);
+      worstStretch = std::max(worstStretch, length - 1);
+      worstPayloadStretch = std::max(worstPayloadStretch, double(b.particles[20].m_position.norm()) - 1);
+    }
+    std::printf("rope 1 m of 1 g particles, 20 kg payload, dt 1/60, 4 sub-steps x 2 iterations, "
+                "tethers %s: largest stretch along the rope %.3f%%, of the payload's distance "
+                "to the pin %.3f%%\n",
+                tethers ? "on" : "off", 100 * worstStretch, 100 * worstPayloadStretch);
+    EXPECT_TRUE(finite);
+    if (tethers) {
+      EXPECT_LT(worstStretch, 0.01);
+      EXPECT_LT(worstPayloadStretch, 0.01);
+    }
+  }
+}
+
+TEST(Particles, BendingStiffensAHair) {
+  // A strand pinned at its root by its first two particles, held out sideways: without
+  // angle constraints it hangs down, with stiff ones its tip stays near the horizontal.
+  auto tipDrop = [](PfxFloat bendCompliance) {
+    PfxParticleGroupBuilder b;
+    PfxParticleGroupBuilder::Material m;
+    m.particleMass = PfxFloat(0.001);
+    m.bendCompliance = bendCompliance;
+    b.addRope(PfxVector3::Zero(), PfxVector3(PfxFloat(0.2), 0, 0), 11, m);
+    b.setMass(0, 0);
+    b.setMass(1, 0);
+    for (int step = 0; step < 300; ++step) stepParticles(b, PfxFloat(1) / 60, 10, 1, 2);
+    return -double(b.particles[10].m_position.y());
+  };
+  const double limp = tipDrop(-1);
+  const double stiff = tipDrop(PfxFloat(1e-4));
+  std::printf("hair strand 0.2 m: tip drop %.4f m limp, %.4f m with bending compliance 1e-4\n",
+              limp, stiff);
+  EXPECT_GT(limp, 0.15);
+  EXPECT_LT(stiff, limp / 3);
+}
+
+// Bad input: each rejected with a detail naming what was wrong, and nothing changed.
+class ParticleBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    PfxParticleGroupBuilder::Material m;
+    b.addRope(PfxVector3::Zero(), PfxVector3(1, 0, 0), 5, m);
+    b.pinToWorld(0);
+  }
+  PfxSolveParticleConstraintsParam solveParam() {
+    PfxSolveParticleConstraintsParam p;
+    p.particles = b.particles.data();
+    p.numParticles = static_cast<PfxUInt32>(b.particles.size());
+    p.distanceConstraints = b.distanceConstraints.data();
+    p.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+    p.pins = b.pins.data();
+    p.numPins = static_cast<PfxUInt32>(b.pins.size());
+    return p;
+  }
+  void expectUnchanged(const std::vector<PfxParticle>& before) {
+    ASSERT_EQ(before.size(), b.particles.size());
+    EXPECT_EQ(std::memcmp(before.data(), b.particles.data(), before.size() * sizeof(PfxParticle)), 0);
+  }
+  PfxParticleGroupBuilder b;
+};
+
+TEST_F(ParticleBadInput, NanNegativeRadiusAndNegativeMassAreRejected) {
+  struct Case {
+    void (*spoil)(PfxParticle&);
+    const char* named;
+  };
+  const Case cases[] = {
+      {[](PfxParticle& p) { p.m_position.y() = std::nanf(""); }, "particles[2]: position is not finite"},
+      {[](PfxParticle& p) { p.m_velocity.x() = INFINITY; }, "particles[2]: velocity is not finite"},
+      {[](PfxParticle& p) { p.m_radius = -1; }, "particles[2]: radius is not positive"},
+      {[](PfxParticle& p) { p.m_massInv = -1; }, "particles[2]: inverse mass is negative"},
+      {[](PfxParticle& p) { p.m_friction = std::nanf(""); }, "particles[2]: friction"},
+  };
+  for (const Case& c : cases) {
+    b = PfxParticleGroupBuilder();
+    SetUp();
+    c.spoil(b.particles[2]);
+    const std::vector<PfxParticle> before = b.particles;
+    PfxIntegrateParticlesParam integrate;
+    integrate.particles = b.particles.data();
+    integrate.numParticles = static_cast<PfxUInt32>(b.particles.size());
+    EXPECT_EQ(pfxIntegrateParticles(integrate), PFX_ERR_INVALID_VALUE);
+    EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), c.named), nullptr) << pfxGetLastErrorDetail();
+    EXPECT_EQ(pfxSolveParticleConstraints(solveParam()), PFX_ERR_INVALID_VALUE);
+    EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), c.named), nullptr) << pfxGetLastErrorDetail();
+    expectUnchanged(before);
+  }
+}
+
+TEST_F(ParticleBadInput, ConstraintsNamingMissingParticlesAreRejected) {
+  b.distanceConstraints[1].m_particleB = 7;
+  const std::vector<PfxParticle> before = b.particles;
+  const std::vector<PfxParticleDistanceConstraint> constraintsBefore = b.distanceConstraints;
+  EXPECT_EQ(pfxSolveParticleConstraints(solveParam()), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_STREQ(pfxGetLastErrorDetail(),
+               "pfxSolveParticleConstraints: PfxSolveParticleConstraintsParam::"
+               "distanceConstraints[1].particleB is 7, but numParticles is 5");
+  expectUnchanged(before);
+  EXPECT_EQ(std::memcmp(constraintsBefore.data(), b.distanceConstraints.data(),
+                        constraintsBefore.size() * sizeof(PfxParticleDistanceConstraint)),
+            0);
+
+  b.distanceConstraints[1].m_particleB = 2;
+  b.distanceConstraints[3].m_compliance = -1;
+  EXPECT_EQ(pfxSolveParticleConstraints(solveParam()), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "distanceConstraints[3].compliance is -1"), nullptr)
+      << pfxGetLastErrorDetail();
+  b.distanceConstraints[3].m_compliance = 0;
+
+  b.pins[0].m_rigidBodyId = 3;
+  EXPECT_EQ(pfxSolveParticleConstraints(solveParam()), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "pins[0].rigid body id is 3, but numRigidBodies is 0"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  b.pins[0].m_rigidBodyId = PFX_PARTICLE_PIN_WORLD;
+
+  PfxParticleAngleConstraint angle;
+  angle.m_particleA = 0;
+  angle.m_particleB = 1;
+  angle.m_particleC = 9;
+  b.angleConstraints.push_back(angle);
+  PfxSolveParticleConstraintsParam param = solveParam();
+  param.angleConstraints = b.angleConstraints.data();
+  param.numAngleConstraints = 1;
+  EXPECT_EQ(pfxSolveParticleConstraints(param), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "angleConstraints[0].particleC is 9"), nullptr)
+      << pfxGetLastErrorDetail();
+  expectUnchanged(before);
+}
+
+TEST_F(ParticleBadInput, TooSmallBuffersAreRejected) {
+  const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
+  std::vector<PfxVector4> work(pfxGetWorkBytesOfDetectParticleContacts(n) / sizeof(PfxVector4) + 1);
+  std::vector<PfxParticleContact> contacts(8);
+  PfxDetectParticleContactsParam param;
+  param.workBuff = work.data();
+  param.workBytes = pfxGetWorkBytesOfDetectParticleContacts(n) - 16;
+  param.particles = b.particles.data();
+  param.numParticles = n;
+  param.contacts = contacts.data();
+  param.maxContacts = 8;
+  PfxDetectParticleContactsResult result;
+  result.numContacts = 77;
+  EXPECT_EQ(pfxDetectParticleContacts(param, result), PFX_ERR_OUT_OF_BUFFER);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "workBytes"), nullptr) << pfxGetLastErrorDetail();
+  EXPECT_EQ(result.numContacts, 77u);
+
+  param.workBytes = pfxGetWorkBytesOfDetectParticleContacts(n);
+  param.contacts = nullptr;
+  EXPECT_EQ(pfxDetectParticleContacts(param, result), PFX_ERR_NULL_POINTER);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "contacts is null, but maxContacts is 8"), nullptr)
+      << pfxGetLastErrorDetail();
+  EXPECT_EQ(result.numContacts, 77u);
+
+  // The right sizes work, and the rope's touching neighbours are found.
+  param.contacts = contacts.data();
+  for (PfxParticle& p : b.particles) p.m_radius = PfxFloat(0.2);
+  EXPECT_EQ(pfxDetectParticleContacts(param, result), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_EQ(result.numContacts, 4u);
+  EXPECT_FALSE(result.truncated);
+
+  param.maxContacts = 2;
+  EXPECT_EQ(pfxDetectParticleContacts(param, result), PFX_OK);
+  EXPECT_EQ(result.numContacts, 2u);
+  EXPECT_TRUE(result.truncated);
+}
+
+TEST_F(ParticleBadInput, ContactsNamingMissingBodiesOrShapesAreRejected) {
+  PfxParticleContact contact;
+  contact.m_particle = 1;
+  contact.m_other = 0;
+  contact.m_localNormal = PfxVector3::UnitY();
+  contact.m_lambdaNormal = 1;
+  const std::vector<PfxParticle> before = b.particles;
+
+  // Velocities after a solve need the bodies the contacts name.
+  PfxUpdateParticlesParam update;
+  update.particles = b.particles.data();
+  update.numParticles = static_cast<PfxUInt32>(b.particles.size());
+  update.contacts = &contact;
+  update.numContacts = 1;
+  EXPECT_EQ(pfxUpdateParticles(update), PFX_ERR_NULL_POINTER);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "offsetRigidStates is null"), nullptr)
+      << pfxGetLastErrorDetail();
+
+  // A refresh of a contact with body 0 of no bodies, then with shape 3 of a body of one.
+  PfxRigidState state;
+  state.reset();
+  PfxCollidable collidable;
+  collidable.reset();
+  PfxShape sphere;
+  sphere.reset();
+  sphere.setSphere(PfxSphere(1));
+  collidable.addShape(sphere);
+  collidable.finish();
+  PfxRefreshParticleContactsParam refresh;
+  refresh.particles = b.particles.data();
+  refresh.numParticles = static_cast<PfxUInt32>(b.particles.size());
+  refresh.contacts = &contact;
+  refresh.numContacts = 1;
+  EXPECT_EQ(pfxRefreshParticleContacts(refresh), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "names rigid body 0, but numRigidBodies is 0"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  refresh.offsetRigidStates = &state;
+  refresh.offsetCollidables = &collidable;
+  refresh.numRigidBodies = 1;
+  contact.m_shapeId = 3;
+  const PfxParticleContact contactBefore = contact;
+  EXPECT_EQ(pfxRefreshParticleContacts(refresh), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "names shape 3 of rigid body 0, which has 1"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  EXPECT_EQ(contact.m_localNormal, contactBefore.m_localNormal);
+  EXPECT_EQ(contact.m_localPoint, contactBefore.m_localPoint);
+  expectUnchanged(before);
+}
