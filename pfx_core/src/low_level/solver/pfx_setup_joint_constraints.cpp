@@ -118,34 +118,23 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   PfxJointConstraint& c = joint.m_constraints[axis];
   const bool movable = c.m_lock != kPfxJointLockLocked;
   PfxFloat target = 0;
-  PfxFloat lower = -kInfinity;
-  PfxFloat upper = kInfinity;
+  PfxFloat bound = kInfinity;
   if (movable && c.m_drive == kPfxJointDriveVelocity) {
     target = std::clamp(c.m_driveTarget, allowed.lower, allowed.upper);
-    upper = c.m_driveMaxForce * timeStep;
-    lower = -upper;
+    bound = c.m_driveMaxForce * timeStep;
   } else if (movable && c.m_drive == kPfxJointDrivePosition) {
     target = std::clamp((c.m_driveTarget - c.m_position) / timeStep, allowed.lower, allowed.upper);
-    upper = c.m_driveMaxForce * timeStep;
-    lower = -upper;
+    bound = c.m_driveMaxForce * timeStep;
   } else if (movable && (c.m_damping > 0 || c.m_friction > 0)) {
-    // Damping alone takes its fraction of the velocity away. With friction the row tries
-    // to stop the axis outright, within the damping impulse plus or minus the friction
-    // impulse, so a turning axis keeps (1 - damping) of its velocity less what the friction
-    // takes, and a slow one stops. Here the damping impulse is the one that the row's two
-    // bodies alone would want; a row of a joint in a direct-solved tree, which moves the
-    // whole tree, replaces it with the tree's (solveTreeJointRow) and keeps the friction
-    // impulse, half the bounds' width.
+    // Damping alone takes its fraction of the velocity away. Friction tries to stop the
+    // axis outright, within its force, and damping then adds its share to that force.
     const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, direction);
     const PfxFloat velocity = rowVelocity(j, bodies);
     if (c.m_friction > 0) {
       const PfxFloat jacDiagInv =
           pfxJointRowJacDiagInv(j, bodies.a, bodies.receivesA, bodies.b, bodies.receivesB);
-      const PfxFloat dampingImpulse = -c.m_damping * velocity * jacDiagInv;
-      const PfxFloat frictionImpulse = c.m_friction * timeStep;
       target = 0;
-      lower = dampingImpulse - frictionImpulse;
-      upper = dampingImpulse + frictionImpulse;
+      bound = c.m_friction * timeStep + c.m_damping * std::abs(velocity) * jacDiagInv;
     } else {
       target = (1 - c.m_damping) * velocity;
     }
@@ -155,7 +144,7 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     return;
   }
   c.m_driveRowUsed = 1;
-  setRow(c.m_driveRow, joint, axis, direction, target, lower, upper, c.m_weight,
+  setRow(c.m_driveRow, joint, axis, direction, target, -bound, bound, c.m_weight,
          warmStartFactor, bodies);
 }
 

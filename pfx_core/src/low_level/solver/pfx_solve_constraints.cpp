@@ -234,7 +234,7 @@ constexpr PfxFloat kDampingProbe = PfxFloat(1);
 // is measured from such velocities, and contacts and other joints since the tree's last
 // direct solve may have upset them.
 void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJointConstraint& c,
-                       bool damped, const PfxJoint& joint, PfxUInt32 axis,
+                       bool dampingOnly, const PfxJoint& joint, PfxUInt32 axis,
                        const PairBodies& p, PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex,
                        bool& treeHeld) {
   if (row.m_jacDiagInv <= 0) return;
@@ -255,21 +255,15 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
   const PfxFloat previous = row.m_accumImpulse;
   // The accumulated impulse wanted, given the row velocity per unit impulse.
   const auto wanted = [&](PfxFloat velocityPerImpulse) {
-    if (damped) {
+    if (dampingOnly) {
       // Implicit damping: the impulse takes the fraction c.m_damping of the velocity the
       // joint would have without it. (Aiming at a fraction of the velocity before the
       // solve, as the two-body row does, would hold a joint that starts from rest there,
       // whatever pulls it.) The row's target, -m_damping times the velocity before the
-      // solve, or with friction 0, gives that velocity back; `before` is what the solve
-      // has added to it.
-      const bool friction = c.m_friction > 0;
-      const PfxFloat atSetup = -(row.m_rhs / row.m_jacDiagInv) / (friction ? 1 : c.m_damping);
-      const PfxFloat free = atSetup + before - previous * velocityPerImpulse;
-      const PfxFloat damping = -c.m_damping * free / velocityPerImpulse;
-      if (!friction) return damping;
-      const PfxFloat frictionImpulse = (row.m_upperLimit - row.m_lowerLimit) / 2;
-      return std::clamp(-free / velocityPerImpulse, damping - frictionImpulse,
-                        damping + frictionImpulse);
+      // solve, gives that velocity back; `before` is what the solve has added to it.
+      const PfxFloat atSetup = -(row.m_rhs / row.m_jacDiagInv) / c.m_damping;
+      return -c.m_damping * (atSetup + before - previous * velocityPerImpulse) /
+             velocityPerImpulse;
     }
     const PfxFloat missing = row.m_rhs / row.m_jacDiagInv - before;
     return std::clamp(previous + c.m_weight * missing / velocityPerImpulse, row.m_lowerLimit,
@@ -289,27 +283,22 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
   // the solve) more than the response: a limit row holding a resting limb made such trials
   // every step, now and then read a response a hundred times too small and kicked the
   // limb at 3 cm/s, so a ragdoll at dt 1/30 twitched for ever. Such a limit, drive or
-  // undamped friction row is nearly met, and stays unmeasured, moved like a two-body row,
-  // until a later iteration makes a larger trial.
-  // A damped row's trial (with friction or without) is the damping fraction of the row's
-  // velocity, 1 - exp(-c h / I) for a viscous coefficient c, so at a small step h it stays
-  // small however fast the joint turns (0.5 mrad/s for an arm turning at 1 rad/s at
-  // dt 1/1000), and moved like a two-body row it lost the damping: its two bodies answer
-  // the impulse a thousand times more than the arm, so the impulse was a thousandth of the
-  // damping's. With friction, the step's first trial is what is left after the warm start,
-  // which setup clamped to the two bodies' damping and friction impulses, so it is as small
-  // and varies from step to step (14 mm/s as the two bodies answer it, 4 um/s as the tree
-  // does: measured from it, the response came out between 0.24 and 0.66 of the chain's
-  // 0.29 rad/s per N m s). A damped row measures the response from a probe of at least
-  // kDampingProbe instead, taken back with its update.
+  // friction row is nearly met, and stays unmeasured, moved like a two-body row, until a
+  // later iteration makes a larger trial.
+  // A damping row's trial is the damping fraction of the row's velocity, 1 - exp(-c h / I)
+  // for a viscous coefficient c, so at a small step h it stays small however fast the
+  // joint turns (0.5 mrad/s for an arm turning at 1 rad/s at dt 1/1000), and moved like a
+  // two-body row it lost the damping: its two bodies answer the impulse a thousand times
+  // more than the arm, so the impulse was a thousandth of the damping's. It measures the
+  // response from a probe of kDampingProbe instead, taken back with its update.
   PfxFloat probe = trial;
-  const PfxFloat trialChange = std::abs(trial) * twoBodyResponse;
-  if (damped) {
-    if (trialChange < kDampingProbe) probe = std::copysign(kDampingProbe / twoBodyResponse, trial);
-  } else if (trialChange < kMinResponseProbe) {
-    apply(trial);
-    row.m_accumImpulse = previous + trial;
-    return;
+  if (std::abs(trial) * twoBodyResponse < kMinResponseProbe) {
+    if (!dampingOnly) {
+      apply(trial);
+      row.m_accumImpulse = previous + trial;
+      return;
+    }
+    probe = std::copysign(kDampingProbe / twoBodyResponse, trial);
   }
   apply(probe);
   const PfxFloat measured = (velocity() - before) / probe;
@@ -337,8 +326,9 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
       const bool used = drive ? c.m_driveRowUsed != 0 : c.m_rowType != kPfxJointRowNone && !direct;
       if (!used) continue;
       if (inTree) {
-        const bool damped = drive && c.m_drive == kPfxJointDriveNone && c.m_damping > 0;
-        solveTreeJointRow(row, c.m_treeResponse[which], c, damped, joint, axis, p, tree,
+        const bool dampingOnly = drive && c.m_drive == kPfxJointDriveNone &&
+                                 c.m_friction <= 0 && c.m_damping > 0;
+        solveTreeJointRow(row, c.m_treeResponse[which], c, dampingOnly, joint, axis, p, tree,
                           jointPairIndex, treeHeld);
       } else {
         pfxSolveJointRow(row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
