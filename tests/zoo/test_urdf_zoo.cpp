@@ -261,8 +261,9 @@ TEST_P(UrdfZoo, DropsFiniteBoundedWithinLimitsAndRests) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Robots, UrdfZoo, ::testing::ValuesIn(zooRobots()),
-                         [](const ::testing::TestParamInfo<ZooRobot>& info) {
-                           std::string name = info.param.name;
+                         // Not `info`: the macro's own function has a parameter of that name.
+                         [](const ::testing::TestParamInfo<ZooRobot>& robot) {
+                           std::string name = robot.param.name;
                            for (char& c : name) {
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            }

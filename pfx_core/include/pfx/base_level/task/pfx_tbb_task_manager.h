@@ -23,8 +23,8 @@ class PfxTbbTaskManager final : public PfxTaskManager {
   // as many as the process may use (its CPU affinity). PFX_ERR_OUT_OF_RANGE above
   // PFX_MAX_THREADS, with the manager unchanged. Must not be called while a parallel-for
   // of this manager runs. The threads start on the first parallel-for. More threads than
-  // cores raise oneTBB's process-wide limit on workers while the manager lives (where
-  // several limits are set, oneTBB keeps the lowest).
+  // the process has cores split the work as asked but run on one thread per core: more
+  // would only wait for each other.
   PfxInt32 initialize(PfxUInt32 numThreads);
 
   PfxUInt32 getNumThreads() const override { return m_numThreads; }
