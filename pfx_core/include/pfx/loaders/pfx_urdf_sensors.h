@@ -1,0 +1,65 @@
+// Sensors of a robot description: the <sensor> elements of a URDF's Gazebo extension blocks
+// (<gazebo reference="link"><sensor type="..." name="...">), read as SDFormat describes them,
+// so that a description written for Gazebo declares its sensors to pfx unchanged. Which
+// elements are honoured and which are passed over is listed in the README ("Sensors"); each
+// one passed over is reported in a warning, so that nothing is dropped without a word.
+// What the sensors compute is in pfx_range_sensor.h and pfx_imu_reading.h; publishing them
+// is the ROS node's business.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pfx/high_level/pfx_range_sensor.h"
+
+namespace pfx {
+
+enum class PfxSensorType {
+  kRay,       // laser or lidar: one vertical sample gives a scan, more a point cloud
+  kImu,       // orientation, angular velocity, specific force
+  kOdometry,  // ground-truth pose and twist (declared through the node's parameters only)
+};
+
+// Gaussian noise added to a value; stddev 0 adds `mean` only.
+struct PfxSensorNoise {
+  PfxFloat mean = 0;
+  PfxFloat stddev = 0;
+};
+
+struct PfxSensorSpec {
+  std::string name;
+  PfxSensorType type = PfxSensorType::kRay;
+  std::string link;
+  std::string topic;                               // empty: the sensor's name
+  std::string frame;                               // empty: the link's name
+  PfxTransform3 pose = PfxTransform3::Identity();  // of the sensor in the link's frame
+  double updateRate = 0;                           // Hz of simulated time; 0: every step
+  PfxRangeSensorParam ray;
+  PfxSensorNoise rangeNoise;
+  PfxSensorNoise angularVelocityNoise[3];  // per axis of the IMU frame
+  PfxSensorNoise linearAccelerationNoise[3];
+};
+
+// Empty when the spec is usable with a robot of these links, otherwise why not (naming the
+// sensor and the value): an unknown link, an update rate that is negative or not finite, a
+// range sensor that pfxCheckRangeSensorParam refuses (saying which bound), a noise whose
+// mean or stddev is not finite or whose stddev is negative, a pose that is not finite.
+std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std::string>& links);
+
+struct PfxUrdfSensors {
+  std::vector<PfxSensorSpec> sensors;
+  std::vector<std::string> warnings;  // what was passed over, one line each
+};
+
+// Reads the sensors of URDF text; `fileName` only names the file in messages. On error
+// returns PFX_ERR_INVALID_VALUE with *message naming the file, the <gazebo> block, the
+// sensor and the element, and leaves `out` as it was. Errors: XML that does not parse, a
+// <sensor> outside a <gazebo reference="..."> block or referring to no <link>, a missing or
+// repeated sensor name, a number that does not read, is not finite or is out of range
+// (pfxCheckSensorSpec), an update rate <= 0 where one is given, zero samples, a noise type
+// other than none, gaussian or gaussian_quantized. Sensors of other types (camera, depth,
+// contact, force_torque, ...) are warnings, not errors.
+PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileName,
+                            PfxUrdfSensors& out, std::string* message);
+
+}  // namespace pfx

@@ -1,0 +1,456 @@
+#include "pfx_ros/pfx_node_sensors.h"
+
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "pfx/high_level/pfx_imu_reading.h"
+#include "pfx_ros/pfx_ros_conversions.h"
+
+namespace pfx {
+
+struct PfxNodeSensors::Sensor {
+  PfxSensorSpec spec;
+  PfxUInt32 linkIndex = 0;
+  double period = 0;    // s of simulated time; 0: every step
+  double nextTime = 0;  // simulated time when it is next due
+  ros::Publisher publisher;
+  std::mt19937 random;
+  // The IMU's point velocity after the previous step (its acceleration is the difference).
+  PfxVector3 previousVelocity = PfxVector3::Zero();
+  bool hasPrevious = false;
+  std::vector<PfxRayInput> rays;
+  std::vector<PfxRayOutput> hits;
+  std::vector<PfxFloat> ranges;
+};
+
+namespace {
+
+bool readNumber(XmlRpc::XmlRpcValue& value, double& out) {
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      out = static_cast<double>(value);
+      return true;
+    case XmlRpc::XmlRpcValue::TypeInt:
+      out = static_cast<int>(value);
+      return true;
+    default:
+      return false;
+  }
+}
+
+const std::map<std::string, PfxSensorType> kTypes = {{"ray", PfxSensorType::kRay},
+                                                     {"imu", PfxSensorType::kImu},
+                                                     {"odometry", PfxSensorType::kOdometry}};
+
+// The keys of a ~sensors entry that each type takes, besides the common ones.
+const std::set<std::string> kCommonKeys = {"name",  "type",        "link", "topic",
+                                           "frame", "update_rate", "pose"};
+const std::set<std::string> kRayKeys = {"horizontal_samples",
+                                        "horizontal_min_angle",
+                                        "horizontal_max_angle",
+                                        "vertical_samples",
+                                        "vertical_min_angle",
+                                        "vertical_max_angle",
+                                        "range_min",
+                                        "range_max",
+                                        "range_noise_mean",
+                                        "range_noise_stddev"};
+const std::set<std::string> kImuKeys = {
+    "angular_velocity_noise_mean", "angular_velocity_noise_stddev",
+    "linear_acceleration_noise_mean", "linear_acceleration_noise_stddev"};
+
+std::string readString(XmlRpc::XmlRpcValue& entry, const char* key, std::string& out) {
+  if (!entry.hasMember(key)) return "";
+  if (entry[key].getType() != XmlRpc::XmlRpcValue::TypeString) {
+    return std::string(key) + " is not a string";
+  }
+  out = static_cast<std::string>(entry[key]);
+  return "";
+}
+
+// A number of the entry into `out` if the key is there; empty or why not.
+template <typename T>
+std::string readOptional(XmlRpc::XmlRpcValue& entry, const char* key, T& out) {
+  if (!entry.hasMember(key)) return "";
+  double v;
+  if (!readNumber(entry[key], v)) return std::string(key) + " is not a number";
+  if (!std::isfinite(v)) return std::string(key) + " is not finite";
+  out = T(v);
+  return "";
+}
+
+std::string readSamples(XmlRpc::XmlRpcValue& entry, const char* key, PfxUInt32& out) {
+  if (!entry.hasMember(key)) return "";
+  if (entry[key].getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(entry[key]) < 1) {
+    return std::string(key) + " must be a whole number >= 1";
+  }
+  out = PfxUInt32(static_cast<int>(entry[key]));
+  return "";
+}
+
+// One entry of ~sensors into `spec`; empty, or what is wrong with it.
+std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec) {
+  if (entry.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+    return "is not a dict (name, type, link, ...)";
+  }
+  for (const char* key : {"name", "type", "link"}) {
+    if (!entry.hasMember(key) || entry[key].getType() != XmlRpc::XmlRpcValue::TypeString) {
+      return std::string("needs ") + key + " (a string)";
+    }
+  }
+  spec.name = static_cast<std::string>(entry["name"]);
+  spec.link = static_cast<std::string>(entry["link"]);
+  const std::string type = static_cast<std::string>(entry["type"]);
+  const auto found = kTypes.find(type);
+  if (found == kTypes.end()) return "type '" + type + "' is none of ray, imu, odometry";
+  spec.type = found->second;
+  const std::set<std::string>& own = spec.type == PfxSensorType::kRay   ? kRayKeys
+                                     : spec.type == PfxSensorType::kImu ? kImuKeys
+                                                                        : std::set<std::string>();
+  for (auto& [key, value] : entry) {
+    if (kCommonKeys.count(key) == 0 && own.count(key) == 0) {
+      return "key '" + key + "' is not one a " + type + " sensor takes";
+    }
+  }
+  std::string why;
+  if (why = readString(entry, "topic", spec.topic); !why.empty()) return why;
+  if (why = readString(entry, "frame", spec.frame); !why.empty()) return why;
+  if (why = readOptional(entry, "update_rate", spec.updateRate); !why.empty()) return why;
+  if (entry.hasMember("update_rate") && spec.updateRate <= 0) {
+    return "update_rate must be > 0 Hz (leave it out for every step)";
+  }
+  if (entry.hasMember("pose")) {
+    XmlRpc::XmlRpcValue& pose = entry["pose"];
+    double v[6];
+    if (pose.getType() != XmlRpc::XmlRpcValue::TypeArray || pose.size() != 6) {
+      return "pose must be a list of six numbers: x, y, z, roll, pitch, yaw";
+    }
+    for (int i = 0; i < 6; ++i) {
+      if (!readNumber(pose[i], v[i]) || !std::isfinite(v[i])) {
+        return "pose must be a list of six finite numbers: x, y, z, roll, pitch, yaw";
+      }
+    }
+    const PfxQuat rotation(Eigen::AngleAxis<PfxFloat>(PfxFloat(v[5]), PfxVector3::UnitZ()) *
+                           Eigen::AngleAxis<PfxFloat>(PfxFloat(v[4]), PfxVector3::UnitY()) *
+                           Eigen::AngleAxis<PfxFloat>(PfxFloat(v[3]), PfxVector3::UnitX()));
+    spec.pose =
+        pfxMakeTransform(rotation, PfxVector3(PfxFloat(v[0]), PfxFloat(v[1]), PfxFloat(v[2])));
+  }
+  if (spec.type == PfxSensorType::kRay) {
+    PfxRangeSensorParam& r = spec.ray;
+    if (!entry.hasMember("range_max")) return "a ray sensor needs range_max";
+    const std::string errors[] = {
+        readSamples(entry, "horizontal_samples", r.horizontalSamples),
+        readSamples(entry, "vertical_samples", r.verticalSamples),
+        readOptional(entry, "horizontal_min_angle", r.horizontalMinAngle),
+        readOptional(entry, "horizontal_max_angle", r.horizontalMaxAngle),
+        readOptional(entry, "vertical_min_angle", r.verticalMinAngle),
+        readOptional(entry, "vertical_max_angle", r.verticalMaxAngle),
+        readOptional(entry, "range_min", r.rangeMin),
+        readOptional(entry, "range_max", r.rangeMax),
+        readOptional(entry, "range_noise_mean", spec.rangeNoise.mean),
+        readOptional(entry, "range_noise_stddev", spec.rangeNoise.stddev)};
+    for (const std::string& e : errors) {
+      if (!e.empty()) return e;
+    }
+  }
+  if (spec.type == PfxSensorType::kImu) {
+    PfxSensorNoise gyro, accel;
+    const std::string errors[] = {
+        readOptional(entry, "angular_velocity_noise_mean", gyro.mean),
+        readOptional(entry, "angular_velocity_noise_stddev", gyro.stddev),
+        readOptional(entry, "linear_acceleration_noise_mean", accel.mean),
+        readOptional(entry, "linear_acceleration_noise_stddev", accel.stddev)};
+    for (const std::string& e : errors) {
+      if (!e.empty()) return e;
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      spec.angularVelocityNoise[axis] = gyro;
+      spec.linearAccelerationNoise[axis] = accel;
+    }
+  }
+  return "";
+}
+
+PfxFloat draw(std::mt19937& random, const PfxSensorNoise& noise) {
+  if (noise.stddev == 0) return noise.mean;
+  return PfxFloat(std::normal_distribution<double>(noise.mean, noise.stddev)(random));
+}
+
+PfxVector3 noisy(std::mt19937& random, const PfxVector3& v, const PfxSensorNoise* noise) {
+  return v + PfxVector3(draw(random, noise[0]), draw(random, noise[1]), draw(random, noise[2]));
+}
+
+void setDiagonal(boost::array<double, 9>& covariance, const PfxSensorNoise* noise) {
+  std::fill(covariance.begin(), covariance.end(), 0.0);
+  for (int axis = 0; axis < 3; ++axis) {
+    covariance[axis * 4] = double(noise[axis].stddev) * double(noise[axis].stddev);
+  }
+}
+
+}  // namespace
+
+PfxNodeSensors::PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame)
+    : m_handle(handle), m_fixedFrame(fixedFrame) {}
+
+PfxNodeSensors::~PfxNodeSensors() = default;
+
+bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& urdfName,
+                               const ros::NodeHandle& privateHandle,
+                               const PfxNodeSimulation& simulation, std::string* message) {
+  int seed = 0;
+  privateHandle.param("sensor_seed", seed, 0);
+  PfxUrdfSensors declared;
+  if (pfxLoadUrdfSensors(urdfXml, urdfName, declared, message) != PFX_OK) return false;
+  for (const std::string& warning : declared.warnings) ROS_WARN_STREAM("pfx_node: " << warning);
+  std::vector<PfxSensorSpec> specs = declared.sensors;
+
+  XmlRpc::XmlRpcValue list;
+  if (privateHandle.getParam("sensors", list)) {
+    if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+      if (message) *message = "~sensors must be a list of dicts";
+      return false;
+    }
+    for (int i = 0; i < list.size(); ++i) {
+      PfxSensorSpec spec;
+      if (const std::string why = readDeclared(list[i], spec); !why.empty()) {
+        if (message) *message = "~sensors[" + std::to_string(i) + "]: " + why;
+        return false;
+      }
+      specs.push_back(spec);
+    }
+  }
+
+  std::vector<std::string> links;
+  for (const PfxUrdfLink& link : simulation.getModel().links) links.push_back(link.name);
+  std::set<std::string> names, topics;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    PfxSensorSpec& spec = specs[i];
+    if (spec.topic.empty()) spec.topic = spec.name;
+    if (spec.frame.empty()) spec.frame = spec.link;
+    std::string why = pfxCheckSensorSpec(spec, links);
+    if (why.empty() && !names.insert(spec.name).second) {
+      why = "sensor '" + spec.name + "': another sensor has this name already";
+    }
+    if (why.empty() && !topics.insert(spec.topic).second) {
+      why = "sensor '" + spec.name + "': another sensor publishes on topic '" + spec.topic + "'";
+    }
+    if (!why.empty()) {
+      if (message) *message = why;
+      return false;
+    }
+  }
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const PfxSensorSpec& spec = specs[i];
+    auto sensor = std::make_unique<Sensor>();
+    sensor->spec = spec;
+    sensor->linkIndex = PfxUInt32(simulation.findLink(spec.link));
+    sensor->period = spec.updateRate > 0 ? 1.0 / spec.updateRate : 0;
+    sensor->nextTime = simulation.getTime();
+    sensor->random.seed(std::uint32_t(seed) + std::uint32_t(i));
+    const char* kind = "";
+    switch (spec.type) {
+      case PfxSensorType::kRay: {
+        const PfxUInt32 n = pfxGetRangeSensorNumRays(spec.ray);
+        sensor->rays.resize(n);
+        sensor->hits.resize(n);
+        sensor->ranges.resize(n);
+        if (spec.ray.verticalSamples == 1) {
+          sensor->publisher = m_handle.advertise<sensor_msgs::LaserScan>(spec.topic, 10);
+          kind = "sensor_msgs/LaserScan";
+        } else {
+          sensor->publisher = m_handle.advertise<sensor_msgs::PointCloud2>(spec.topic, 10);
+          kind = "sensor_msgs/PointCloud2";
+        }
+        break;
+      }
+      case PfxSensorType::kImu:
+        sensor->publisher = m_handle.advertise<sensor_msgs::Imu>(spec.topic, 10);
+        kind = "sensor_msgs/Imu";
+        break;
+      case PfxSensorType::kOdometry:
+        sensor->publisher = m_handle.advertise<nav_msgs::Odometry>(spec.topic, 10);
+        kind = "nav_msgs/Odometry";
+        break;
+    }
+    if (spec.updateRate > 0) {
+      ROS_INFO("pfx_node: sensor '%s' on link '%s': %s on %s at %g Hz", spec.name.c_str(),
+               spec.link.c_str(), kind, sensor->publisher.getTopic().c_str(), spec.updateRate);
+    } else {
+      ROS_INFO("pfx_node: sensor '%s' on link '%s': %s on %s every step", spec.name.c_str(),
+               spec.link.c_str(), kind, sensor->publisher.getTopic().c_str());
+    }
+    m_sensors.push_back(std::move(sensor));
+  }
+  return true;
+}
+
+void PfxNodeSensors::restart() {
+  for (auto& sensor : m_sensors) {
+    sensor->hasPrevious = false;
+    sensor->nextTime = -std::numeric_limits<double>::infinity();
+  }
+}
+
+void PfxNodeSensors::update(PfxNodeSimulation& simulation, const ros::Time& stamp) {
+  const double time = simulation.getTime();
+  const double dt = simulation.getTimeStep();
+  const PfxWorld& world = simulation.getWorld();
+  for (auto& owned : m_sensors) {
+    Sensor& sensor = *owned;
+    const PfxUrdfLink& link = simulation.getModel().links[sensor.linkIndex];
+    const PfxTransform3 pose = simulation.getLinkPose(sensor.linkIndex) * sensor.spec.pose;
+    const PfxRigidState& state = world.getRigidState(link.bodyId);
+    const PfxVector3 pointVelocity = pfxGetPointVelocity(state, pose.translation());
+    // Half a step of slack: a rate that divides the step exactly must not slip a step
+    // through rounding of the clock.
+    const bool due = time + 0.5 * dt >= sensor.nextTime;
+    if (due) {
+      switch (sensor.spec.type) {
+        case PfxSensorType::kRay:
+          publishScan(sensor, simulation, pose, stamp);
+          break;
+        case PfxSensorType::kImu:
+          publishImu(sensor, pose, state, pointVelocity, PfxFloat(dt), world.getParam().gravity,
+                     stamp);
+          break;
+        case PfxSensorType::kOdometry:
+          publishOdometry(sensor, pose, state, pointVelocity, stamp);
+          break;
+      }
+      sensor.nextTime += sensor.period;
+      // Behind (a restart, or a rate above the step's): the schedule starts again from now.
+      if (sensor.nextTime < time + 0.5 * dt) sensor.nextTime = time + sensor.period;
+    }
+    sensor.previousVelocity = pointVelocity;
+    sensor.hasPrevious = true;
+  }
+}
+
+void PfxNodeSensors::publishScan(Sensor& sensor, PfxNodeSimulation& simulation,
+                                 const PfxTransform3& pose, const ros::Time& stamp) {
+  const PfxRangeSensorParam& r = sensor.spec.ray;
+  const PfxUInt32 n = pfxGetRangeSensorNumRays(r);
+  pfxMakeRangeSensorRays(r, pose, sensor.rays.data());
+  if (const PfxInt32 err = simulation.castRays(sensor.rays.data(), sensor.hits.data(), n);
+      err != PFX_OK) {
+    ROS_ERROR_THROTTLE(1.0, "pfx_node: sensor '%s': cast failed: %s", sensor.spec.name.c_str(),
+                       pfxErrorString(err));
+    return;
+  }
+  pfxGetRangeSensorRanges(r, sensor.hits.data(), sensor.ranges.data());
+  const PfxSensorNoise& noise = sensor.spec.rangeNoise;
+  if (noise.stddev > 0 || noise.mean != 0) {
+    // A noisy return stays a return within the sensor's limits; a miss stays a miss.
+    for (PfxFloat& range : sensor.ranges) {
+      if (std::isfinite(range)) {
+        range = std::clamp(range + draw(sensor.random, noise), r.rangeMin, r.rangeMax);
+      }
+    }
+  }
+  if (r.verticalSamples == 1) {
+    sensor_msgs::LaserScan scan;
+    scan.header.stamp = stamp;
+    scan.header.frame_id = sensor.spec.frame;
+    scan.angle_min = r.horizontalMinAngle;
+    scan.angle_max = r.horizontalMaxAngle;
+    scan.angle_increment = r.horizontalSamples > 1 ? (r.horizontalMaxAngle - r.horizontalMinAngle) /
+                                                         PfxFloat(r.horizontalSamples - 1)
+                                                   : 0;
+    scan.time_increment = 0;  // all beams of a scan are cast at one instant
+    scan.scan_time = float(sensor.period > 0 ? sensor.period : simulation.getTimeStep());
+    scan.range_min = r.rangeMin;
+    scan.range_max = r.rangeMax;
+    scan.ranges.assign(sensor.ranges.begin(), sensor.ranges.end());
+    sensor.publisher.publish(scan);
+    return;
+  }
+  // An organised cloud in the sensor's frame: row v holds vertical sample v, and a beam that
+  // returned nothing is a NaN point (is_dense false), as PCL's organised clouds have it.
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header.stamp = stamp;
+  cloud.header.frame_id = sensor.spec.frame;
+  cloud.height = r.verticalSamples;
+  cloud.width = r.horizontalSamples;
+  for (const char* name : {"x", "y", "z"}) {
+    sensor_msgs::PointField field;
+    field.name = name;
+    field.offset = std::uint32_t(cloud.fields.size() * sizeof(float));
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    cloud.fields.push_back(field);
+  }
+  cloud.is_bigendian = false;
+  cloud.point_step = 3 * sizeof(float);
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.is_dense = false;
+  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  for (PfxUInt32 v = 0; v < r.verticalSamples; ++v) {
+    const PfxFloat pitch =
+        pfxGetRangeSensorAngle(r.verticalMinAngle, r.verticalMaxAngle, r.verticalSamples, v);
+    for (PfxUInt32 h = 0; h < r.horizontalSamples; ++h) {
+      const PfxFloat yaw = pfxGetRangeSensorAngle(r.horizontalMinAngle, r.horizontalMaxAngle,
+                                                  r.horizontalSamples, h);
+      const PfxUInt32 i = v * r.horizontalSamples + h;
+      float xyz[3] = {std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::quiet_NaN()};
+      if (std::isfinite(sensor.ranges[i])) {
+        const double range = sensor.ranges[i];
+        xyz[0] = float(range * std::cos(pitch) * std::cos(yaw));
+        xyz[1] = float(range * std::cos(pitch) * std::sin(yaw));
+        xyz[2] = float(range * std::sin(pitch));
+      }
+      std::memcpy(&cloud.data[std::size_t(i) * cloud.point_step], xyz, sizeof(xyz));
+    }
+  }
+  sensor.publisher.publish(cloud);
+}
+
+void PfxNodeSensors::publishImu(Sensor& sensor, const PfxTransform3& pose,
+                                const PfxRigidState& state, const PfxVector3& pointVelocity,
+                                PfxFloat dt, const PfxVector3& gravity, const ros::Time& stamp) {
+  // The first reading after a start or reset has no previous velocity: it takes the point
+  // as unaccelerated rather than invent a jump.
+  const PfxVector3 previous = sensor.hasPrevious ? sensor.previousVelocity : pointVelocity;
+  const PfxImuReading reading = pfxGetImuReading(pose, state, pointVelocity, previous, dt, gravity);
+  sensor_msgs::Imu imu;
+  imu.header.stamp = stamp;
+  imu.header.frame_id = sensor.spec.frame;
+  imu.orientation = pfxToQuaternionMsg(reading.orientation);
+  imu.angular_velocity = pfxToVector3Msg(
+      noisy(sensor.random, reading.angularVelocity, sensor.spec.angularVelocityNoise));
+  imu.linear_acceleration = pfxToVector3Msg(
+      noisy(sensor.random, reading.linearAcceleration, sensor.spec.linearAccelerationNoise));
+  std::fill(imu.orientation_covariance.begin(), imu.orientation_covariance.end(), 0.0);
+  setDiagonal(imu.angular_velocity_covariance, sensor.spec.angularVelocityNoise);
+  setDiagonal(imu.linear_acceleration_covariance, sensor.spec.linearAccelerationNoise);
+  sensor.publisher.publish(imu);
+}
+
+void PfxNodeSensors::publishOdometry(Sensor& sensor, const PfxTransform3& pose,
+                                     const PfxRigidState& state, const PfxVector3& pointVelocity,
+                                     const ros::Time& stamp) {
+  // nav_msgs/Odometry: the pose in the fixed frame, the twist in the child frame.
+  const PfxMatrix3 toChild = pose.linear().transpose();
+  nav_msgs::Odometry odometry;
+  odometry.header.stamp = stamp;
+  odometry.header.frame_id = m_fixedFrame;
+  odometry.child_frame_id = sensor.spec.frame;
+  odometry.pose.pose.position = pfxToPointMsg(pose.translation());
+  odometry.pose.pose.orientation = pfxToQuaternionMsg(PfxQuat(pose.linear()).normalized());
+  odometry.twist.twist.linear = pfxToVector3Msg(toChild * pointVelocity);
+  odometry.twist.twist.angular = pfxToVector3Msg(toChild * state.getAngularVelocity());
+  sensor.publisher.publish(odometry);
+}
+
+}  // namespace pfx
