@@ -354,33 +354,34 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       // SDFormat reads a missing or zero rate as "as fast as possible"; an explicit rate
       // that is not positive is refused here, since it is most likely a mistake.
       if (s->FirstChildElement("update_rate")) {
-        ok = reader.number(s, "update_rate", "update_rate", spec.updateRate);
+        ok = reader.number(s, "update_rate", "sensor", spec.updateRate);
         if (ok && spec.updateRate <= 0) {
-          ok = reader.fail("update_rate", "must be > 0 Hz (leave it out for every step)");
+          ok = reader.fail("sensor><update_rate", "must be > 0 Hz (leave it out for every step)");
         }
       }
       if (ok) {
         if (const XMLElement* p = s->FirstChildElement("pose"))
-          ok = reader.pose(p, "pose", spec.pose);
+          ok = reader.pose(p, "sensor><pose", spec.pose);
       }
       std::set<std::string> honoured = {"update_rate", "pose", "plugin"};
       if (ok && spec.type == PfxSensorType::kRay) {
         const XMLElement* ray = s->FirstChildElement(kind == "ray" ? "ray" : "lidar");
         if (!ray) ray = s->FirstChildElement(kind == "ray" ? "lidar" : "ray");
         if (!ray) {
-          ok = reader.fail(kind, "a " + kind + " sensor needs a <ray> (or <lidar>) element");
+          ok = reader.fail("sensor", "a " + kind + " sensor needs a <ray> (or <lidar>) element");
         } else {
-          ok = reader.ray(ray, ray->Name(), spec);
+          ok = reader.ray(ray, std::string("sensor><") + ray->Name(), spec);
           honoured.insert(ray->Name());
         }
       }
       if (ok && spec.type == PfxSensorType::kImu) {
-        if (const XMLElement* imu = s->FirstChildElement("imu")) ok = reader.imu(imu, "imu", spec);
+        if (const XMLElement* imu = s->FirstChildElement("imu"))
+          ok = reader.imu(imu, "sensor><imu", spec);
         honoured.insert("imu");
       }
       if (!ok) return failWith(reader.error());
       if (const XMLElement* plugin = s->FirstChildElement("plugin")) {
-        reader.plugin(plugin, "plugin", spec);
+        reader.plugin(plugin, "sensor><plugin", spec);
       }
       if (std::string why = pfxCheckSensorSpec(spec, links); !why.empty()) {
         return failWith(where + ": " + why);
