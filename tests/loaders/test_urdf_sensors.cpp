@@ -137,6 +137,22 @@ TEST(UrdfSensors, LidarImuNoiseAndPoseAreRead) {
   EXPECT_TRUE(rateWarned);
 }
 
+TEST(UrdfSensors, SdformatSevenLidarIsARangeSensor) {
+  const std::string urdf =
+      "<robot name='r'><link name='base'/><gazebo reference='base'>"
+      "<sensor type='gpu_lidar' name='l'><lidar><scan><horizontal><samples>3</samples>"
+      "</horizontal></scan><range><min>0.2</min><max>30</max></range></lidar></sensor>"
+      "</gazebo></robot>";
+  PfxUrdfSensors out;
+  std::string message;
+  ASSERT_EQ(pfxLoadUrdfSensors(urdf, "r.urdf", out, &message), PFX_OK) << message;
+  ASSERT_EQ(out.sensors.size(), 1u);
+  EXPECT_EQ(out.sensors[0].type, PfxSensorType::kRay);
+  EXPECT_EQ(out.sensors[0].ray.horizontalSamples, 3u);
+  EXPECT_FLOAT_EQ(out.sensors[0].ray.rangeMax, 30);
+  EXPECT_TRUE(out.warnings.empty());
+}
+
 TEST(UrdfSensors, OtherSensorTypesAreWarningsNotErrors) {
   const std::string urdf =
       "<robot name='r'><link name='base'/><gazebo reference='base'>"

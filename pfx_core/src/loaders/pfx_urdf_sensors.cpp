@@ -190,7 +190,7 @@ class SensorReader {
       const std::string nPath = path + "><noise";
       const XMLElement* t = n->FirstChildElement("type");
       const std::string kind = t && t->GetText() ? t->GetText() : "gaussian";
-      if (kind != "none" && kind != "gaussian") {
+      if (kind != "none" && kind != "gaussian" && kind != "gaussian_quantized") {
         return fail(nPath + "><type",
                     "'" + kind + "' is not a noise type pfx knows (none, gaussian)");
       }
@@ -338,7 +338,9 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
         return failWith(where + ": a sensor belongs to a link: <gazebo reference='link'>");
       if (!type) return failWith(where + ": no type attribute");
       const std::string kind = type;
-      if (kind != "ray" && kind != "gpu_ray" && kind != "imu") {
+      const bool range =
+          kind == "ray" || kind == "gpu_ray" || kind == "lidar" || kind == "gpu_lidar";
+      if (!range && kind != "imu") {
         result.warnings.push_back(where + ": type '" + kind + "' is not simulated; ignored");
         continue;
       }
@@ -365,8 +367,9 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       }
       std::set<std::string> honoured = {"update_rate", "pose", "plugin"};
       if (ok && spec.type == PfxSensorType::kRay) {
-        const XMLElement* ray = s->FirstChildElement(kind == "ray" ? "ray" : "lidar");
-        if (!ray) ray = s->FirstChildElement(kind == "ray" ? "lidar" : "ray");
+        // SDFormat 1.7 renamed <ray> to <lidar>; descriptions in the wild mix the two.
+        const XMLElement* ray = s->FirstChildElement("ray");
+        if (!ray) ray = s->FirstChildElement("lidar");
         if (!ray) {
           ok = reader.fail("sensor", "a " + kind + " sensor needs a <ray> (or <lidar>) element");
         } else {

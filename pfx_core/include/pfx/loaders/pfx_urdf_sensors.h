@@ -58,7 +58,8 @@ struct PfxUrdfSensors {
 // repeated sensor name, a number that does not read, is not finite or is out of range
 // (pfxCheckSensorSpec), an update rate <= 0 where one is given, zero samples, a noise type
 // other than none, gaussian or gaussian_quantized. Sensors of other types (camera, depth,
-// contact, force_torque, ...) are warnings, not errors.
+// contact, force_torque, ...) are warnings, not errors; ray, gpu_ray, lidar and gpu_lidar are
+// range sensors (their <ray> or <lidar>), imu an IMU.
 PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileName,
                             PfxUrdfSensors& out, std::string* message);
 
