@@ -1,5 +1,6 @@
 #include "pfx_ros/pfx_node_sensors.h"
 
+#include <geometry_msgs/WrenchStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/LaserScan.h>
@@ -12,6 +13,7 @@
 #include <map>
 #include <set>
 
+#include "pfx/ContactsStamped.h"
 #include "pfx/high_level/pfx_imu_reading.h"
 #include "pfx_ros/pfx_ros_conversions.h"
 
@@ -20,8 +22,9 @@ namespace pfx {
 struct PfxNodeSensors::Sensor {
   PfxSensorSpec spec;
   PfxUInt32 linkIndex = 0;
-  double period = 0;    // s of simulated time; 0: every step
-  double nextTime = 0;  // simulated time when it is next due
+  PfxUInt32 jointIndex = 0;  // force_torque: into the model's joints
+  double period = 0;         // s of simulated time; 0: every step
+  double nextTime = 0;       // simulated time when it is next due
   ros::Publisher publisher;
   std::mt19937 random;
   // The IMU's point velocity after the previous step (its acceleration is the difference).
@@ -30,6 +33,9 @@ struct PfxNodeSensors::Sensor {
   std::vector<PfxRayInput> rays;
   std::vector<PfxRayOutput> hits;
   std::vector<PfxFloat> ranges;
+  // A contact sensor's points as last published.
+  std::vector<PfxNodeContact> contacts;
+  bool contactsPublished = false;
 };
 
 namespace {
@@ -49,11 +55,15 @@ bool readNumber(XmlRpc::XmlRpcValue& value, double& out) {
 
 const std::map<std::string, PfxSensorType> kTypes = {{"ray", PfxSensorType::kRay},
                                                      {"imu", PfxSensorType::kImu},
-                                                     {"odometry", PfxSensorType::kOdometry}};
+                                                     {"odometry", PfxSensorType::kOdometry},
+                                                     {"contact", PfxSensorType::kContact},
+                                                     {"force_torque", PfxSensorType::kForceTorque}};
 
 // The keys of a ~sensors entry that each type takes, besides the common ones.
-const std::set<std::string> kCommonKeys = {"name",  "type",        "link", "topic",
-                                           "frame", "update_rate", "pose"};
+const std::set<std::string> kCommonKeys = {"name", "type", "topic", "frame", "update_rate"};
+// Every type but force_torque sits on a link, at a pose in it.
+const std::set<std::string> kLinkKeys = {"link", "pose"};
+const std::set<std::string> kForceTorqueKeys = {"joint", "measure_direction"};
 const std::set<std::string> kRayKeys = {"horizontal_samples",
                                         "horizontal_min_angle",
                                         "horizontal_max_angle",
@@ -102,24 +112,41 @@ std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec) {
   if (entry.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
     return "is not a dict (name, type, link, ...)";
   }
-  for (const char* key : {"name", "type", "link"}) {
+  for (const char* key : {"name", "type"}) {
     if (!entry.hasMember(key) || entry[key].getType() != XmlRpc::XmlRpcValue::TypeString) {
       return std::string("needs ") + key + " (a string)";
     }
   }
   spec.name = static_cast<std::string>(entry["name"]);
-  spec.link = static_cast<std::string>(entry["link"]);
   const std::string type = static_cast<std::string>(entry["type"]);
   const auto found = kTypes.find(type);
-  if (found == kTypes.end()) return "type '" + type + "' is none of ray, imu, odometry";
+  if (found == kTypes.end()) {
+    return "type '" + type + "' is none of ray, imu, odometry, contact, force_torque";
+  }
   spec.type = found->second;
-  const std::set<std::string>& own = spec.type == PfxSensorType::kRay   ? kRayKeys
-                                     : spec.type == PfxSensorType::kImu ? kImuKeys
-                                                                        : std::set<std::string>();
+  const bool onJoint = spec.type == PfxSensorType::kForceTorque;
+  std::set<std::string> own = onJoint ? kForceTorqueKeys : kLinkKeys;
+  if (spec.type == PfxSensorType::kRay) own.insert(kRayKeys.begin(), kRayKeys.end());
+  if (spec.type == PfxSensorType::kImu) own.insert(kImuKeys.begin(), kImuKeys.end());
   for (auto& [key, value] : entry) {
     if (kCommonKeys.count(key) == 0 && own.count(key) == 0) {
       return "key '" + key + "' is not one a " + type + " sensor takes";
     }
+  }
+  const char* target = onJoint ? "joint" : "link";
+  if (!entry.hasMember(target) || entry[target].getType() != XmlRpc::XmlRpcValue::TypeString) {
+    return std::string("needs ") + target + " (a string)";
+  }
+  (onJoint ? spec.joint : spec.link) = static_cast<std::string>(entry[target]);
+  if (entry.hasMember("measure_direction")) {
+    std::string direction;
+    if (std::string why = readString(entry, "measure_direction", direction); !why.empty()) {
+      return why;
+    }
+    if (direction != "child_to_parent" && direction != "parent_to_child") {
+      return "measure_direction '" + direction + "' is neither child_to_parent nor parent_to_child";
+    }
+    spec.childToParent = direction == "child_to_parent";
   }
   std::string why;
   if (why = readString(entry, "topic", spec.topic); !why.empty()) return why;
@@ -230,14 +257,27 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
     }
   }
 
-  std::vector<std::string> links;
-  for (const PfxUrdfLink& link : simulation.getModel().links) links.push_back(link.name);
+  const PfxUrdfModel& model = simulation.getModel();
+  std::vector<std::string> links, joints;
+  for (const PfxUrdfLink& link : model.links) links.push_back(link.name);
+  for (const PfxUrdfJoint& joint : model.joints) joints.push_back(joint.name);
   std::set<std::string> names, topics;
   for (std::size_t i = 0; i < specs.size(); ++i) {
     PfxSensorSpec& spec = specs[i];
+    std::string why = pfxCheckSensorSpec(spec, links, joints);
+    if (why.empty() && spec.type == PfxSensorType::kForceTorque) {
+      // The wrench is the world joint's: a fixed joint is lumped into one body and a
+      // floating or planar one has no single joint, so they transmit nothing to measure.
+      const PfxUrdfJoint& joint = model.joints[PfxUInt32(simulation.findJoint(spec.joint))];
+      spec.link = joint.childLink;
+      if (joint.jointId == kPfxUrdfNoJoint || joint.collapsed) {
+        why = "sensor '" + spec.name + "': joint '" + spec.joint +
+              "' is not a revolute, continuous or prismatic joint of its own in the world "
+              "(fixed joints are lumped), so it reports no force";
+      }
+    }
     if (spec.topic.empty()) spec.topic = spec.name;
     if (spec.frame.empty()) spec.frame = spec.link;
-    std::string why = pfxCheckSensorSpec(spec, links);
     if (why.empty() && !names.insert(spec.name).second) {
       why = "sensor '" + spec.name + "': another sensor has this name already";
     }
@@ -281,6 +321,17 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
         sensor->publisher = m_handle.advertise<nav_msgs::Odometry>(spec.topic, 10);
         kind = "nav_msgs/Odometry";
         break;
+      case PfxSensorType::kContact:
+        // Latched: a contact sensor publishes only on change, so a late subscriber would
+        // otherwise not learn what the link touches until it changes.
+        sensor->publisher = m_handle.advertise<pfx::ContactsStamped>(spec.topic, 10, true);
+        kind = "pfx/ContactsStamped";
+        break;
+      case PfxSensorType::kForceTorque:
+        sensor->publisher = m_handle.advertise<geometry_msgs::WrenchStamped>(spec.topic, 10);
+        sensor->jointIndex = PfxUInt32(simulation.findJoint(spec.joint));
+        kind = "geometry_msgs/WrenchStamped";
+        break;
     }
     if (spec.updateRate > 0) {
       ROS_INFO("pfx_node: sensor '%s' on link '%s': %s on %s at %g Hz", spec.name.c_str(),
@@ -305,6 +356,7 @@ void PfxNodeSensors::update(PfxNodeSimulation& simulation, const ros::Time& stam
   const double time = simulation.getTime();
   const double dt = simulation.getTimeStep();
   const PfxWorld& world = simulation.getWorld();
+  bool contactsRead = false;  // read once per step, for all contact sensors
   for (auto& owned : m_sensors) {
     Sensor& sensor = *owned;
     const PfxUrdfLink& link = simulation.getModel().links[sensor.linkIndex];
@@ -325,6 +377,16 @@ void PfxNodeSensors::update(PfxNodeSimulation& simulation, const ros::Time& stam
           break;
         case PfxSensorType::kOdometry:
           publishOdometry(sensor, pose, state, pointVelocity, stamp);
+          break;
+        case PfxSensorType::kContact:
+          if (!contactsRead) {
+            simulation.getContacts(m_contacts);
+            contactsRead = true;
+          }
+          publishContacts(sensor, simulation, stamp);
+          break;
+        case PfxSensorType::kForceTorque:
+          publishWrench(sensor, simulation, pose, stamp);
           break;
       }
       sensor.nextTime += sensor.period;
@@ -435,6 +497,82 @@ void PfxNodeSensors::publishImu(Sensor& sensor, const PfxTransform3& pose,
   setDiagonal(imu.angular_velocity_covariance, sensor.spec.angularVelocityNoise);
   setDiagonal(imu.linear_acceleration_covariance, sensor.spec.linearAccelerationNoise);
   sensor.publisher.publish(imu);
+}
+
+namespace {
+
+// Whether a contact sensor's points changed enough to be published again: another set of
+// links touched, another number of points, or a point moved by more than a millimetre. The
+// impulses of resting contacts vary a little every step; that alone is not news.
+bool sameContacts(const std::vector<PfxNodeContact>& a, const std::vector<PfxNodeContact>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].bodyA != b[i].bodyA || a[i].bodyB != b[i].bodyB || a[i].shapeA != b[i].shapeA ||
+        a[i].shapeB != b[i].shapeB || (a[i].position - b[i].position).norm() > PfxFloat(1e-3)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+void PfxNodeSensors::publishContacts(Sensor& sensor, const PfxNodeSimulation& simulation,
+                                     const ros::Time& stamp) {
+  // The points on the sensor's link, turned so that the link is side A.
+  const std::string& link = sensor.spec.link;
+  std::vector<PfxNodeContact> mine;
+  for (const PfxNodeContact& c : m_contacts) {
+    if (simulation.getShapeName(c.bodyA, c.shapeA) == link) {
+      mine.push_back(c);
+    } else if (simulation.getShapeName(c.bodyB, c.shapeB) == link) {
+      PfxNodeContact turned = c;
+      std::swap(turned.bodyA, turned.bodyB);
+      std::swap(turned.shapeA, turned.shapeB);
+      turned.normal = -c.normal;
+      mine.push_back(turned);
+    }
+  }
+  if (sensor.contactsPublished && sameContacts(mine, sensor.contacts)) return;
+  pfx::ContactsStamped msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = m_fixedFrame;
+  msg.link = link;
+  for (const PfxNodeContact& c : mine) {
+    pfx::Contact contact;
+    contact.link_a = link;
+    contact.link_b = simulation.getShapeName(c.bodyB, c.shapeB);
+    contact.position = pfxToPointMsg(c.position);
+    contact.normal = pfxToVector3Msg(c.normal);
+    contact.depth = c.depth;
+    contact.impulse = c.impulse;
+    msg.contacts.push_back(contact);
+  }
+  sensor.publisher.publish(msg);
+  sensor.contacts = std::move(mine);
+  sensor.contactsPublished = true;
+}
+
+void PfxNodeSensors::publishWrench(Sensor& sensor, const PfxNodeSimulation& simulation,
+                                   const PfxTransform3& pose, const ros::Time& stamp) {
+  const PfxWorld& world = simulation.getWorld();
+  const PfxJoint& joint = world.getJoint(simulation.getModel().joints[sensor.jointIndex].jointId);
+  // The solver's impulses are those of the last sub-step.
+  const PfxFloat subStep = world.getParam().timeStep / PfxFloat(world.getParam().subStep);
+  // What the parent exerts on the child (body B), the torque about the joint's origin.
+  PfxVector3 force = joint.getAppliedForce(subStep);
+  PfxVector3 torque = joint.getAppliedTorque(subStep);
+  if (sensor.spec.childToParent) {
+    force = -force;
+    torque = -torque;
+  }
+  const PfxMatrix3 toChild = pose.linear().transpose();
+  geometry_msgs::WrenchStamped wrench;
+  wrench.header.stamp = stamp;
+  wrench.header.frame_id = sensor.spec.frame;
+  wrench.wrench.force = pfxToVector3Msg(toChild * force);
+  wrench.wrench.torque = pfxToVector3Msg(toChild * torque);
+  sensor.publisher.publish(wrench);
 }
 
 void PfxNodeSensors::publishOdometry(Sensor& sensor, const PfxTransform3& pose,

@@ -256,3 +256,49 @@ TEST(UrdfSensors, CheckRefusesSpecsFromParameters) {
   bad.linearAccelerationNoise[1].stddev = NAN;
   EXPECT_EQ(pfxCheckSensorSpec(bad, links), "sensor 's': linear acceleration noise is not finite");
 }
+
+TEST(UrdfSensors, ForceTorqueOnAJointAndContactOnALink) {
+  const std::string urdf = readFile(PFX_SOURCE_DIR "/tests/ros/data/ft_bumper.urdf");
+  ASSERT_FALSE(urdf.empty());
+  PfxUrdfSensors out;
+  std::string message;
+  ASSERT_EQ(pfxLoadUrdfSensors(urdf, "ft_bumper.urdf", out, &message), PFX_OK) << message;
+  ASSERT_EQ(out.sensors.size(), 2u);
+  const PfxSensorSpec& ft = out.sensors[0];
+  EXPECT_EQ(ft.type, PfxSensorType::kForceTorque);
+  EXPECT_EQ(ft.joint, "hinge");
+  EXPECT_EQ(ft.link, "pendulum");
+  EXPECT_FALSE(ft.childToParent);
+  EXPECT_EQ(ft.topic, "hinge_wrench");
+  EXPECT_EQ(ft.updateRate, 50);
+  const PfxSensorSpec& bumper = out.sensors[1];
+  EXPECT_EQ(bumper.type, PfxSensorType::kContact);
+  EXPECT_EQ(bumper.link, "pad");
+  EXPECT_EQ(bumper.topic, "pad_contacts");
+  EXPECT_EQ(bumper.frame, "world");
+
+  auto withFt = [&](const std::string& reference, const std::string& inside) {
+    return "<robot name='r'><link name='a'/><link name='b'/><joint name='j' type='revolute'>"
+           "<parent link='a'/><child link='b'/><axis xyz='0 0 1'/></joint><gazebo reference='" +
+           reference + "'><sensor type='force_torque' name='ft'>" + inside +
+           "</sensor></gazebo></robot>";
+  };
+  EXPECT_EQ(refusal(withFt("j", "")), "");
+  EXPECT_EQ(refusal(withFt("b", "")),
+            "robot.urdf: <gazebo reference='b'> <sensor name='ft'>: sensor 'ft': no joint named "
+            "'b'");
+  EXPECT_EQ(refusal(withFt("j",
+                           "<force_torque><measure_direction>sideways</measure_direction>"
+                           "</force_torque>")),
+            "robot.urdf: <gazebo reference='j'> <sensor name='ft'>: "
+            "<sensor><force_torque><measure_direction>: 'sideways' is neither child_to_parent nor "
+            "parent_to_child");
+  // The wrench is given in the child's frame only: another frame is a warning.
+  PfxUrdfSensors frames;
+  ASSERT_EQ(pfxLoadUrdfSensors(withFt("j", "<force_torque><frame>sensor</frame></force_torque>"),
+                               "r.urdf", frames, nullptr),
+            PFX_OK);
+  ASSERT_EQ(frames.warnings.size(), 1u);
+  EXPECT_EQ(frames.warnings[0],
+            "<gazebo reference='j'> <sensor name='ft'>: <sensor><force_torque><frame> is ignored");
+}

@@ -334,6 +334,15 @@ TEST(Sensors, BadSensorConfigurationsAreRefusedWithTheirReason) {
        "sensor 'imu': another sensor has this name already"},
       {"[{name: other, type: imu, link: base_link, topic: scan}]", "", "",
        "sensor 'other': another sensor publishes on topic 'scan'"},
+      {"[{name: ft, type: force_torque, joint: scan_joint}]", "", "",
+       "sensor 'ft': joint 'scan_joint' is not a revolute, continuous or prismatic joint of its "
+       "own in the world (fixed joints are lumped), so it reports no force"},
+      {"[{name: ft, type: force_torque, joint: elbow}]", "", "",
+       "sensor 'ft': no joint named 'elbow'"},
+      {"[{name: ft, type: force_torque, joint: wheel_left_joint, measure_direction: up}]", "", "",
+       "~sensors[0]: measure_direction 'up' is neither child_to_parent nor parent_to_child"},
+      {"[{name: ft, type: force_torque, link: base_link}]", "", "",
+       "~sensors[0]: key 'link' is not one a force_torque sensor takes"},
       {"", "<min>0.120</min>", "<min>-0.5</min>",
        "<gazebo reference='base_scan'> <sensor name='lds_lfcd_sensor'>: <sensor><ray><range><min>: "
        "must not be negative"},

@@ -213,15 +213,38 @@ class SensorReader {
     return true;
   }
 
-  // <plugin> of gazebo_ros: the ROS topic and frame it would publish under.
+  // <plugin> of gazebo_ros: the ROS topic and frame it would publish under
+  // (gazebo_ros_bumper names its topic bumperTopicName).
   void plugin(const XMLElement* e, const std::string& path, PfxSensorSpec& spec) {
-    if (const XMLElement* t = e->FirstChildElement("topicName"); t && t->GetText()) {
-      spec.topic = t->GetText();
+    for (const char* name : {"topicName", "bumperTopicName"}) {
+      if (const XMLElement* t = e->FirstChildElement(name); t && t->GetText()) {
+        spec.topic = t->GetText();
+      }
     }
     if (const XMLElement* f = e->FirstChildElement("frameName"); f && f->GetText()) {
       spec.frame = f->GetText();
     }
-    passOver(e, path, {"topicName", "frameName"});
+    passOver(e, path, {"topicName", "bumperTopicName", "frameName"});
+  }
+
+  // <force_torque><measure_direction> is honoured; the wrench is always given in the child
+  // link's frame, so another <frame> is passed over with its warning.
+  bool forceTorque(const XMLElement* e, const std::string& path, PfxSensorSpec& spec) {
+    std::set<std::string> honoured = {"measure_direction"};
+    if (const XMLElement* d = e->FirstChildElement("measure_direction")) {
+      const std::string direction = d->GetText() ? d->GetText() : "";
+      if (direction != "child_to_parent" && direction != "parent_to_child") {
+        return fail(path + "><measure_direction",
+                    "'" + direction + "' is neither child_to_parent nor parent_to_child");
+      }
+      spec.childToParent = direction == "child_to_parent";
+    }
+    if (const XMLElement* f = e->FirstChildElement("frame");
+        f && f->GetText() && std::string(f->GetText()) == "child") {
+      honoured.insert("frame");
+    }
+    passOver(e, path, honoured);
+    return true;
   }
 
   bool pose(const XMLElement* e, const std::string& path, PfxTransform3& pose) {
@@ -250,12 +273,18 @@ class SensorReader {
 
 }  // namespace
 
-std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std::string>& links) {
+std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std::string>& links,
+                               const std::vector<std::string>& joints) {
   const std::string who = describe(spec);
   if (spec.name.empty()) return "a sensor has no name";
   bool known = false;
-  for (const std::string& link : links) known = known || link == spec.link;
-  if (!known) return who + ": no link named '" + spec.link + "'";
+  if (spec.type == PfxSensorType::kForceTorque) {
+    for (const std::string& joint : joints) known = known || joint == spec.joint;
+    if (!known) return who + ": no joint named '" + spec.joint + "'";
+  } else {
+    for (const std::string& link : links) known = known || link == spec.link;
+    if (!known) return who + ": no link named '" + spec.link + "'";
+  }
   if (!std::isfinite(spec.updateRate) || spec.updateRate < 0) {
     return who + ": update rate must be a finite number of Hz > 0 (0: every step)";
   }
@@ -320,6 +349,15 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
        l = l->NextSiblingElement("link")) {
     if (l->Attribute("name")) links.push_back(l->Attribute("name"));
   }
+  // Joint names and their child links: a force_torque sensor refers to a joint.
+  std::vector<std::string> joints, jointChildren;
+  for (const XMLElement* j = robot->FirstChildElement("joint"); j;
+       j = j->NextSiblingElement("joint")) {
+    const XMLElement* child = j->FirstChildElement("child");
+    if (!j->Attribute("name") || !child || !child->Attribute("link")) continue;
+    joints.push_back(j->Attribute("name"));
+    jointChildren.push_back(child->Attribute("link"));
+  }
 
   PfxUrdfSensors result;
   std::set<std::string> names;
@@ -340,7 +378,7 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       const std::string kind = type;
       const bool range =
           kind == "ray" || kind == "gpu_ray" || kind == "lidar" || kind == "gpu_lidar";
-      if (!range && kind != "imu") {
+      if (!range && kind != "imu" && kind != "contact" && kind != "force_torque") {
         result.warnings.push_back(where + ": type '" + kind + "' is not simulated; ignored");
         continue;
       }
@@ -350,7 +388,17 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       PfxSensorSpec spec;
       spec.name = name;
       spec.link = reference;
-      spec.type = kind == "imu" ? PfxSensorType::kImu : PfxSensorType::kRay;
+      spec.type = range               ? PfxSensorType::kRay
+                  : kind == "imu"     ? PfxSensorType::kImu
+                  : kind == "contact" ? PfxSensorType::kContact
+                                      : PfxSensorType::kForceTorque;
+      if (spec.type == PfxSensorType::kForceTorque) {
+        spec.joint = reference;
+        spec.link.clear();
+        for (std::size_t j = 0; j < joints.size(); ++j) {
+          if (joints[j] == spec.joint) spec.link = jointChildren[j];
+        }
+      }
       SensorReader reader(where, result.warnings);
       bool ok = true;
       // SDFormat reads a missing or zero rate as "as fast as possible"; an explicit rate
@@ -382,11 +430,17 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
           ok = reader.imu(imu, "sensor><imu", spec);
         honoured.insert("imu");
       }
+      if (ok && spec.type == PfxSensorType::kForceTorque) {
+        if (const XMLElement* ft = s->FirstChildElement("force_torque")) {
+          ok = reader.forceTorque(ft, "sensor><force_torque", spec);
+        }
+        honoured.insert("force_torque");
+      }
       if (!ok) return failWith(reader.error());
       if (const XMLElement* plugin = s->FirstChildElement("plugin")) {
         reader.plugin(plugin, "sensor><plugin", spec);
       }
-      if (std::string why = pfxCheckSensorSpec(spec, links); !why.empty()) {
+      if (std::string why = pfxCheckSensorSpec(spec, links, joints); !why.empty()) {
         return failWith(where + ": " + why);
       }
       reader.passOver(s, "sensor", honoured);

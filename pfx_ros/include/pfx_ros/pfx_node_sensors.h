@@ -5,6 +5,8 @@
 //   ray, several               sensor_msgs/PointCloud2 (organised: one row per vertical sample)
 //   imu                        sensor_msgs/Imu
 //   odometry                   nav_msgs/Odometry (ground truth of the link)
+//   contact                    pfx/ContactsStamped (the link's contacts, when they change)
+//   force_torque               geometry_msgs/WrenchStamped (what the joint transmits)
 // A sensor runs at its update rate in simulated time, looked at after every step; a scan is
 // one batch of rays through the world's batch raycast. Messages carry the node's stamp of the
 // step (the simulated time under use_sim_time). Noise is Gaussian, drawn from one generator
@@ -53,10 +55,14 @@ class PfxNodeSensors {
                   const ros::Time& stamp);
   void publishOdometry(Sensor& sensor, const PfxTransform3& pose, const PfxRigidState& state,
                        const PfxVector3& pointVelocity, const ros::Time& stamp);
+  void publishContacts(Sensor& sensor, const PfxNodeSimulation& simulation, const ros::Time& stamp);
+  void publishWrench(Sensor& sensor, const PfxNodeSimulation& simulation, const PfxTransform3& pose,
+                     const ros::Time& stamp);
 
   ros::NodeHandle& m_handle;
   std::string m_fixedFrame;
   std::vector<std::unique_ptr<Sensor>> m_sensors;
+  std::vector<PfxNodeContact> m_contacts;  // the world's, read once per step when needed
 };
 
 }  // namespace pfx

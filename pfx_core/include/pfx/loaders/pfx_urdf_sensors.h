@@ -15,9 +15,11 @@
 namespace pfx {
 
 enum class PfxSensorType {
-  kRay,       // laser or lidar: one vertical sample gives a scan, more a point cloud
-  kImu,       // orientation, angular velocity, specific force
-  kOdometry,  // ground-truth pose and twist (declared through the node's parameters only)
+  kRay,          // laser or lidar: one vertical sample gives a scan, more a point cloud
+  kImu,          // orientation, angular velocity, specific force
+  kOdometry,     // ground-truth pose and twist (declared through the node's parameters only)
+  kContact,      // the contact points of a link (a bumper)
+  kForceTorque,  // the force and torque a joint transmits
 };
 
 // Gaussian noise added to a value; stddev 0 adds `mean` only.
@@ -29,7 +31,11 @@ struct PfxSensorNoise {
 struct PfxSensorSpec {
   std::string name;
   PfxSensorType type = PfxSensorType::kRay;
-  std::string link;
+  std::string link;   // force_torque: the joint's child link
+  std::string joint;  // force_torque only
+  // force_torque: true for the wrench the child exerts on the parent (Gazebo's default,
+  // child_to_parent), false for the one the parent exerts on the child.
+  bool childToParent = true;
   std::string topic;                               // empty: the sensor's name
   std::string frame;                               // empty: the link's name
   PfxTransform3 pose = PfxTransform3::Identity();  // of the sensor in the link's frame
@@ -44,7 +50,9 @@ struct PfxSensorSpec {
 // sensor and the value): an unknown link, an update rate that is negative or not finite, a
 // range sensor that pfxCheckRangeSensorParam refuses (saying which bound), a noise whose
 // mean or stddev is not finite or whose stddev is negative, a pose that is not finite.
-std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std::string>& links);
+// A force_torque sensor's joint is looked for in `joints`, every other sensor's link in `links`.
+std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std::string>& links,
+                               const std::vector<std::string>& joints = {});
 
 struct PfxUrdfSensors {
   std::vector<PfxSensorSpec> sensors;
@@ -54,12 +62,14 @@ struct PfxUrdfSensors {
 // Reads the sensors of URDF text; `fileName` only names the file in messages. On error
 // returns PFX_ERR_INVALID_VALUE with *message naming the file, the <gazebo> block, the
 // sensor and the element, and leaves `out` as it was. Errors: XML that does not parse, a
-// <sensor> outside a <gazebo reference="..."> block or referring to no <link>, a missing or
-// repeated sensor name, a number that does not read, is not finite or is out of range
-// (pfxCheckSensorSpec), an update rate <= 0 where one is given, zero samples, a noise type
-// other than none, gaussian or gaussian_quantized. Sensors of other types (camera, depth,
-// contact, force_torque, ...) are warnings, not errors; ray, gpu_ray, lidar and gpu_lidar are
-// range sensors (their <ray> or <lidar>), imu an IMU.
+// <sensor> outside a <gazebo reference="..."> block or referring to no <link> (no <joint>
+// for a force_torque sensor), a missing or repeated sensor name, a number that does not
+// read, is not finite or is out of range (pfxCheckSensorSpec), an update rate <= 0 where one
+// is given, zero samples, a noise type other than none, gaussian or gaussian_quantized, a
+// measure_direction other than child_to_parent or parent_to_child. ray, gpu_ray, lidar and
+// gpu_lidar are range sensors (their <ray> or <lidar>), imu an IMU, contact a bumper on the
+// link, force_torque a sensor on the joint; sensors of other types (camera, depth, ...) are
+// warnings, not errors.
 PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileName,
                             PfxUrdfSensors& out, std::string* message);
 
