@@ -2,6 +2,8 @@
 
 #include <geometry_msgs/WrenchStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -26,6 +28,9 @@ struct PfxNodeSensors::Sensor {
   double period = 0;         // s of simulated time; 0: every step
   double nextTime = 0;       // simulated time when it is next due
   ros::Publisher publisher;
+  // A depth camera's camera info and point cloud (its image goes to `publisher`).
+  ros::Publisher infoPublisher;
+  ros::Publisher pointsPublisher;
   std::mt19937 random;
   // The IMU's point velocity after the previous step (its acceleration is the difference).
   PfxVector3 previousVelocity = PfxVector3::Zero();
@@ -57,7 +62,8 @@ const std::map<std::string, PfxSensorType> kTypes = {{"ray", PfxSensorType::kRay
                                                      {"imu", PfxSensorType::kImu},
                                                      {"odometry", PfxSensorType::kOdometry},
                                                      {"contact", PfxSensorType::kContact},
-                                                     {"force_torque", PfxSensorType::kForceTorque}};
+                                                     {"force_torque", PfxSensorType::kForceTorque},
+                                                     {"depth_camera", PfxSensorType::kDepthCamera}};
 
 // The keys of a ~sensors entry that each type takes, besides the common ones.
 const std::set<std::string> kCommonKeys = {"name", "type", "topic", "frame", "update_rate"};
@@ -74,6 +80,8 @@ const std::set<std::string> kRayKeys = {"horizontal_samples",
                                         "range_max",
                                         "range_noise_mean",
                                         "range_noise_stddev"};
+const std::set<std::string> kDepthCameraKeys = {
+    "width", "height", "horizontal_fov", "near", "far", "depth_noise_mean", "depth_noise_stddev"};
 const std::set<std::string> kImuKeys = {
     "angular_velocity_noise_mean", "angular_velocity_noise_stddev",
     "linear_acceleration_noise_mean", "linear_acceleration_noise_stddev"};
@@ -121,13 +129,16 @@ std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec) {
   const std::string type = static_cast<std::string>(entry["type"]);
   const auto found = kTypes.find(type);
   if (found == kTypes.end()) {
-    return "type '" + type + "' is none of ray, imu, odometry, contact, force_torque";
+    return "type '" + type + "' is none of ray, imu, odometry, contact, force_torque, depth_camera";
   }
   spec.type = found->second;
   const bool onJoint = spec.type == PfxSensorType::kForceTorque;
   std::set<std::string> own = onJoint ? kForceTorqueKeys : kLinkKeys;
   if (spec.type == PfxSensorType::kRay) own.insert(kRayKeys.begin(), kRayKeys.end());
   if (spec.type == PfxSensorType::kImu) own.insert(kImuKeys.begin(), kImuKeys.end());
+  if (spec.type == PfxSensorType::kDepthCamera) {
+    own.insert(kDepthCameraKeys.begin(), kDepthCameraKeys.end());
+  }
   for (auto& [key, value] : entry) {
     if (kCommonKeys.count(key) == 0 && own.count(key) == 0) {
       return "key '" + key + "' is not one a " + type + " sensor takes";
@@ -186,6 +197,20 @@ std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec) {
         readOptional(entry, "range_max", r.rangeMax),
         readOptional(entry, "range_noise_mean", spec.rangeNoise.mean),
         readOptional(entry, "range_noise_stddev", spec.rangeNoise.stddev)};
+    for (const std::string& e : errors) {
+      if (!e.empty()) return e;
+    }
+  }
+  if (spec.type == PfxSensorType::kDepthCamera) {
+    PfxDepthCameraParam& c = spec.camera;
+    const std::string errors[] = {
+        readSamples(entry, "width", c.width),
+        readSamples(entry, "height", c.height),
+        readOptional(entry, "horizontal_fov", c.horizontalFov),
+        readOptional(entry, "near", c.nearClip),
+        readOptional(entry, "far", c.farClip),
+        readOptional(entry, "depth_noise_mean", spec.depthNoise.mean),
+        readOptional(entry, "depth_noise_stddev", spec.depthNoise.stddev)};
     for (const std::string& e : errors) {
       if (!e.empty()) return e;
     }
@@ -327,6 +352,18 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
         sensor->publisher = m_handle.advertise<pfx::ContactsStamped>(spec.topic, 10, true);
         kind = "pfx/ContactsStamped";
         break;
+      case PfxSensorType::kDepthCamera: {
+        const PfxUInt32 n = pfxGetDepthCameraNumRays(spec.camera);
+        sensor->rays.resize(n);
+        sensor->hits.resize(n);
+        sensor->ranges.resize(n);
+        ros::NodeHandle camera(m_handle, spec.topic);
+        sensor->publisher = camera.advertise<sensor_msgs::Image>(spec.depthImageTopic, 2);
+        sensor->infoPublisher = camera.advertise<sensor_msgs::CameraInfo>(spec.cameraInfoTopic, 2);
+        sensor->pointsPublisher = camera.advertise<sensor_msgs::PointCloud2>(spec.pointsTopic, 2);
+        kind = "sensor_msgs/Image (32FC1), CameraInfo and PointCloud2";
+        break;
+      }
       case PfxSensorType::kForceTorque:
         sensor->publisher = m_handle.advertise<geometry_msgs::WrenchStamped>(spec.topic, 10);
         sensor->jointIndex = PfxUInt32(simulation.findJoint(spec.joint));
@@ -387,6 +424,9 @@ void PfxNodeSensors::update(PfxNodeSimulation& simulation, const ros::Time& stam
           break;
         case PfxSensorType::kForceTorque:
           publishWrench(sensor, simulation, pose, stamp);
+          break;
+        case PfxSensorType::kDepthCamera:
+          publishDepth(sensor, simulation, pose, stamp);
           break;
       }
       sensor.nextTime += sensor.period;
@@ -573,6 +613,90 @@ void PfxNodeSensors::publishWrench(Sensor& sensor, const PfxNodeSimulation& simu
   wrench.wrench.force = pfxToVector3Msg(toChild * force);
   wrench.wrench.torque = pfxToVector3Msg(toChild * torque);
   sensor.publisher.publish(wrench);
+}
+
+void PfxNodeSensors::publishDepth(Sensor& sensor, PfxNodeSimulation& simulation,
+                                  const PfxTransform3& pose, const ros::Time& stamp) {
+  const PfxDepthCameraParam& c = sensor.spec.camera;
+  const PfxUInt32 n = pfxGetDepthCameraNumRays(c);
+  pfxMakeDepthCameraRays(c, pose, sensor.rays.data());
+  if (const PfxInt32 err = simulation.castRays(sensor.rays.data(), sensor.hits.data(), n);
+      err != PFX_OK) {
+    ROS_ERROR_THROTTLE(1.0, "pfx_node: sensor '%s': cast failed: %s", sensor.spec.name.c_str(),
+                       pfxErrorString(err));
+    return;
+  }
+  std::vector<PfxFloat>& depths = sensor.ranges;
+  pfxGetDepthCameraDepths(c, sensor.hits.data(), depths.data());
+  const PfxSensorNoise& noise = sensor.spec.depthNoise;
+  if (noise.stddev > 0 || noise.mean != 0) {
+    for (PfxFloat& depth : depths) {
+      if (std::isfinite(depth)) {
+        depth = std::clamp(depth + draw(sensor.random, noise), c.nearClip, c.farClip);
+      }
+    }
+  }
+  const double focal = pfxGetDepthCameraFocalLength(c);
+  const double cx = (c.width - 1) / 2.0, cy = (c.height - 1) / 2.0;
+
+  // REP 118: 32-bit float metres along the optical axis, +inf beyond the far plane. The
+  // image, the camera info and the cloud are in the optical frame (x right, y down, z
+  // forward) that `frame` names.
+  sensor_msgs::Image image;
+  image.header.stamp = stamp;
+  image.header.frame_id = sensor.spec.frame;
+  image.height = c.height;
+  image.width = c.width;
+  image.encoding = "32FC1";
+  image.is_bigendian = false;
+  image.step = c.width * sizeof(float);
+  image.data.resize(std::size_t(image.step) * c.height);
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const float depth = float(depths[i]);
+    std::memcpy(&image.data[std::size_t(i) * sizeof(float)], &depth, sizeof(float));
+  }
+
+  sensor_msgs::CameraInfo info;
+  info.header = image.header;
+  info.height = c.height;
+  info.width = c.width;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {focal, 0, cx, 0, focal, cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {focal, 0, cx, 0, 0, focal, cy, 0, 0, 0, 1, 0};
+
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header = image.header;
+  cloud.height = c.height;
+  cloud.width = c.width;
+  for (const char* name : {"x", "y", "z"}) {
+    sensor_msgs::PointField field;
+    field.name = name;
+    field.offset = std::uint32_t(cloud.fields.size() * sizeof(float));
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    cloud.fields.push_back(field);
+  }
+  cloud.is_bigendian = false;
+  cloud.point_step = 3 * sizeof(float);
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.is_dense = false;
+  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  for (PfxUInt32 v = 0; v < c.height; ++v) {
+    for (PfxUInt32 u = 0; u < c.width; ++u) {
+      const PfxUInt32 i = v * c.width + u;
+      const double z = depths[i];
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      const float xyz[3] = {std::isfinite(z) ? float((u - cx) / focal * z) : nan,
+                            std::isfinite(z) ? float((v - cy) / focal * z) : nan,
+                            std::isfinite(z) ? float(z) : nan};
+      std::memcpy(&cloud.data[std::size_t(i) * cloud.point_step], xyz, sizeof(xyz));
+    }
+  }
+  sensor.publisher.publish(image);
+  sensor.infoPublisher.publish(info);
+  sensor.pointsPublisher.publish(cloud);
 }
 
 void PfxNodeSensors::publishOdometry(Sensor& sensor, const PfxTransform3& pose,

@@ -1,10 +1,12 @@
 // The core's sensor functions: the rays of a scan and the ranges their hits give
-// (pfx_range_sensor.h), and what an IMU on a body reads (pfx_imu_reading.h).
+// (pfx_range_sensor.h), a depth camera's rays and depths (pfx_depth_camera.h), and what an
+// IMU on a body reads (pfx_imu_reading.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "pfx/high_level/pfx_depth_camera.h"
 #include "pfx/high_level/pfx_imu_reading.h"
 #include "pfx/high_level/pfx_range_sensor.h"
 
@@ -126,4 +128,46 @@ TEST(ImuReading, PointVelocityAddsTheTurnAboutTheCentreOfMass) {
   state.setAngularVelocity(PfxVector3(0, 0, 3));
   // 2 m along +X from the centre: w x r = (0, 6, 0).
   EXPECT_LT((pfxGetPointVelocity(state, PfxVector3(3, 0, 0)) - PfxVector3(0, 6, 1)).norm(), 1e-6);
+}
+
+TEST(DepthCamera, PixelsLookThroughTheirCentresAndDepthIsAlongTheAxis) {
+  PfxDepthCameraParam p;
+  p.width = 4;
+  p.height = 2;
+  p.horizontalFov = kPi / 2;  // focal length 2 pixels
+  p.nearClip = PfxFloat(0.5);
+  p.farClip = 4;
+  ASSERT_EQ(pfxCheckDepthCameraParam(p), PFX_OK);
+  EXPECT_FLOAT_EQ(pfxGetDepthCameraFocalLength(p), 2);
+  std::vector<PfxRayInput> rays(8);
+  pfxMakeDepthCameraRays(p, PfxTransform3::Identity(), rays.data());
+  // Top-left pixel (0, 0): 1.5 pixels left of and 0.5 above the centre.
+  const PfxVector3 sight(1, PfxFloat(0.75), PfxFloat(0.25));
+  EXPECT_LT((rays[0].m_startPosition - sight * PfxFloat(0.5)).norm(), 1e-6);
+  EXPECT_LT((rays[0].m_direction - sight * PfxFloat(3.5)).norm(), 1e-5);
+  // Bottom-right pixel (3, 1): right and below.
+  EXPECT_LT((rays[7].m_direction.normalized() -
+             PfxVector3(1, PfxFloat(-0.75), PfxFloat(-0.25)).normalized())
+                .norm(),
+            1e-6);
+  PfxRayOutput hits[8];
+  for (PfxRayOutput& hit : hits) {
+    hit.m_contactFlag = false;
+    hit.m_variable = 1;
+  }
+  hits[0].m_contactFlag = true;
+  hits[0].m_variable = PfxFloat(0.5);
+  PfxFloat depths[8];
+  pfxGetDepthCameraDepths(p, hits, depths);
+  EXPECT_FLOAT_EQ(depths[0], PfxFloat(2.25));  // 0.5 + 0.5 * 3.5
+  EXPECT_TRUE(std::isinf(depths[1]));
+  PfxDepthCameraParam bad = p;
+  bad.horizontalFov = kPi;
+  EXPECT_EQ(pfxCheckDepthCameraParam(bad), PFX_ERR_INVALID_VALUE);
+  bad = p;
+  bad.width = 0;
+  EXPECT_EQ(pfxCheckDepthCameraParam(bad), PFX_ERR_INVALID_VALUE);
+  bad = p;
+  bad.farClip = bad.nearClip;
+  EXPECT_EQ(pfxCheckDepthCameraParam(bad), PFX_ERR_INVALID_VALUE);
 }

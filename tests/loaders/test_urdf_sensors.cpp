@@ -302,3 +302,53 @@ TEST(UrdfSensors, ForceTorqueOnAJointAndContactOnALink) {
   EXPECT_EQ(frames.warnings[0],
             "<gazebo reference='j'> <sensor name='ft'>: <sensor><force_torque><frame> is ignored");
 }
+
+TEST(UrdfSensors, DepthCameraAsGazeboKinectDescriptionsDeclareIt) {
+  auto withCamera = [](const std::string& camera) {
+    return "<robot name='r'><link name='cam'/><gazebo reference='cam'>"
+           "<sensor type='depth' name='kinect'><update_rate>20</update_rate><camera>" +
+           camera +
+           "</camera><plugin name='k' filename='libgazebo_ros_openni_kinect.so'>"
+           "<cameraName>kinect</cameraName><depthImageTopicName>depth/image</depthImageTopicName>"
+           "<pointCloudTopicName>depth/points</pointCloudTopicName>"
+           "<frameName>cam_optical</frameName><pointCloudCutoff>0.4</pointCloudCutoff></plugin>"
+           "</sensor></gazebo></robot>";
+  };
+  const std::string good =
+      "<horizontal_fov>1.047</horizontal_fov><image><width>64</width><height>48</height>"
+      "<format>R8G8B8</format></image><clip><near>0.05</near><far>5</far></clip>";
+  PfxUrdfSensors out;
+  std::string message;
+  ASSERT_EQ(pfxLoadUrdfSensors(withCamera(good), "r.urdf", out, &message), PFX_OK) << message;
+  ASSERT_EQ(out.sensors.size(), 1u);
+  const PfxSensorSpec& s = out.sensors[0];
+  EXPECT_EQ(s.type, PfxSensorType::kDepthCamera);
+  EXPECT_EQ(s.camera.width, 64u);
+  EXPECT_EQ(s.camera.height, 48u);
+  EXPECT_FLOAT_EQ(s.camera.horizontalFov, PfxFloat(1.047));
+  EXPECT_FLOAT_EQ(s.camera.nearClip, PfxFloat(0.05));
+  EXPECT_FLOAT_EQ(s.camera.farClip, 5);
+  EXPECT_EQ(s.topic, "kinect");
+  EXPECT_EQ(s.depthImageTopic, "depth/image");
+  EXPECT_EQ(s.cameraInfoTopic, "depth/camera_info");
+  EXPECT_EQ(s.pointsTopic, "depth/points");
+  EXPECT_EQ(s.frame, "cam_optical");
+  const std::string expected[] = {
+      "<gazebo reference='cam'> <sensor name='kinect'>: <sensor><camera><image><format> is "
+      "ignored",
+      "<gazebo reference='cam'> <sensor name='kinect'>: <sensor><plugin><pointCloudCutoff> is "
+      "ignored"};
+  ASSERT_EQ(out.warnings.size(), 2u);
+  EXPECT_EQ(out.warnings[0], expected[0]);
+  EXPECT_EQ(out.warnings[1], expected[1]);
+
+  const std::string where = "robot.urdf: <gazebo reference='cam'> <sensor name='kinect'>: ";
+  EXPECT_EQ(refusal(withCamera("<horizontal_fov>3.5</horizontal_fov>")),
+            where + "<sensor><camera><horizontal_fov>: must be between 0 and pi");
+  EXPECT_EQ(refusal(withCamera("<image><width>0</width></image>")),
+            where + "<sensor><camera><image><width>: must be a whole number from 1 to 4096");
+  EXPECT_EQ(refusal(withCamera("<clip><near>2</near><far>1</far></clip>")),
+            where + "<sensor><camera><clip><far>: must be above <near>");
+  EXPECT_EQ(refusal(withCamera("<clip><near>-1</near></clip>")),
+            where + "<sensor><camera><clip><near>: must not be negative");
+}

@@ -1,10 +1,13 @@
 // Sensors of the real node (sensors.test): the TurtleBot3 burger's own laser (/scan, noisy,
 // 5 Hz) and IMU (/imu) from its <gazebo> blocks, and from ~sensors a noiseless copy of the
-// laser (/scan_exact), a 16-row lidar (/points) and ground-truth odometry (/odom_truth).
+// laser (/scan_exact), a 16-row lidar (/points), ground-truth odometry (/odom_truth) and a
+// depth camera facing the scene's wall (/depth_cam/...).
 // With the simulation paused, every beam is compared with the node's own raycast service;
 // then pfx_node is started again with each kind of bad sensor configuration and must refuse
 // it, saying why.
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -83,8 +86,9 @@ Eigen::Isometry3d sensorPose(const std::string& frame) {
   return pose;
 }
 
-// The range that the raycast service gives for a beam along `beam` (unit, sensor frame) of a
-// sensor at `pose` covering [rangeMin, rangeMax], as the node's scan casts it; +inf on a miss.
+// The range that the raycast service gives for a beam along `beam` (sensor frame; a unit
+// vector gives metres) of a sensor at `pose` covering [rangeMin, rangeMax] beam lengths, as
+// the node's scans cast it; +inf on a miss.
 std::vector<double> raycastRanges(const Eigen::Isometry3d& pose,
                                   const std::vector<Eigen::Vector3d>& beams, double rangeMin,
                                   double rangeMax) {
@@ -167,10 +171,13 @@ TEST(Sensors, TheTurtleBotsLaserScansAtFiveHertzOfSimulatedTime) {
   EXPECT_NEAR(stamp / 0.004, std::round(stamp / 0.004), 1e-3);
 }
 
-TEST(Sensors, LaserAndLidarEqualTheRaycastServiceAndTheNoiseIsAsDeclared) {
+TEST(Sensors, RangeSensorsAndDepthCameraEqualTheRaycastServiceAndTheNoiseIsAsDeclared) {
   Recorder<sensor_msgs::LaserScan> exact("/scan_exact", 200);
   Recorder<sensor_msgs::LaserScan> noisy("/scan", 10);
   Recorder<sensor_msgs::PointCloud2> clouds("/points", 2);
+  Recorder<sensor_msgs::Image> depthImages("/depth_cam/depth/image_raw", 2);
+  Recorder<sensor_msgs::CameraInfo> cameraInfos("/depth_cam/depth/camera_info", 2);
+  Recorder<sensor_msgs::PointCloud2> depthClouds("/depth_cam/points", 2);
   pfx_test::ClockWatcher clock(client->nh);
   // The ball of the scene has fallen and everything lies still.
   ASSERT_TRUE(clock.waitUntil(3.0, 60));
@@ -265,6 +272,55 @@ TEST(Sensors, LaserAndLidarEqualTheRaycastServiceAndTheNoiseIsAsDeclared) {
   EXPECT_LT(std::abs(mean), 0.004);
   EXPECT_GT(stddev, 0.007);
   EXPECT_LT(stddev, 0.013);
+
+  // The depth camera, turned a quarter turn to face the wall: every pixel's depth against the
+  // raycast service along the line of sight that its camera info gives, and its cloud point.
+  const sensor_msgs::Image image = depthImages.latest();
+  const sensor_msgs::CameraInfo info = cameraInfos.latest();
+  const sensor_msgs::PointCloud2 depthCloud = depthClouds.latest();
+  ASSERT_EQ(image.encoding, "32FC1");
+  ASSERT_EQ(image.width, 40u);
+  ASSERT_EQ(image.height, 30u);
+  ASSERT_EQ(info.width, 40u);
+  ASSERT_EQ(depthCloud.width * depthCloud.height, 1200u);
+  EXPECT_EQ(image.header.stamp, info.header.stamp);
+  EXPECT_NEAR(image.header.stamp.toSec(), pausedAt, 1e-6);
+  const double fx = info.K[0], cx = info.K[2], fy = info.K[4], cy = info.K[5];
+  EXPECT_NEAR(fx, 20 / std::tan(0.6), 1e-4);
+  EXPECT_EQ(fx, fy);
+  const Eigen::Isometry3d camera = pose * Eigen::AngleAxisd(1.5707963, Eigen::Vector3d::UnitZ());
+  std::vector<Eigen::Vector3d> sights;  // depth 1 along each pixel's line of sight
+  for (int v = 0; v < 30; ++v) {
+    for (int u = 0; u < 40; ++u) sights.emplace_back(1, -(u - cx) / fx, -(v - cy) / fy);
+  }
+  // Along a sight of depth 1 per unit, the "range" raycastRanges measures is the depth.
+  const std::vector<double> depths = raycastRanges(camera, sights, 0.1, 8.0);
+  ASSERT_EQ(depths.size(), 1200u);
+  double depthMax = 0;
+  int depthHits = 0;
+  for (std::size_t i = 0; i < 1200; ++i) {
+    float depth, xyz[3];
+    std::memcpy(&depth, &image.data[i * 4], 4);
+    std::memcpy(xyz, &depthCloud.data[i * 12], sizeof(xyz));
+    if (std::isinf(depths[i])) {
+      EXPECT_TRUE(std::isinf(depth)) << "pixel " << i;
+      continue;
+    }
+    ++depthHits;
+    const double expectedDepth = depths[i];
+    EXPECT_NEAR(depth, expectedDepth, 1e-4) << "pixel " << i;
+    EXPECT_NEAR(xyz[2], depth, 1e-6) << "pixel " << i;
+    EXPECT_NEAR(xyz[0], (int(i % 40) - cx) / fx * depth, 1e-5) << "pixel " << i;
+    depthMax = std::max(depthMax, std::abs(depth - expectedDepth));
+  }
+  EXPECT_GT(depthHits, 600);
+  // The wall's face (y = 1.9) is square to the camera's axis, 1.9 m ahead: a pixel just above
+  // the centre sees it at that depth, whatever the pixel.
+  float centre;
+  std::memcpy(&centre, &image.data[(14 * 40 + 20) * 4], 4);
+  EXPECT_NEAR(centre, 1.9 - camera.translation().y(), 1e-4);
+  std::printf("depth camera: %d of 1200 pixels hit; largest difference from raycast %.3g m\n",
+              depthHits, depthMax);
   ASSERT_TRUE(trigger("unpause"));
 }
 
@@ -337,6 +393,9 @@ TEST(Sensors, BadSensorConfigurationsAreRefusedWithTheirReason) {
       {"[{name: ft, type: force_torque, joint: scan_joint}]", "", "",
        "sensor 'ft': joint 'scan_joint' is not a revolute, continuous or prismatic joint of its "
        "own in the world (fixed joints are lumped), so it reports no force"},
+      {"[{name: cam, type: depth_camera, link: base_scan, horizontal_fov: 3.2}]", "", "",
+       "sensor 'cam': the camera needs 1 to 4096 pixels each way, a field of view between 0 and "
+       "pi, and 0 <= near < far, all finite"},
       {"[{name: ft, type: force_torque, joint: elbow}]", "", "",
        "sensor 'ft': no joint named 'elbow'"},
       {"[{name: ft, type: force_torque, joint: wheel_left_joint, measure_direction: up}]", "", "",

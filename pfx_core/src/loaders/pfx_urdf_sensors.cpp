@@ -213,18 +213,75 @@ class SensorReader {
     return true;
   }
 
-  // <plugin> of gazebo_ros: the ROS topic and frame it would publish under
-  // (gazebo_ros_bumper names its topic bumperTopicName).
+  // <plugin> of gazebo_ros: the ROS topics and frame it would publish under
+  // (gazebo_ros_bumper names its topic bumperTopicName; gazebo_ros_openni_kinect puts its
+  // topics under cameraName).
   void plugin(const XMLElement* e, const std::string& path, PfxSensorSpec& spec) {
     for (const char* name : {"topicName", "bumperTopicName"}) {
       if (const XMLElement* t = e->FirstChildElement(name); t && t->GetText()) {
         spec.topic = t->GetText();
       }
     }
+    const struct {
+      const char* name;
+      std::string* topic;
+    } cameraTopics[3] = {{"depthImageTopicName", &spec.depthImageTopic},
+                         {"depthImageCameraInfoTopicName", &spec.cameraInfoTopic},
+                         {"pointCloudTopicName", &spec.pointsTopic}};
+    std::set<std::string> honoured = {"topicName", "bumperTopicName", "frameName"};
+    if (spec.type == PfxSensorType::kDepthCamera) {
+      honoured.insert("cameraName");
+      if (const XMLElement* c = e->FirstChildElement("cameraName"); c && c->GetText()) {
+        spec.topic = c->GetText();
+      }
+      for (const auto& t : cameraTopics) {
+        honoured.insert(t.name);
+        if (const XMLElement* c = e->FirstChildElement(t.name); c && c->GetText()) {
+          *t.topic = c->GetText();
+        }
+      }
+    }
     if (const XMLElement* f = e->FirstChildElement("frameName"); f && f->GetText()) {
       spec.frame = f->GetText();
     }
-    passOver(e, path, {"topicName", "bumperTopicName", "frameName"});
+    passOver(e, path, honoured);
+  }
+
+  // <camera>: <horizontal_fov>, <image><width>, <image><height>, <clip><near>, <clip><far>
+  // and a <noise> on the depth.
+  bool camera(const XMLElement* e, const std::string& path, PfxSensorSpec& spec) {
+    PfxDepthCameraParam& c = spec.camera;
+    if (!number(e, "horizontal_fov", path, c.horizontalFov)) return false;
+    if (c.horizontalFov <= 0 || c.horizontalFov >= PfxFloat(3.14159265358979)) {
+      return fail(path + "><horizontal_fov", "must be between 0 and pi");
+    }
+    if (const XMLElement* image = e->FirstChildElement("image")) {
+      const std::string imagePath = path + "><image";
+      for (const char* name : {"width", "height"}) {
+        double v = name[0] == 'w' ? c.width : c.height;
+        if (!number(image, name, imagePath, v)) return false;
+        if (v < 1 || v > 4096 || v != std::floor(v)) {
+          return fail(imagePath + "><" + name, "must be a whole number from 1 to 4096");
+        }
+        (name[0] == 'w' ? c.width : c.height) = PfxUInt32(v);
+      }
+      passOver(image, imagePath, {"width", "height"});
+    }
+    if (const XMLElement* clip = e->FirstChildElement("clip")) {
+      const std::string clipPath = path + "><clip";
+      if (!number(clip, "near", clipPath, c.nearClip) ||
+          !number(clip, "far", clipPath, c.farClip)) {
+        return false;
+      }
+      if (c.nearClip < 0) return fail(clipPath + "><near", "must not be negative");
+      if (c.farClip <= c.nearClip) return fail(clipPath + "><far", "must be above <near>");
+      passOver(clip, clipPath, {"near", "far"});
+    }
+    if (const XMLElement* n = e->FirstChildElement("noise")) {
+      if (!noise(n, path + "><noise", spec.depthNoise)) return false;
+    }
+    passOver(e, path, {"horizontal_fov", "image", "clip", "noise"});
+    return true;
   }
 
   // <force_torque><measure_direction> is honoured; the wrench is always given in the child
@@ -317,6 +374,14 @@ std::string pfxCheckSensorSpec(const PfxSensorSpec& spec, const std::vector<std:
     if (r.rangeMax <= r.rangeMin) return who + ": range max must be above range min";
     if (std::string why = checkNoise(spec.rangeNoise, "range"); !why.empty()) return why;
   }
+  if (spec.type == PfxSensorType::kDepthCamera) {
+    if (pfxCheckDepthCameraParam(spec.camera) != PFX_OK) {
+      return who +
+             ": the camera needs 1 to 4096 pixels each way, a field of view between 0 "
+             "and pi, and 0 <= near < far, all finite";
+    }
+    if (std::string why = checkNoise(spec.depthNoise, "depth"); !why.empty()) return why;
+  }
   if (spec.type == PfxSensorType::kImu) {
     for (int axis = 0; axis < 3; ++axis) {
       if (std::string why = checkNoise(spec.angularVelocityNoise[axis], "angular velocity");
@@ -378,7 +443,8 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       const std::string kind = type;
       const bool range =
           kind == "ray" || kind == "gpu_ray" || kind == "lidar" || kind == "gpu_lidar";
-      if (!range && kind != "imu" && kind != "contact" && kind != "force_torque") {
+      const bool depth = kind == "depth" || kind == "depth_camera" || kind == "rgbd_camera";
+      if (!range && !depth && kind != "imu" && kind != "contact" && kind != "force_torque") {
         result.warnings.push_back(where + ": type '" + kind + "' is not simulated; ignored");
         continue;
       }
@@ -389,6 +455,7 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
       spec.name = name;
       spec.link = reference;
       spec.type = range               ? PfxSensorType::kRay
+                  : depth             ? PfxSensorType::kDepthCamera
                   : kind == "imu"     ? PfxSensorType::kImu
                   : kind == "contact" ? PfxSensorType::kContact
                                       : PfxSensorType::kForceTorque;
@@ -435,6 +502,15 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
           ok = reader.forceTorque(ft, "sensor><force_torque", spec);
         }
         honoured.insert("force_torque");
+      }
+      if (ok && spec.type == PfxSensorType::kDepthCamera) {
+        const XMLElement* camera = s->FirstChildElement("camera");
+        if (!camera) {
+          ok = reader.fail("sensor", "a " + kind + " sensor needs a <camera> element");
+        } else {
+          ok = reader.camera(camera, "sensor><camera", spec);
+        }
+        honoured.insert("camera");
       }
       if (!ok) return failWith(reader.error());
       if (const XMLElement* plugin = s->FirstChildElement("plugin")) {

@@ -7,6 +7,8 @@
 //   odometry                   nav_msgs/Odometry (ground truth of the link)
 //   contact                    pfx/ContactsStamped (the link's contacts, when they change)
 //   force_torque               geometry_msgs/WrenchStamped (what the joint transmits)
+//   depth_camera               sensor_msgs/Image (32FC1 depth), sensor_msgs/CameraInfo and
+//                              sensor_msgs/PointCloud2, under the sensor's topic
 // A sensor runs at its update rate in simulated time, looked at after every step; a scan is
 // one batch of rays through the world's batch raycast. Messages carry the node's stamp of the
 // step (the simulated time under use_sim_time). Noise is Gaussian, drawn from one generator
@@ -55,6 +57,8 @@ class PfxNodeSensors {
                   const ros::Time& stamp);
   void publishOdometry(Sensor& sensor, const PfxTransform3& pose, const PfxRigidState& state,
                        const PfxVector3& pointVelocity, const ros::Time& stamp);
+  void publishDepth(Sensor& sensor, PfxNodeSimulation& simulation, const PfxTransform3& pose,
+                    const ros::Time& stamp);
   void publishContacts(Sensor& sensor, const PfxNodeSimulation& simulation, const ros::Time& stamp);
   void publishWrench(Sensor& sensor, const PfxNodeSimulation& simulation, const PfxTransform3& pose,
                      const ros::Time& stamp);

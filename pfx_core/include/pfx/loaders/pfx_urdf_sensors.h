@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "pfx/high_level/pfx_depth_camera.h"
 #include "pfx/high_level/pfx_range_sensor.h"
 
 namespace pfx {
@@ -20,6 +21,7 @@ enum class PfxSensorType {
   kOdometry,     // ground-truth pose and twist (declared through the node's parameters only)
   kContact,      // the contact points of a link (a bumper)
   kForceTorque,  // the force and torque a joint transmits
+  kDepthCamera,  // a depth image, its camera info and a point cloud
 };
 
 // Gaussian noise added to a value; stddev 0 adds `mean` only.
@@ -44,6 +46,13 @@ struct PfxSensorSpec {
   PfxSensorNoise rangeNoise;
   PfxSensorNoise angularVelocityNoise[3];  // per axis of the IMU frame
   PfxSensorNoise linearAccelerationNoise[3];
+  PfxDepthCameraParam camera;
+  PfxSensorNoise depthNoise;
+  // A depth camera's three topics, under `topic`: as gazebo_ros_openni_kinect names them
+  // unless its plugin says otherwise.
+  std::string depthImageTopic = "depth/image_raw";
+  std::string cameraInfoTopic = "depth/camera_info";
+  std::string pointsTopic = "points";
 };
 
 // Empty when the spec is usable with a robot of these links, otherwise why not (naming the
