@@ -190,8 +190,18 @@ TEST(Sensors, RangeSensorsAndDepthCameraEqualTheRaycastServiceAndTheNoiseIsAsDec
   const sensor_msgs::LaserScan scan = exact.latest();
   EXPECT_NEAR(scan.header.stamp.toSec(), pausedAt, 1e-6);
   const Eigen::Isometry3d pose = sensorPose("base_scan");
-  const std::vector<double> expected =
-      raycastRanges(pose, scanBeams(scan), scan.range_min, scan.range_max);
+  // One ~raycast call per beam, as a user would cast it.
+  std::vector<double> expected;
+  for (const Eigen::Vector3d& beam : scanBeams(scan)) {
+    const Eigen::Vector3d world = pose.linear() * beam;
+    const Eigen::Vector3d start = pose.translation() + world * double(scan.range_min);
+    const Eigen::Vector3d span = world * double(scan.range_max - scan.range_min);
+    const pfx::Raycast::Response hit = pfx_test::raycast(kNode + "raycast", start.x(), start.y(),
+                                                         start.z(), span.x(), span.y(), span.z());
+    ASSERT_TRUE(hit.success) << hit.message;
+    expected.push_back(hit.hit ? scan.range_min + hit.distance
+                               : std::numeric_limits<double>::infinity());
+  }
   ASSERT_EQ(expected.size(), scan.ranges.size());
   double maxDifference = 0;
   int hits = 0;
