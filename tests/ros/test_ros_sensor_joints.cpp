@@ -1,8 +1,10 @@
 // Contact and force-torque sensors of the real node (sensor_joints.test): the hinge holding
 // a 2 kg pendulum at rest transmits its weight, the 3 kg pad resting on the ground touches it
 // with its weight's impulse per step, its contacts are published when they change (not every
-// step while it rests), and lifting the pad empties them.
+// step while it rests), and lifting the pad empties them; an IMU on the pad reads +g while it
+// rests and the lift's force over its mass while it rises.
 #include <geometry_msgs/WrenchStamped.h>
+#include <sensor_msgs/Imu.h>
 
 #include <mutex>
 
@@ -82,11 +84,12 @@ TEST(SensorJoints, TheHingeTransmitsThePendulumsWeight) {
   EXPECT_NEAR(u.wrench.force.z, -2 * kG, 0.02 * 2 * kG);
 }
 
-TEST(SensorJoints, ThePadsBumperReportsTheGroundWhenItChanges) {
+TEST(SensorJoints, ThePadsBumperAndImuFollowItsRestAndLift) {
   pfx_test::ClockWatcher clock(client->nh);
   ASSERT_TRUE(clock.waitUntil(1.0, 30));
   // Latched: the last message comes at once, whenever it was published.
   Recorder<pfx::ContactsStamped> contacts("/pad_contacts");
+  Recorder<sensor_msgs::Imu> imu("/pad_imu");
   ASSERT_TRUE(contacts.waitFor(1, 10));
   const pfx::ContactsStamped resting = contacts.all().back();
   EXPECT_EQ(resting.link, "pad");
@@ -107,8 +110,22 @@ TEST(SensorJoints, ThePadsBumperReportsTheGroundWhenItChanges) {
   std::printf("messages while resting for 1 s: %zu\n", whileResting);
   EXPECT_LT(whileResting, 10u);
 
+  // On the ground the pad's IMU reads the ground's push: +g.
+  ASSERT_TRUE(imu.waitFor(50, 10));
+  const std::vector<sensor_msgs::Imu> restingImu = imu.all();
+  double restZ = 0;
+  for (std::size_t i = restingImu.size() - 50; i < restingImu.size(); ++i) {
+    restZ += restingImu[i].linear_acceleration.z / 50;
+    EXPECT_NEAR(restingImu[i].linear_acceleration.x, 0, 0.01);
+    EXPECT_NEAR(restingImu[i].linear_acceleration.y, 0, 0.01);
+  }
+  std::printf("pad IMU at rest on the ground: mean z %.5f m/s^2 over 50 steps\n", restZ);
+  EXPECT_NEAR(restZ, kG, 0.01);
+  const std::size_t beforeLift = imu.all().size();
+
   // Lifted by 60 N against its 29.4 N weight for 0.5 s, the pad leaves the ground, and an
-  // empty list says so.
+  // empty list says so. Meanwhile the IMU reads the lift's force over the mass, 20 m/s^2
+  // (the free slider pushes nothing along its axis).
   pfx::ApplyBodyWrench lift;
   lift.request.link = "pad";
   lift.request.force.z = 60;
@@ -122,6 +139,19 @@ TEST(SensorJoints, ThePadsBumperReportsTheGroundWhenItChanges) {
     ros::WallDuration(0.01).sleep();
   }
   EXPECT_TRUE(emptied) << "no empty contact list after the lift";
+  ASSERT_TRUE(clock.waitUntil(clock.now() + 0.6, 30));
+  const std::vector<sensor_msgs::Imu> lifted = imu.all();
+  double sum = 0;
+  int rising = 0;
+  for (std::size_t i = beforeLift; i < lifted.size(); ++i) {
+    if (lifted[i].linear_acceleration.z < 15) continue;
+    sum += lifted[i].linear_acceleration.z;
+    ++rising;
+  }
+  ASSERT_GT(rising, 50);  // of the lift's 125 steps
+  std::printf("pad IMU while lifted: mean z %.4f m/s^2 over %d steps (60 N / 3 kg = 20)\n",
+              sum / rising, rising);
+  EXPECT_NEAR(sum / rising, 20, 0.2);
 }
 
 int main(int argc, char** argv) {
