@@ -513,7 +513,8 @@ PfxInt32 pfxLoadUrdfSensors(const std::string& urdfXml, const std::string& fileN
         honoured.insert("camera");
       }
       if (!ok) return failWith(reader.error());
-      if (const XMLElement* plugin = s->FirstChildElement("plugin")) {
+      for (const XMLElement* plugin = s->FirstChildElement("plugin"); plugin;
+           plugin = plugin->NextSiblingElement("plugin")) {
         reader.plugin(plugin, "sensor><plugin", spec);
       }
       if (std::string why = pfxCheckSensorSpec(spec, links, joints); !why.empty()) {

@@ -27,6 +27,10 @@
 
 namespace pfx {
 
+// One entry of ~sensors (a dict: README, "Sensors") into `spec`; empty, or what is wrong with
+// it (an unknown type or key, a key the type does not take, a value of the wrong type).
+std::string pfxReadSensorParam(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec);
+
 class PfxNodeSensors {
  public:
   PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame);
