@@ -142,6 +142,14 @@ bool PfxNode::initialize() {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
   }
+  m_sensors = std::make_unique<PfxNodeSensors>(m_handle, m_param.fixedFrame);
+  const std::string urdfName =
+      m_param.simulation.urdfPath.empty() ? "robot_description" : m_param.simulation.urdfPath;
+  if (!m_sensors->configure(m_param.simulation.urdfXml, urdfName, m_privateHandle, m_simulation,
+                            &why)) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
   m_statePublisher = std::make_unique<PfxNodeStatePublisher>(
       m_handle, m_param.fixedFrame, m_param.agentFramePrefix, m_useSimTime);
   m_statePublisher->bind(m_simulation);
@@ -154,11 +162,12 @@ bool PfxNode::initialize() {
   const PfxUrdfModel& model = m_simulation.getModel();
   ROS_INFO(
       "pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
-      "%u sub-steps, %u iterations, real-time factor %g, %u agents%s",
+      "%u sub-steps, %u iterations, real-time factor %g, %u agents, %zu sensors%s",
       model.name.c_str(), model.links.size(), model.joints.size(),
       m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
       m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
-      m_simulation.getAgents().getNumAgents(), m_param.paused ? " (paused)" : "");
+      m_simulation.getAgents().getNumAgents(), m_sensors->getNumSensors(),
+      m_param.paused ? " (paused)" : "");
   return true;
 }
 
@@ -192,6 +201,7 @@ void PfxNode::run() {
                            pfxErrorString(err));
       }
       m_diagnostics->addStep(m_simulation.getWorld().getStats());
+      m_sensors->update(m_simulation, stamp());
       stepsUnpublished = true;
       nextStep += stepPeriod();
       if (now - nextStep > kMaxLag) nextStep = now;
@@ -199,6 +209,7 @@ void PfxNode::run() {
     if (m_simulation.getGeneration() != m_boundGeneration) {
       m_statePublisher->bind(m_simulation);
       m_boundGeneration = m_simulation.getGeneration();
+      m_sensors->restart();
       stepsUnpublished = true;  // a reset or a loaded world is a new state, paused or not
     }
     // Stamps are simulated time under use_sim_time: only a step makes a new state.

@@ -73,8 +73,11 @@
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_character_controller.h"
 #include "pfx/high_level/pfx_debug_render.h"
+#include "pfx/high_level/pfx_depth_camera.h"
+#include "pfx/high_level/pfx_imu_reading.h"
 #include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/high_level/pfx_ragdoll.h"
+#include "pfx/high_level/pfx_range_sensor.h"
 #include "pfx/high_level/pfx_serialize.h"
 #include "pfx/high_level/pfx_world.h"
 

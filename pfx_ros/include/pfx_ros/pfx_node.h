@@ -13,6 +13,7 @@
 #include "pfx_ros/pfx_node_agents.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_markers.h"
+#include "pfx_ros/pfx_node_sensors.h"
 #include "pfx_ros/pfx_node_services.h"
 #include "pfx_ros/pfx_node_simulation.h"
 #include "pfx_ros/pfx_node_state_publisher.h"
@@ -22,15 +23,16 @@ namespace pfx {
 // The node's parameters (private unless said otherwise), as read by PfxNode::initialize.
 struct PfxNodeParam {
   PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
-                                       // ~octomap_file, ~world_file, ~ground_plane, ~ground_size, ~dt,
-                                       // ~substeps, ~iterations, ~fixed_base, ~initial_height,
+                                       // ~octomap_file, ~world_file, ~ground_plane, ~ground_size,
+                                       // ~dt, ~substeps, ~iterations, ~fixed_base, ~initial_height,
                                        // ~allow_missing_meshes, ~agent_cmd_vel_timeout,
                                        // ~agent_max_turn_rate, ~agent_waypoint_tolerance
-  std::string fixedFrame = "world";    // ~fixed_frame
+  std::string fixedFrame = "world";  // ~fixed_frame
   // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
-  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h).
+  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the sensors
+  // (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h).
   std::string agentFramePrefix = "agents";
-  double realTimeFactor = 1;           // ~real_time_factor: 0 runs as fast as it can
+  double realTimeFactor = 1;  // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
   // 0 for markers or diagnostics means never.
   double publishRate = 100;    // ~publish_rate: TF, /joint_states, /clock
@@ -67,6 +69,7 @@ class PfxNode {
   std::unique_ptr<PfxNodeDiagnostics> m_diagnostics;
   std::unique_ptr<PfxNodeMarkers> m_markers;
   std::unique_ptr<PfxNodeAgents> m_agents;
+  std::unique_ptr<PfxNodeSensors> m_sensors;
 };
 
 }  // namespace pfx
