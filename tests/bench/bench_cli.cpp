@@ -79,7 +79,11 @@ const char* usage() {
          "  scene meshfloor (pfx only, with the loaders) stands a quadruped on a\n"
          "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h. The\n"
          "  scene serialize writes worlds of 4,000 and 100,000 bodies to a file and reads\n"
-         "  them back (pfx, and bullet's serializer), see bench_serialize.h.\n";
+         "  them back (pfx, and bullet's serializer), see bench_serialize.h. The scenes\n"
+         "  rope (a rope between two pins against its catenary, and one carrying 1,000\n"
+         "  times its mass) and cloth (64 x 64 and 128 x 128 onto a sphere) step pfx's\n"
+         "  particles and bullet's soft bodies over their own solver settings, at dt 1/60\n"
+         "  unless --dt is given, see bench_particles.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {
@@ -112,6 +116,7 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
       options.engines = splitList(value);
     } else if (option == "--dt") {
       options.timeSteps.clear();
+      options.timeStepsGiven = true;
       for (const std::string& item : splitList(value)) {
         double dt = 0;
         if (!parseTimeStep(item, dt)) {

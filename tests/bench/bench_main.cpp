@@ -18,6 +18,7 @@
 #include "bench_engine.h"
 #include "bench_mesh_floor.h"
 #include "bench_octomap.h"
+#include "bench_particles.h"
 #include "bench_rays.h"
 #include "bench_report.h"
 #include "bench_run.h"
@@ -29,15 +30,22 @@ using namespace pfxbench;
 namespace {
 
 // Scenes that measure something other than stepping (load times, a world written and read
-// back) or that step pfx alone: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h.
+// back), that step pfx alone, or that step particles, which the rigid-body engine adapters
+// do not hold: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h, bench_particles.h.
 struct ApartScene {
   const char* name;
-  int (*run)(std::vector<ResultRow>& rows);  // appends its rows, returns its failures
+  // Appends its rows, returns its failures.
+  int (*run)(const Options& options, std::vector<ResultRow>& rows);
 };
 const ApartScene kApartScenes[] = {
-    {kOctomapSceneName, runOctomapScene},
-    {kMeshFloorSceneName, runMeshFloorScene},
-    {kSerializeSceneName, runSerializeScene},
+    {kOctomapSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runOctomapScene(rows); }},
+    {kMeshFloorSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runMeshFloorScene(rows); }},
+    {kSerializeSceneName,
+     [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
+    {kRopeSceneName, runRopeScene},
+    {kClothSceneName, runClothScene},
 };
 
 struct Job {
@@ -269,7 +277,7 @@ int main(int argc, char** argv) {
   }
   for (const ApartScene* apart : apartScenes) {
     std::vector<ResultRow> apartRows;
-    failures += apart->run(apartRows);
+    failures += apart->run(options, apartRows);
     for (const ResultRow& row : apartRows) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
