@@ -64,7 +64,7 @@ bool addGroup(PfxWorld& world, PfxParticleGroupBuilder& builder, const SolverSet
 
 bool stepOnce(PfxWorld& world, std::string& error) {
   const PfxInt32 code = world.step();
-  if (code != PFX_OK) error = std::string("step: ") + pfxErrorString(code);
+  if (code != PFX_OK) error = std::string("step: ") + pfxGetLastErrorDetail();
   return code == PFX_OK;
 }
 
