@@ -37,7 +37,8 @@
 //    friction). Damping: none in the cloth and the payload rope; the rope between pins
 //    1/s in both (pfx's linear damping; Bullet's kDP set to give the same velocity
 //    factor per sub-step, 1 / (1 + h / s)).
-//  - Self-collision off in both: Bullet's needs clusters; pfx's costs a hashed grid.
+//  - Self-collision off in both, rope and cloth: Bullet's needs clusters; pfx's costs a
+//    hashed grid.
 //
 // TSV rows (engine pfx or bullet; wall_s_per_sim_s is CPU seconds per simulated second):
 //   rope, variant 41 (and 41_tethers): catenary_error (m), stretch (fraction), finite (1 or 0)

@@ -57,6 +57,8 @@ bool startWorld(PfxWorld& world, double dt, const SolverSetting& setting, double
 bool addGroup(PfxWorld& world, PfxParticleGroupBuilder& builder, const SolverSetting& setting,
               PfxUInt32& id, std::string& error) {
   builder.iteration = PfxUInt32(setting.iterations);
+  // Bullet's soft bodies here do not collide with themselves (that needs clusters).
+  builder.selfCollision = false;
   const PfxInt32 code = world.addParticleGroup(builder.desc(), &id);
   if (code != PFX_OK) error = std::string("addParticleGroup: ") + pfxGetLastErrorDetail();
   return code == PFX_OK;
@@ -170,7 +172,6 @@ bool runPfxCloth(int side, double dt, double seconds, const SolverSetting& setti
   const PfxFloat half = PfxFloat(kClothSize / 2), size = PfxFloat(kClothSize);
   builder.addCloth(PfxVector3(-half, PfxFloat(kClothHeight), -half), PfxVector3(size, 0, 0),
                    PfxVector3(0, 0, size), PfxUInt32(side), PfxUInt32(side), material);
-  builder.selfCollision = false;
   PfxUInt32 id = 0;
   if (!addGroup(world, builder, setting, id, error)) return false;
   const int steps = int(std::lround(seconds / dt));
