@@ -36,7 +36,7 @@
 //  - Friction 0.5 in both (pfx particle friction; Bullet's kDF and the rigid bodies'
 //    friction). Damping: none in the cloth and the payload rope; the rope between pins
 //    1/s in both (pfx's linear damping; Bullet's kDP set to give the same velocity
-//    factor per sub-step, 1 / (1 + h / s)).
+//    factor per sub-step of h, 1 / (1 + c h) with c = 1/s).
 //  - Self-collision off in both, rope and cloth: Bullet's needs clusters; pfx's costs a
 //    hashed grid.
 //
