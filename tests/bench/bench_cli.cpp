@@ -84,7 +84,11 @@ const char* usage() {
          "  pfx's character controller and Bullet's btKinematicCharacterController, for\n"
          "  --seconds (30 by default) at each --dt (1/60 by default), and prints a table\n"
          "  on stderr; it fails when a pfx character does not arrive, falls through the\n"
-         "  floor or climbs the steep ramp. See bench_characters.h.\n";
+         "  floor or climbs the steep ramp. See bench_characters.h. The scenes\n"
+         "  rope (a rope between two pins against its catenary, and one carrying 1,000\n"
+         "  times its mass) and cloth (64 x 64 and 128 x 128 onto a sphere) step pfx's\n"
+         "  particles and bullet's soft bodies over their own solver settings, at dt 1/60\n"
+         "  unless --dt is given, see bench_particles.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

@@ -11,7 +11,9 @@ struct Options {
   std::vector<std::string> scenes;   // empty: every scene
   std::vector<std::string> engines;  // empty: every engine that was built
   std::vector<double> timeSteps{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480, 1.0 / 960};
-  bool timeStepsGiven = false;  // --dt was given (the characters scene runs 1/60 otherwise)
+  // Whether --dt was given: scenes with a time step of their own (characters, rope, cloth)
+  // keep it unless it was.
+  bool timeStepsGiven = false;
   std::vector<int> iterations{10};
   std::vector<int> substeps{1};
   std::vector<int> threads{1};

@@ -19,6 +19,7 @@
 #include "bench_engine.h"
 #include "bench_mesh_floor.h"
 #include "bench_octomap.h"
+#include "bench_particles.h"
 #include "bench_rays.h"
 #include "bench_report.h"
 #include "bench_run.h"
@@ -30,8 +31,9 @@ using namespace pfxbench;
 namespace {
 
 // Scenes that measure something other than stepping (load times, a world written and read
-// back), that step pfx alone, or that drive each engine through its own character
-// controller: bench_octomap.h, bench_mesh_floor.h, bench_serialize.h, bench_characters.h.
+// back), that step pfx alone, that drive each engine through its own character controller,
+// or that step particles, which the rigid-body engine adapters do not hold: bench_octomap.h,
+// bench_mesh_floor.h, bench_serialize.h, bench_characters.h, bench_particles.h.
 struct ApartScene {
   const char* name;
   // Appends its rows, returns its failures.
@@ -45,6 +47,8 @@ const ApartScene kApartScenes[] = {
     {kSerializeSceneName,
      [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
     {kCharactersSceneName, runCharactersScene},
+    {kRopeSceneName, runRopeScene},
+    {kClothSceneName, runClothScene},
 };
 
 struct Job {
