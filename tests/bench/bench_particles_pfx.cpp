@@ -15,7 +15,6 @@ namespace {
 
 using namespace pfx;
 
-constexpr double kRopeGroundTop = -10;  // m
 
 PfxVector3 toPfx(const ParticlePoint& p) {
   return PfxVector3(PfxFloat(p.x), PfxFloat(p.y), PfxFloat(p.z));
@@ -31,26 +30,27 @@ std::vector<ParticlePoint> positionsOf(const PfxParticleGroup& group) {
   return points;
 }
 
-// The world and its fixed ground, a box whose top is at groundTop.
-bool startWorld(PfxWorld& world, double dt, const SolverSetting& setting, double groundTop,
-                std::string& error) {
+bool startWorld(PfxWorld& world, double dt, const SolverSetting& setting, std::string& error) {
   PfxWorldParam param;
   param.timeStep = PfxFloat(dt);
   param.subStep = PfxUInt32(setting.substeps);
   param.enableSleep = false;
   param.numThreads = 1;
-  PfxInt32 code = world.initialize(param);
-  // A world of particles alone refuses to step (a required pointer is null), so every
-  // scene has a fixed ground (the ropes' 10 m below them, out of their reach).
+  const PfxInt32 code = world.initialize(param);
+  if (code != PFX_OK) error = std::string("building the world: ") + pfxErrorString(code);
+  return code == PFX_OK;
+}
+
+// The cloth's fixed ground, a box whose top is at height 0.
+bool addGround(PfxWorld& world, std::string& error) {
   PfxBodyInit ground;
   ground.mass = 0;
   ground.friction = PfxFloat(kClothFriction);
-  ground.position = PfxVector3(0, PfxFloat(groundTop - 0.5), 0);
+  ground.position = PfxVector3(0, PfxFloat(-0.5), 0);
   const PfxFloat extent = PfxFloat(kGroundHalfExtent);
-  if (code == PFX_OK) {
-    code = pfxAddBody(world, pfxMakeShape(PfxBox(extent, PfxFloat(0.5), extent)), ground);
-  }
-  if (code != PFX_OK) error = std::string("building the world: ") + pfxErrorString(code);
+  const PfxInt32 code =
+      pfxAddBody(world, pfxMakeShape(PfxBox(extent, PfxFloat(0.5), extent)), ground);
+  if (code != PFX_OK) error = std::string("adding the ground: ") + pfxErrorString(code);
   return code == PFX_OK;
 }
 
@@ -75,7 +75,7 @@ bool stepOnce(PfxWorld& world, std::string& error) {
 bool runPfxRope(double dt, double seconds, const SolverSetting& setting, bool tethers,
                 RopeFigures& figures, std::string& error) {
   PfxWorld world;
-  if (!startWorld(world, dt, setting, kRopeGroundTop, error)) return false;
+  if (!startWorld(world, dt, setting, error)) return false;
   PfxParticleGroupBuilder builder;
   PfxParticleGroupBuilder::Material material;
   material.particleMass = PfxFloat(kRopeParticleMass);
@@ -119,7 +119,7 @@ bool runPfxRope(double dt, double seconds, const SolverSetting& setting, bool te
 bool runPfxPayload(double dt, double seconds, const SolverSetting& setting, bool tethers,
                    RopeFigures& figures, std::string& error) {
   PfxWorld world;
-  if (!startWorld(world, dt, setting, kRopeGroundTop, error)) return false;
+  if (!startWorld(world, dt, setting, error)) return false;
   PfxParticleGroupBuilder builder;
   PfxParticleGroupBuilder::Material material;
   material.particleMass = PfxFloat(kPayloadParticleMass);
@@ -153,7 +153,7 @@ bool runPfxPayload(double dt, double seconds, const SolverSetting& setting, bool
 bool runPfxCloth(int side, double dt, double seconds, const SolverSetting& setting,
                  ClothFigures& figures, std::string& error) {
   PfxWorld world;
-  if (!startWorld(world, dt, setting, 0, error)) return false;
+  if (!startWorld(world, dt, setting, error) || !addGround(world, error)) return false;
   PfxBodyInit fixed;
   fixed.mass = 0;
   fixed.friction = PfxFloat(kClothFriction);

@@ -302,6 +302,26 @@ TEST(WorldParticles, ParticlesPushALightBody) {
   EXPECT_NEAR(momentum, 2, 0.02);
 }
 
+// A world of particles alone, no rigid body at all: a rope pinned at one end swings down
+// and hangs below its pin, its length kept.
+TEST(WorldParticles, AWorldOfParticlesAloneSteps) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);
+  PfxParticleGroupBuilder rope;
+  const PfxVector3 pin(0, 2, 0);
+  rope.addRope(pin, pin + PfxVector3(1, 0, 0), 21, PfxParticleGroupBuilder::Material());
+  rope.pinToWorld(0);
+  PfxUInt32 id = 0;
+  ASSERT_EQ(world.addParticleGroup(rope.desc(), &id), PFX_OK) << pfxGetLastErrorDetail();
+  for (int step = 0; step < 240; ++step) ASSERT_EQ(world.step(), PFX_OK) << pfxGetLastErrorDetail();
+  const PfxParticleGroup& g = *world.getParticleGroup(id);
+  EXPECT_LT((g.particles[0].m_position - pin).norm(), 1e-4);
+  const PfxVector3 tip = g.particles.back().m_position;
+  ASSERT_TRUE(tip.allFinite());
+  EXPECT_LT(tip.y(), pin.y() - 0.5);  // swung down from the horizontal
+  EXPECT_LT((tip - pin).norm(), 1.01);
+}
+
 TEST(WorldParticles, CablePinnedToAMovingBodyFollowsIt) {
   PfxWorld world;
   ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);

@@ -85,7 +85,9 @@ PfxInt32 pfxCheckPairsInRange(const PfxParamNames& at, const char* pairsField,
 PfxInt32 pfxCheckBuffer(const PfxParamNames& at, const char* buffField, const void* buff,
                         PfxUInt64 bytes, PfxUInt64 requiredBytes) {
   const auto bytesOf = [](PfxUInt64 n) { return static_cast<unsigned long long>(n); };
-  if (!buff) {
+  // A call with nothing to hold (no body, no pair) needs no buffer, and an empty
+  // std::vector's data() is null.
+  if (!buff && requiredBytes > 0) {
     return pfxRejectParam(PFX_ERR_OUT_OF_BUFFER, "%s: %s%s%s is null; it needs %llu bytes",
                           at.stage, at.param, scope(at), buffField, bytesOf(requiredBytes));
   }

@@ -163,10 +163,14 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
     }
     if (!primary) primary = arrays[a];
   }
-  if (!primary) {
+  // Like every other array of the pipeline, the proxies may be null when there is no body
+  // to give one (a world of particles alone has none).
+  if (!primary && n > 0) {
     return pfxRejectParam(PFX_ERR_NULL_POINTER,
                           "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::proxiesX "
-                          "to proxiesZb are all null; at least one array is needed");
+                          "to proxiesZb are all null, but numRigidBodies is %u; at least one "
+                          "array is needed",
+                          n);
   }
   if ((param.outOfWorldBehavior & ~kKnownOutOfWorldFlags) != 0) {
     return pfxRejectParam(PFX_ERR_INVALID_FLAG,
