@@ -56,7 +56,10 @@ class PfxNode {
  private:
   bool readParam(PfxNodeParam& param) const;
   ros::Time stamp() const;
-  void publishState();
+  // One step as the loop takes it: the simulation, then the diagnostics' and sensors' share.
+  PfxInt32 stepOnce();
+  // ~step's steps, and the state after them published at once.
+  PfxInt32 stepPaused(PfxInt32 steps);
 
   ros::NodeHandle m_handle;
   ros::NodeHandle m_privateHandle{"~"};
