@@ -187,7 +187,17 @@ PfxInt32 PfxNode::stepOnce() {
   return err;
 }
 
+bool PfxNode::rebindIfRebuilt() {
+  if (m_simulation.getGeneration() == m_boundGeneration) return false;
+  m_statePublisher->bind(m_simulation);
+  m_boundGeneration = m_simulation.getGeneration();
+  m_sensors->restart();
+  return true;
+}
+
 PfxInt32 PfxNode::stepPaused(PfxInt32 steps) {
+  // A ~reset or ~load_world answered just before, in the same turn of the loop.
+  rebindIfRebuilt();
   PfxInt32 firstError = PFX_OK;
   for (PfxInt32 i = 0; i < steps; ++i) {
     const PfxInt32 err = stepOnce();
@@ -226,12 +236,8 @@ void PfxNode::run() {
       nextStep += stepPeriod();
       if (now - nextStep > kMaxLag) nextStep = now;
     }
-    if (m_simulation.getGeneration() != m_boundGeneration) {
-      m_statePublisher->bind(m_simulation);
-      m_boundGeneration = m_simulation.getGeneration();
-      m_sensors->restart();
-      stepsUnpublished = true;  // a reset or a loaded world is a new state, paused or not
-    }
+    // A reset or a loaded world is a new state, paused or not.
+    if (rebindIfRebuilt()) stepsUnpublished = true;
     // Stamps are simulated time under use_sim_time: only a step makes a new state.
     if (stepsUnpublished && now >= nextState) {
       m_statePublisher->publish(m_simulation, stamp());

@@ -58,6 +58,9 @@ class PfxNode {
   ros::Time stamp() const;
   // One step as the loop takes it: the simulation, then the diagnostics' and sensors' share.
   PfxInt32 stepOnce();
+  // After ~reset or ~load_world: the state publisher and the sensors start on the new
+  // world. True when they did.
+  bool rebindIfRebuilt();
   // ~step's steps, and the state after them published at once.
   PfxInt32 stepPaused(PfxInt32 steps);
 
