@@ -156,8 +156,9 @@ bool PfxNode::initialize() {
   m_boundGeneration = m_simulation.getGeneration();
   m_diagnostics = std::make_unique<PfxNodeDiagnostics>(m_handle, m_param.realTimeFactor);
   m_markers = std::make_unique<PfxNodeMarkers>(m_privateHandle, m_param.fixedFrame);
-  m_services = std::make_unique<PfxNodeServices>(m_privateHandle, m_simulation,
-                                                 PfxUInt32(m_param.maxBatchRays), m_param.paused);
+  m_services = std::make_unique<PfxNodeServices>(
+      m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused,
+      m_param.realTimeFactor, [this](PfxInt32 steps) { return stepPaused(steps); });
 
   const PfxUrdfModel& model = m_simulation.getModel();
   ROS_INFO(
@@ -175,12 +176,46 @@ ros::Time PfxNode::stamp() const {
   return m_useSimTime ? ros::Time(m_simulation.getTime()) : ros::Time::now();
 }
 
+PfxInt32 PfxNode::stepOnce() {
+  const PfxInt32 err = m_simulation.step();
+  if (err != PFX_OK) {
+    ROS_ERROR_THROTTLE(1.0, "pfx_node: step at t = %.3f s failed: %s", m_simulation.getTime(),
+                       pfxErrorString(err));
+  }
+  m_diagnostics->addStep(m_simulation.getWorld().getStats());
+  m_sensors->update(m_simulation, stamp());
+  return err;
+}
+
+bool PfxNode::rebindIfRebuilt() {
+  if (m_simulation.getGeneration() == m_boundGeneration) return false;
+  m_statePublisher->bind(m_simulation);
+  m_boundGeneration = m_simulation.getGeneration();
+  m_sensors->restart();
+  return true;
+}
+
+PfxInt32 PfxNode::stepPaused(PfxInt32 steps) {
+  // A ~reset or ~load_world answered just before, in the same turn of the loop.
+  rebindIfRebuilt();
+  PfxInt32 firstError = PFX_OK;
+  for (PfxInt32 i = 0; i < steps; ++i) {
+    const PfxInt32 err = stepOnce();
+    if (firstError == PFX_OK) firstError = err;
+  }
+  // Whoever asked for the steps looks at the state right after the answer.
+  m_statePublisher->publish(m_simulation, stamp());
+  return firstError;
+}
+
 void PfxNode::run() {
   ros::CallbackQueue& queue = *ros::getGlobalCallbackQueue();
-  // A world loaded through ~load_world brings its own time step.
+  // A world loaded through ~load_world brings its own time step; ~set_physics changes it
+  // and the real-time factor.
   auto stepPeriod = [&] {
     const double dt = m_simulation.getTimeStep();
-    return ros::WallDuration(m_param.realTimeFactor > 0 ? dt / m_param.realTimeFactor : 0);
+    const double factor = m_services->getRealTimeFactor();
+    return ros::WallDuration(factor > 0 ? dt / factor : 0);
   };
   const ros::WallDuration statePeriod = periodOf(m_param.publishRate);
   const ros::WallDuration markerPeriod = periodOf(m_param.markerRate);
@@ -196,22 +231,13 @@ void PfxNode::run() {
     if (paused) {
       nextStep = now;  // no burst of steps on unpause
     } else if (now >= nextStep) {
-      if (const PfxInt32 err = m_simulation.step(); err != PFX_OK) {
-        ROS_ERROR_THROTTLE(1.0, "pfx_node: step at t = %.3f s failed: %s", m_simulation.getTime(),
-                           pfxErrorString(err));
-      }
-      m_diagnostics->addStep(m_simulation.getWorld().getStats());
-      m_sensors->update(m_simulation, stamp());
+      stepOnce();
       stepsUnpublished = true;
       nextStep += stepPeriod();
       if (now - nextStep > kMaxLag) nextStep = now;
     }
-    if (m_simulation.getGeneration() != m_boundGeneration) {
-      m_statePublisher->bind(m_simulation);
-      m_boundGeneration = m_simulation.getGeneration();
-      m_sensors->restart();
-      stepsUnpublished = true;  // a reset or a loaded world is a new state, paused or not
-    }
+    // A reset or a loaded world is a new state, paused or not.
+    if (rebindIfRebuilt()) stepsUnpublished = true;
     // Stamps are simulated time under use_sim_time: only a step makes a new state.
     if (stepsUnpublished && now >= nextState) {
       m_statePublisher->publish(m_simulation, stamp());
@@ -223,6 +249,7 @@ void PfxNode::run() {
       nextMarkers = now + markerPeriod;
     }
     if (m_param.diagnosticsRate > 0 && now >= nextDiagnostics) {
+      m_diagnostics->setTargetRealTimeFactor(m_services->getRealTimeFactor());
       m_diagnostics->publish(m_simulation, paused, stamp());
       nextDiagnostics = now + diagnosticsPeriod;
     }

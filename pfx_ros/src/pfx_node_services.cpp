@@ -52,8 +52,13 @@ bool isFinite(const geometry_msgs::Vector3& v) { return pfxIsFinite(pfxFromMsg(v
 }  // namespace
 
 PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
-                                 PfxUInt32 maxBatchRays, bool startPaused)
-    : m_simulation(simulation), m_maxBatchRays(maxBatchRays), m_paused(startPaused) {
+                                 PfxUInt32 maxBatchRays, bool startPaused,
+                                 double realTimeFactor, StepFunction stepFunction)
+    : m_simulation(simulation),
+      m_maxBatchRays(maxBatchRays),
+      m_paused(startPaused),
+      m_realTimeFactor(realTimeFactor),
+      m_stepFunction(std::move(stepFunction)) {
   ros::NodeHandle& nh = privateHandle;
   m_servers.push_back(nh.advertiseService("raycast", &PfxNodeServices::raycast, this));
   m_servers.push_back(nh.advertiseService("raycast_batch", &PfxNodeServices::raycastBatch, this));
@@ -68,6 +73,9 @@ PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulati
   m_servers.push_back(nh.advertiseService("load_world", &PfxNodeServices::loadWorld, this));
   m_servers.push_back(nh.advertiseService("pause", &PfxNodeServices::pause, this));
   m_servers.push_back(nh.advertiseService("unpause", &PfxNodeServices::unpause, this));
+  m_servers.push_back(nh.advertiseService("step", &PfxNodeServices::step, this));
+  m_servers.push_back(nh.advertiseService("set_physics", &PfxNodeServices::setPhysics, this));
+  m_servers.push_back(nh.advertiseService("get_physics", &PfxNodeServices::getPhysics, this));
 }
 
 std::string PfxNodeServices::hitName(const PfxRayOutput& hit) const {
@@ -323,6 +331,70 @@ bool PfxNodeServices::unpause(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
   std::ostringstream msg;
   msg << (was ? "running" : "already running") << " from t = " << m_simulation.getTime() << " s";
   return accept(res, msg.str());
+}
+
+bool PfxNodeServices::step(Step::Request& req, Step::Response& res) {
+  res.steps_done = 0;
+  res.time = m_simulation.getTime();
+  if (!m_paused) return reject(res, "step", "the simulation is running: pause it first");
+  if (req.steps < 1 || req.steps > kPfxNodeMaxStepsPerCall) {
+    return reject(res, "step",
+                  "steps " + std::to_string(req.steps) + ": must be 1 .. " +
+                      std::to_string(kPfxNodeMaxStepsPerCall));
+  }
+  const PfxInt32 err = m_stepFunction(req.steps);
+  res.steps_done = req.steps;
+  res.time = m_simulation.getTime();
+  std::ostringstream msg;
+  msg << req.steps << " steps to t = " << res.time << " s";
+  // The steps were taken either way; a failed one is reported as the loop reports it.
+  if (err != PFX_OK) return reject(res, "step", msg.str() + ", a step failed: " + pfxErrorString(err));
+  return accept(res, msg.str());
+}
+
+Physics PfxNodeServices::physics() const {
+  Physics p;
+  p.dt = m_simulation.getTimeStep();
+  p.substeps = PfxInt32(m_simulation.getSubSteps());
+  p.iterations = PfxInt32(m_simulation.getIterations());
+  p.gravity = pfxToVector3Msg(m_simulation.getGravity());
+  p.real_time_factor = m_realTimeFactor;
+  return p;
+}
+
+bool PfxNodeServices::setPhysics(SetPhysics::Request& req, SetPhysics::Response& res) {
+  const char* service = "set_physics";
+  const Physics& p = req.physics;
+  res.physics = physics();
+  std::ostringstream why;
+  if (!std::isfinite(p.dt) || !(p.dt > 0) || p.dt > kPfxNodeMaxTimeStep) {
+    why << "dt " << p.dt << " s: must be in (0, " << kPfxNodeMaxTimeStep << "]";
+  } else if (p.substeps < 1 || p.substeps > kPfxNodeMaxSubSteps) {
+    why << "substeps " << p.substeps << ": must be 1 .. " << kPfxNodeMaxSubSteps;
+  } else if (p.iterations < 1 || p.iterations > kPfxNodeMaxIterations) {
+    why << "iterations " << p.iterations << ": must be 1 .. " << kPfxNodeMaxIterations;
+  } else if (!isFinite(p.gravity) || pfxFromMsg(p.gravity).norm() > kPfxNodeMaxGravity) {
+    why << "gravity (" << p.gravity.x << ", " << p.gravity.y << ", " << p.gravity.z
+        << "): must be finite and at most " << kPfxNodeMaxGravity << " m/s^2 long";
+  } else if (!std::isfinite(p.real_time_factor) || p.real_time_factor < 0) {
+    why << "real_time_factor " << p.real_time_factor << ": must be finite and >= 0";
+  }
+  if (!why.str().empty()) return reject(res, service, why.str());
+  std::string refused;
+  if (m_simulation.setPhysics(PfxFloat(p.dt), PfxUInt32(p.substeps), PfxUInt32(p.iterations),
+                              pfxFromMsg(p.gravity), &refused) != PFX_OK) {
+    return reject(res, service, refused);
+  }
+  m_realTimeFactor = p.real_time_factor;
+  res.physics = physics();
+  std::ostringstream msg;
+  msg << "from t = " << m_simulation.getTime() << " s on";
+  return accept(res, msg.str());
+}
+
+bool PfxNodeServices::getPhysics(GetPhysics::Request&, GetPhysics::Response& res) {
+  res.physics = physics();
+  return true;
 }
 
 }  // namespace pfx

@@ -70,7 +70,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   PfxWorld& world = *built->world;
 
   PfxWorldParam param;
-  param.gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
+  param.gravity = config.gravity;
   param.timeStep = config.timeStep;
   param.subStep = config.subSteps;
   param.iteration = config.iterations;
@@ -131,7 +131,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
         asked.iteration != param.iteration || asked.gravity != param.gravity) {
       built->warnings.push_back(config.worldFile +
                                 ": the node runs with its own ~dt, ~substeps, ~iterations and " +
-                                "gravity (0, 0, -9.80665), not the file's");
+                                "gravity, not the file's");
     }
     built->warnings.insert(built->warnings.end(), built->worldFile.warnings.begin(),
                            built->worldFile.warnings.end());
@@ -232,6 +232,38 @@ PfxInt32 PfxNodeSimulation::step() {
   return err;
 }
 
+PfxInt32 PfxNodeSimulation::setPhysics(PfxFloat timeStep, PfxUInt32 subSteps,
+                                       PfxUInt32 iterations, const PfxVector3& gravity,
+                                       std::string* message) {
+  PfxWorld& world = *m_scene->world;
+  if (const PfxInt32 err = world.setStepParam(timeStep, subSteps, iterations, gravity);
+      err != PFX_OK) {
+    if (message) {
+      *message = std::string("the world refused dt, substeps, iterations or gravity: ") +
+                 pfxErrorString(err);
+    }
+    return err;
+  }
+  // getTime() counts steps of one length: the clock so far becomes the new start.
+  m_startTime = getTime();
+  m_stepCount = 0;
+  const double stepRatio = double(m_config.timeStep) / double(timeStep);
+  for (Wrench& wrench : m_wrenches) {
+    wrench.remainingSteps = std::max(1.0, std::ceil(wrench.remainingSteps * stepRatio - 1e-6));
+  }
+  // A body asleep would otherwise float in a gravity that changed under it.
+  if (gravity != m_config.gravity) {
+    for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+      world.setRigidState(id, world.getRigidState(id));
+    }
+  }
+  m_config.timeStep = timeStep;
+  m_config.subSteps = subSteps;
+  m_config.iterations = iterations;
+  m_config.gravity = gravity;
+  return PFX_OK;
+}
+
 bool PfxNodeSimulation::holdsAgentBodies(std::string* message) const {
   const PfxWorld& world = *m_scene->world;
   PfxUInt32 bodies = 0;
@@ -318,6 +350,7 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
   m_config.timeStep = param.timeStep;
   m_config.subSteps = param.subStep;
   m_config.iterations = param.iteration;
+  m_config.gravity = param.gravity;
   m_startTime = scene->world->getSimulatedTime();
   m_stepCount = 0;
   m_scene = std::move(scene);

@@ -204,6 +204,34 @@ TEST(World, InitializeRejectsBadParameters) {
   EXPECT_EQ(world.getTaskManager()->getNumThreads(), 1u);
 }
 
+TEST(World, SetStepParamKeepsTheBodiesAndRejectsBadValues) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineStable);
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(world.step(), PFX_OK);
+  const PfxWorldParam before = world.getParam();
+  const std::vector<unsigned char> states = snapshot(world);
+  const PfxVector3 down(0, -9.8f, 0);
+  EXPECT_EQ(world.setStepParam(0, 2, 5, down), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setStepParam(kNaN, 2, 5, down), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setStepParam(0.01f, 0, 5, down), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setStepParam(0.01f, 2, 0, down), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setStepParam(0.01f, 2, 5, PfxVector3(0, kInf, 0)), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getParam().timeStep, before.timeStep);
+  EXPECT_EQ(world.getParam().subStep, before.subStep);
+  EXPECT_EQ(world.getParam().iteration, before.iteration);
+  EXPECT_EQ(world.getParam().gravity, before.gravity);
+
+  ASSERT_EQ(world.setStepParam(0.01f, 2, 5, PfxVector3::Zero()), PFX_OK);
+  EXPECT_EQ(world.getParam().timeStep, 0.01f);
+  EXPECT_EQ(world.getParam().subStep, 2u);
+  EXPECT_EQ(world.getParam().iteration, 5u);
+  EXPECT_EQ(world.getParam().gravity, PfxVector3::Zero());
+  EXPECT_EQ(snapshot(world), states) << "bodies untouched until the next step";
+  const double time = world.getSimulatedTime();
+  ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(world.getSimulatedTime() - time, 0.01, 1e-6);
+}
+
 TEST(World, StepAllocatesNothingAfterWarmUp) {
   for (PfxPipelineType pipeline : {kPfxPipelineSimple, kPfxPipelineStable}) {
     PfxWorld world;

@@ -65,6 +65,7 @@ class ClockWatcher {
   explicit ClockWatcher(ros::NodeHandle& nh)
       : m_sub(nh.subscribe("/clock", 100, &ClockWatcher::onClock, this)) {}
   double now() const { return m_seconds.load(); }
+  bool connected() const { return m_sub.getNumPublishers() > 0; }
   // Waits until /clock reaches `seconds`; false if it does not within `wallSeconds`.
   bool waitUntil(double seconds, double wallSeconds) const {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);

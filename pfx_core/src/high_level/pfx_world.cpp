@@ -105,6 +105,18 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   return generateIslands();
 }
 
+PfxInt32 PfxWorld::setStepParam(PfxFloat timeStep, PfxUInt32 subStep, PfxUInt32 iteration,
+                                const PfxVector3& gravity) {
+  PfxWorldParam param = m_param;
+  param.timeStep = timeStep;
+  param.subStep = subStep;
+  param.iteration = iteration;
+  param.gravity = gravity;
+  if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
+  m_param = param;
+  return PFX_OK;
+}
+
 PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) {
   if (!state.isValid()) return PFX_ERR_INVALID_VALUE;
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && !body.isValid()) {

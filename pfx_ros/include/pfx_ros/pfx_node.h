@@ -56,7 +56,13 @@ class PfxNode {
  private:
   bool readParam(PfxNodeParam& param) const;
   ros::Time stamp() const;
-  void publishState();
+  // One step as the loop takes it: the simulation, then the diagnostics' and sensors' share.
+  PfxInt32 stepOnce();
+  // After ~reset or ~load_world: the state publisher and the sensors start on the new
+  // world. True when they did.
+  bool rebindIfRebuilt();
+  // ~step's steps, and the state after them published at once.
+  PfxInt32 stepPaused(PfxInt32 steps);
 
   ros::NodeHandle m_handle;
   ros::NodeHandle m_privateHandle{"~"};

@@ -19,6 +19,8 @@ class PfxNodeDiagnostics {
  public:
   PfxNodeDiagnostics(ros::NodeHandle& handle, double targetRealTimeFactor);
 
+  // ~set_physics changed it: later reports compare with the new factor.
+  void setTargetRealTimeFactor(double factor) { m_targetRealTimeFactor = factor; }
   // After each step.
   void addStep(const PfxWorldStats& stats);
   // Publishes the report on the steps since the last one and starts a new one.

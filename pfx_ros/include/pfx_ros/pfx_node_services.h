@@ -7,26 +7,44 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include <functional>
 #include <vector>
 
 #include "pfx/ApplyBodyWrench.h"
 #include "pfx/GetContacts.h"
+#include "pfx/GetPhysics.h"
 #include "pfx/Raycast.h"
 #include "pfx/RaycastBatch.h"
 #include "pfx/SetBodyState.h"
 #include "pfx/SetJointCommand.h"
+#include "pfx/SetPhysics.h"
+#include "pfx/Step.h"
 #include "pfx/WorldFile.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
 
+// ~step's bound: the node answers nothing else while it steps.
+constexpr PfxInt32 kPfxNodeMaxStepsPerCall = 10000;
+// ~set_physics's bounds, beyond which a robot's simulation is no longer meaningful.
+constexpr double kPfxNodeMaxTimeStep = 0.1;  // s
+constexpr PfxInt32 kPfxNodeMaxSubSteps = 100;
+constexpr PfxInt32 kPfxNodeMaxIterations = 1000;
+constexpr double kPfxNodeMaxGravity = 1000;  // m/s^2
+
 class PfxNodeServices {
  public:
+  // Takes `steps` steps as the node's loop does (sensors and diagnostics included) and
+  // publishes the state after them.
+  using StepFunction = std::function<PfxInt32(PfxInt32 steps)>;
+
   // Advertises the services on `privateHandle`; a batch may hold at most maxBatchRays rays.
   PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
-                  PfxUInt32 maxBatchRays, bool startPaused);
+                  PfxUInt32 maxBatchRays, bool startPaused, double realTimeFactor,
+                  StepFunction stepFunction);
 
   bool isPaused() const { return m_paused; }
+  double getRealTimeFactor() const { return m_realTimeFactor; }
 
  private:
   bool raycast(Raycast::Request& req, Raycast::Response& res);
@@ -40,6 +58,10 @@ class PfxNodeServices {
   bool loadWorld(WorldFile::Request& req, WorldFile::Response& res);
   bool pause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   bool unpause(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  bool step(Step::Request& req, Step::Response& res);
+  bool setPhysics(SetPhysics::Request& req, SetPhysics::Response& res);
+  bool getPhysics(GetPhysics::Request& req, GetPhysics::Response& res);
+  Physics physics() const;
 
   // Name of what a ray hit, empty on a miss.
   std::string hitName(const PfxRayOutput& hit) const;
@@ -47,6 +69,8 @@ class PfxNodeServices {
   PfxNodeSimulation& m_simulation;
   PfxUInt32 m_maxBatchRays;
   bool m_paused = false;
+  double m_realTimeFactor;
+  StepFunction m_stepFunction;
   std::vector<ros::ServiceServer> m_servers;
   std::vector<PfxRayInput> m_batchRays;  // kept between calls: batches reuse the memory
   std::vector<PfxRayOutput> m_batchHits;

@@ -31,6 +31,7 @@ struct PfxNodeSimulationConfig {
   PfxFloat timeStep = PfxFloat(0.004);
   PfxUInt32 subSteps = 1;
   PfxUInt32 iterations = 10;
+  PfxVector3 gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
   bool fixedBase = false;
   PfxFloat initialHeight = 0;  // z of the root link's frame at the start (m)
   // Instead of initialHeight: the lowest point of the robot's collision shapes starts
@@ -72,6 +73,12 @@ class PfxNodeSimulation {
   PfxInt32 reset(std::string* message);
   // One step of the time step; the wrenches that are due act during it.
   PfxInt32 step();
+  // A new time step, sub-steps, iterations and gravity from the next step on, kept by
+  // reset(). Bodies, joints, contacts and the clock stay; a wrench still acting keeps its
+  // duration in seconds; a new gravity wakes every body. On error *message says why and
+  // nothing changes.
+  PfxInt32 setPhysics(PfxFloat timeStep, PfxUInt32 subSteps, PfxUInt32 iterations,
+                      const PfxVector3& gravity, std::string* message);
 
   // Writes the whole world to `path` (pfxSaveWorld: bodies, joints, motor commands,
   // contacts with their impulses, sleep and the simulated time), so that loadWorld can
@@ -91,6 +98,9 @@ class PfxNodeSimulation {
     return m_startTime + static_cast<double>(m_stepCount) * m_config.timeStep;
   }
   double getTimeStep() const { return m_config.timeStep; }
+  PfxUInt32 getSubSteps() const { return m_config.subSteps; }
+  PfxUInt32 getIterations() const { return m_config.iterations; }
+  const PfxVector3& getGravity() const { return m_config.gravity; }
   // Counts load(), reset() and loadWorld() calls: whoever draws the static bodies draws them again.
   PfxUInt32 getGeneration() const { return m_generation; }
   const PfxWorld& getWorld() const;
@@ -158,7 +168,8 @@ class PfxNodeSimulation {
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;
   std::vector<Wrench> m_wrenches;
-  // Simulated time at the last load (of a saved world), and steps since.
+  // Simulated time at the last load (of a saved world) or change of the time step, and
+  // steps since.
   double m_startTime = 0;
   PfxUInt64 m_stepCount = 0;
   PfxUInt32 m_generation = 0;

@@ -161,6 +161,11 @@ class PfxWorld {
 
   // Validates and takes the parameters; removes every body.
   PfxInt32 initialize(const PfxWorldParam& param);
+  // Between steps: a new time step, sub-steps, iterations and gravity, with the bodies,
+  // joints, contacts and sleep kept. Checked as initialize() checks them; on error
+  // nothing changes. A body asleep stays asleep in a new gravity until something wakes it.
+  PfxInt32 setStepParam(PfxFloat timeStep, PfxUInt32 subStep, PfxUInt32 iteration,
+                        const PfxVector3& gravity);
   const PfxWorldParam& getParam() const { return m_param; }
   // The threads the world runs on, for the caller's own calls of the low-level stages
   // between steps (pfxCastRays with many rays, for example).
