@@ -51,8 +51,10 @@ class SensorReader {
     }
   }
 
-  // The number in child `name` of `e`, if there is one (`value` unchanged otherwise).
-  bool number(const XMLElement* e, const char* name, const std::string& path, double& value) {
+  // The number in child `name` of `e`, if there is one (`value` unchanged otherwise). One
+  // template for double and PfxFloat, which is double itself in a PFX_DOUBLE build.
+  template <typename Real>
+  bool number(const XMLElement* e, const char* name, const std::string& path, Real& value) {
     const XMLElement* c = e->FirstChildElement(name);
     if (!c) return true;
     double v;
@@ -61,14 +63,7 @@ class SensorReader {
                   "'" + std::string(c->GetText() ? c->GetText() : "") + "' is not a number");
     }
     if (!std::isfinite(v)) return fail(path + "><" + name, "is not a finite number");
-    value = v;
-    return true;
-  }
-
-  bool number(const XMLElement* e, const char* name, const std::string& path, PfxFloat& value) {
-    double v = value;
-    if (!number(e, name, path, v)) return false;
-    value = PfxFloat(v);
+    value = Real(v);
     return true;
   }
 
