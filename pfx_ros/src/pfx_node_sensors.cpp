@@ -60,6 +60,30 @@ void setDiagonal(boost::array<double, 9>& covariance, const PfxSensorNoise* nois
   }
 }
 
+// An organised cloud of width x height float x, y, z points, zeroed, with no point known to be
+// finite (is_dense false): a beam or pixel that returned nothing is written as NaN.
+sensor_msgs::PointCloud2 makeOrganisedCloud(const std_msgs::Header& header, PfxUInt32 width,
+                                            PfxUInt32 height) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header = header;
+  cloud.height = height;
+  cloud.width = width;
+  for (const char* name : {"x", "y", "z"}) {
+    sensor_msgs::PointField field;
+    field.name = name;
+    field.offset = std::uint32_t(cloud.fields.size() * sizeof(float));
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    cloud.fields.push_back(field);
+  }
+  cloud.is_bigendian = false;
+  cloud.point_step = 3 * sizeof(float);
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.is_dense = false;
+  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  return cloud;
+}
+
 }  // namespace
 
 PfxNodeSensors::PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame)
@@ -289,24 +313,11 @@ void PfxNodeSensors::publishScan(Sensor& sensor, PfxNodeSimulation& simulation,
   }
   // An organised cloud in the sensor's frame: row v holds vertical sample v, and a beam that
   // returned nothing is a NaN point (is_dense false), as PCL's organised clouds have it.
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header.stamp = stamp;
-  cloud.header.frame_id = sensor.spec.frame;
-  cloud.height = r.verticalSamples;
-  cloud.width = r.horizontalSamples;
-  for (const char* name : {"x", "y", "z"}) {
-    sensor_msgs::PointField field;
-    field.name = name;
-    field.offset = std::uint32_t(cloud.fields.size() * sizeof(float));
-    field.datatype = sensor_msgs::PointField::FLOAT32;
-    field.count = 1;
-    cloud.fields.push_back(field);
-  }
-  cloud.is_bigendian = false;
-  cloud.point_step = 3 * sizeof(float);
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.is_dense = false;
-  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = sensor.spec.frame;
+  sensor_msgs::PointCloud2 cloud =
+      makeOrganisedCloud(header, r.horizontalSamples, r.verticalSamples);
   for (PfxUInt32 v = 0; v < r.verticalSamples; ++v) {
     const PfxFloat pitch =
         pfxGetRangeSensorAngle(r.verticalMinAngle, r.verticalMaxAngle, r.verticalSamples, v);
@@ -477,23 +488,7 @@ void PfxNodeSensors::publishDepth(Sensor& sensor, PfxNodeSimulation& simulation,
   info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   info.P = {focal, 0, cx, 0, 0, focal, cy, 0, 0, 0, 1, 0};
 
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header = image.header;
-  cloud.height = c.height;
-  cloud.width = c.width;
-  for (const char* name : {"x", "y", "z"}) {
-    sensor_msgs::PointField field;
-    field.name = name;
-    field.offset = std::uint32_t(cloud.fields.size() * sizeof(float));
-    field.datatype = sensor_msgs::PointField::FLOAT32;
-    field.count = 1;
-    cloud.fields.push_back(field);
-  }
-  cloud.is_bigendian = false;
-  cloud.point_step = 3 * sizeof(float);
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.is_dense = false;
-  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  sensor_msgs::PointCloud2 cloud = makeOrganisedCloud(image.header, c.width, c.height);
   for (PfxUInt32 v = 0; v < c.height; ++v) {
     for (PfxUInt32 u = 0; u < c.width; ++u) {
       const PfxUInt32 i = v * c.width + u;
