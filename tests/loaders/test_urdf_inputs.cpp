@@ -467,6 +467,15 @@ TEST(UrdfInputs, TargetsBeyondTheLimitsAreCutSayingWhichJointAndLimit) {
   ASSERT_EQ(pfxSetUrdfJointCommand(world, model, left, kPfxJointDriveVelocity, 3, 0, &note),
             PFX_OK);
   EXPECT_EQ(note, "joint 'left_finger': velocity target 3 cut to its upper velocity limit 0.5");
+  // An effort beyond the URDF's effort limit is cut to it, and a larger force limit asked
+  // for does not lift the URDF's.
+  ASSERT_EQ(pfxSetUrdfJointCommand(world, model, left, kPfxJointDriveEffort, -50, 100, &note),
+            PFX_OK);
+  EXPECT_EQ(note, "joint 'left_finger': effort target -50 cut to its lower effort limit -20");
+  const PfxJointConstraint& pushed = world.getJoint(leader.jointId).m_constraints[leader.axis];
+  EXPECT_EQ(pushed.m_drive, kPfxJointDriveEffort);
+  EXPECT_FLOAT_EQ(std::abs(pushed.m_driveTarget), 20);
+  EXPECT_FLOAT_EQ(pushed.m_driveMaxForce, 20);
   ASSERT_EQ(pfxSetUrdfJointCommand(world, model, left, kPfxJointDrivePosition, 0.02f, 0, &note),
             PFX_OK);
   EXPECT_EQ(note, "");

@@ -10,6 +10,7 @@
 #include "pfx/low_level/collision/pfx_detect_collision.h"
 #include "pfx/low_level/collision/pfx_refresh_contacts.h"
 #include "pfx/low_level/rigidbody/pfx_apply_external_force.h"
+#include "pfx/low_level/rigidbody/pfx_apply_joint_efforts.h"
 #include "pfx/low_level/rigidbody/pfx_update_rigid_states.h"
 #include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/low_level/solver/pfx_correct_joint_positions.h"
@@ -704,6 +705,14 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     if (const PfxInt32 err = pfxApplyExternalForce(param, &m_taskManager); err != PFX_OK) {
       return err;
     }
+    PfxApplyJointEffortsParam effortParam;
+    effortParam.joints = m_joints.data();
+    effortParam.numJoints = getNumJoints();
+    effortParam.states = m_states.data();
+    effortParam.bodies = m_bodies.data();
+    effortParam.numRigidBodies = numBodies;
+    effortParam.timeStep = timeStep;
+    if (const PfxInt32 err = pfxApplyJointEfforts(effortParam); err != PFX_OK) return err;
   }
   {
     StageTimer timer(m_stats, kPfxStageSetupSolverBodies);

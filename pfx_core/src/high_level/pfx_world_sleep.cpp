@@ -25,11 +25,12 @@ bool isMovingKeyframe(const PfxRigidState& state) {
 // A position drive this close to its target (m or rad) has arrived.
 constexpr PfxFloat kDriveArrived = PfxFloat(1e-3);
 
-// Whether a drive of the joint still has somewhere to go: its bodies may move slower than
-// the sleep thresholds, but they are on their way and must not be stopped.
+// Whether a drive of the joint still has somewhere to go, or pushes: its bodies may move
+// slower than the sleep thresholds, but they are on their way and must not be stopped.
 bool drives(const PfxJoint& joint) {
   for (const PfxJointConstraint& c : joint.m_constraints) {
     if ((c.m_drive == kPfxJointDriveVelocity && c.m_driveTarget != 0) ||
+        (c.m_drive == kPfxJointDriveEffort && c.m_driveTarget != 0 && c.m_driveMaxForce > 0) ||
         (c.m_drive == kPfxJointDrivePosition &&
          !(std::abs(c.m_position - c.m_driveTarget) <= kDriveArrived))) {
       return true;

@@ -42,6 +42,15 @@ bool isValidJoint(const PfxWorld& world, PfxUInt32 id) {
          joint.m_rigidBodyIdB < world.getNumRigidBodies();
 }
 
+const char* driveName(PfxJointDrive drive) {
+  switch (drive) {
+    case kPfxJointDrivePosition: return "position";
+    case kPfxJointDriveVelocity: return "velocity";
+    case kPfxJointDriveEffort: return "effort";
+    default: return "no";
+  }
+}
+
 }  // namespace
 
 PfxTransform3 pfxGetUrdfLinkPose(const PfxWorld& world, const PfxUrdfLink& link) {
@@ -144,6 +153,10 @@ PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive,
     lower = -joint.velocityLimit;
     upper = joint.velocityLimit;
     what = "velocity limit";
+  } else if (drive == kPfxJointDriveEffort && joint.effortLimit > 0) {
+    lower = -joint.effortLimit;
+    upper = joint.effortLimit;
+    what = "effort limit";
   }
   const PfxFloat clamped = std::clamp(target, lower, upper);
   if (note) {
@@ -151,7 +164,7 @@ PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive,
     if (clamped != target) {
       std::ostringstream text;
       text << "joint '" << joint.name
-           << "': " << (drive == kPfxJointDrivePosition ? "position" : "velocity") << " target "
+           << "': " << driveName(drive) << " target "
            << target << " cut to its " << (target < lower ? "lower " : "upper ") << what << " "
            << clamped;
       *note = text.str();
@@ -166,7 +179,7 @@ PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxU
   if (note) note->clear();
   if (jointIndex >= model.joints.size()) return PFX_ERR_OUT_OF_RANGE;
   const PfxUrdfJoint& urdfJoint = model.joints[jointIndex];
-  if (drive > kPfxJointDrivePosition) return PFX_ERR_INVALID_FLAG;
+  if (drive > kPfxJointDriveEffort) return PFX_ERR_INVALID_FLAG;
   if (urdfJoint.jointId == kPfxUrdfNoJoint || urdfJoint.mimicLeader >= 0 ||
       !isValidJoint(world, urdfJoint.jointId) || !pfxIsFinite(target) || !pfxIsFinite(maxForce) ||
       !(maxForce >= 0)) {
@@ -185,9 +198,10 @@ PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxU
   axis.m_driveTarget = drive == kPfxJointDrivePosition
                            ? (target - urdfJoint.offset) / urdfJoint.sign
                            : target / urdfJoint.sign;
-  axis.m_driveMaxForce = maxForce > 0                ? maxForce
-                         : urdfJoint.effortLimit > 0 ? urdfJoint.effortLimit
-                                                     : std::numeric_limits<PfxFloat>::max();
+  // The URDF's effort limit is the actuator's: a larger force asked for does not lift it.
+  const PfxFloat effortLimit =
+      urdfJoint.effortLimit > 0 ? urdfJoint.effortLimit : std::numeric_limits<PfxFloat>::max();
+  axis.m_driveMaxForce = maxForce > 0 ? std::min(maxForce, effortLimit) : effortLimit;
   const PfxInt32 err = world.setJoint(urdfJoint.jointId, joint);
   if (err == PFX_OK && note) *note = cut;
   return err;

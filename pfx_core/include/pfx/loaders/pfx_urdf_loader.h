@@ -224,14 +224,16 @@ void pfxGetUrdfJointStates(const PfxWorld& world, const PfxUrdfModel& model,
 // for a robot without any.
 PfxFloat pfxGetUrdfLowestPoint(const PfxWorld& world, const PfxUrdfModel& model);
 // A target the joint can reach: a position target outside the joint's URDF limits is cut to
-// the nearer limit, a velocity target to +-the velocity limit (when the URDF gives one).
-// When it cuts, writes into *note which joint, which limit and the target asked for.
+// the nearer limit, a velocity target to +-the velocity limit and an effort to +-the effort
+// limit (when the URDF gives them). When it cuts, writes into *note which joint, which
+// limit and the target asked for.
 PfxFloat pfxClampUrdfJointTarget(const PfxUrdfJoint& joint, PfxJointDrive drive, PfxFloat target,
                                  std::string* note = nullptr);
-// Motor command on one joint: a target position or velocity, cut by pfxClampUrdfJointTarget
-// (*note says so, and is cleared when nothing was cut), with the force limited by maxForce
-// when that is > 0, else by the joint's URDF effort limit (unlimited when neither is
-// given), or kPfxJointDriveNone to let the joint go. Rejects an index out of range
+// Motor command on one joint: a target position or velocity, or an effort (N m or N along
+// the URDF axis, kPfxJointDriveEffort), cut by pfxClampUrdfJointTarget (*note says so, and
+// is cleared when nothing was cut), with the force limited by the joint's URDF effort limit
+// and by maxForce when that is > 0 (the smaller wins; unlimited when neither is given), or
+// kPfxJointDriveNone to let the joint go. Rejects an index out of range
 // (PFX_ERR_OUT_OF_RANGE), joints without a coordinate, mimic followers, NaN targets and a
 // negative or NaN maxForce (PFX_ERR_INVALID_VALUE); nothing changes then.
 PfxInt32 pfxSetUrdfJointCommand(PfxWorld& world, const PfxUrdfModel& model, PfxUInt32 jointIndex,

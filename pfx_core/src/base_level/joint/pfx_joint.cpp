@@ -55,6 +55,23 @@ bool isRotation(const PfxMatrix3& m) {
          m.determinant() > 0;
 }
 
+// Euler angles change at rates whose directions are not the frame's axes: with
+// w = s1' Y + s2' Ry(s1) Z + t' Ry(s1) Rz(s2) X in A's joint frame, each rate is w dotted
+// with one row of the inverse of those three columns. Near swing2 = +-pi/2 the rows grow as
+// 1 / cos(swing2); a floor on that cosine keeps them finite there.
+void setEulerAxes(PfxJoint& joint, const PfxMatrix3& frameA) {
+  constexpr PfxFloat kMinCosine = PfxFloat(1e-2);
+  const PfxFloat s1 = joint.m_constraints[kPfxJointAxisSwing1].m_position;
+  const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
+  const PfxFloat sin1 = std::sin(s1), cos1 = std::cos(s1), sin2 = std::sin(s2);
+  const PfxFloat cos2 =
+      std::copysign(std::max(std::abs(std::cos(s2)), kMinCosine), std::cos(s2));
+  const PfxFloat tan2 = sin2 / cos2;
+  joint.m_axes[kPfxJointAxisSwing1] = frameA * PfxVector3(-tan2 * cos1, 1, tan2 * sin1);
+  joint.m_axes[kPfxJointAxisSwing2] = frameA * PfxVector3(sin1, 0, cos1);
+  joint.m_axes[kPfxJointAxisTwist] = frameA * PfxVector3(cos1 / cos2, 0, -sin1 / cos2);
+}
+
 }  // namespace
 
 PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
@@ -68,7 +85,7 @@ PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
     return PFX_ERR_INVALID_VALUE;
   }
   for (const PfxJointConstraint& c : joint.m_constraints) {
-    if (c.m_lock > kPfxJointLockLimit || c.m_drive > kPfxJointDrivePosition) {
+    if (c.m_lock > kPfxJointLockLimit || c.m_drive > kPfxJointDriveEffort) {
       return PFX_ERR_INVALID_FLAG;
     }
     const bool finite = pfxIsFinite(c.m_movableLowerLimit) && pfxIsFinite(c.m_movableUpperLimit) &&
@@ -125,6 +142,38 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
   coordinates[kPfxJointAxisTwist] = twist;
   coordinates[kPfxJointAxisSwing1] = swing.y() * scale;
   coordinates[kPfxJointAxisSwing2] = swing.z() * scale;
+}
+
+void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRigidState& stateB) {
+  const PfxMatrix3 frameA = stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
+  const PfxMatrix3 frameB = stateB.getOrientation().toRotationMatrix() * joint.m_frameB;
+  joint.m_armA = stateA.getOrientation() * joint.m_anchorA;
+  joint.m_armB = stateB.getOrientation() * joint.m_anchorB;
+
+  // With all three translations locked at zero the anchors simply coincide, and world axes
+  // make the rows exact: rows along A's axes would turn with A, which the Jacobian leaves
+  // out, and the position correction would need more passes to converge.
+  bool anchorsCoincide = true;
+  for (int i = 0; i < 3; ++i) {
+    const PfxJointConstraint& c = joint.m_constraints[i];
+    anchorsCoincide =
+        anchorsCoincide && c.m_lock == kPfxJointLockLocked && c.m_drive == kPfxJointDriveNone;
+  }
+  const PfxMatrix3 linearAxes = anchorsCoincide ? PfxMatrix3::Identity() : frameA;
+  for (int i = 0; i < 3; ++i) joint.m_axes[i] = linearAxes.col(i);
+  const PfxVector3 twist = frameA.col(0) + frameB.col(0);
+  joint.m_axes[kPfxJointAxisTwist] =
+      twist.norm() > PFX_EPSILON ? PfxVector3(twist.normalized()) : PfxVector3(frameA.col(0));
+  joint.m_axes[kPfxJointAxisSwing1] = frameA.col(1);
+  joint.m_axes[kPfxJointAxisSwing2] = frameA.col(2);
+
+  pfxCalcJointPositions(joint, stateA, stateB);
+  if (joint.m_rotation == kPfxJointRotationEulerYZX) setEulerAxes(joint, frameA);
+  if (anchorsCoincide) {
+    const PfxVector3 gap = stateB.getPosition() + joint.m_armB -
+                           stateA.getPosition() - joint.m_armA;
+    for (int i = 0; i < 3; ++i) joint.m_constraints[i].m_position = gap[i];
+  }
 }
 
 }  // namespace pfx

@@ -326,7 +326,7 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
       const bool used = drive ? c.m_driveRowUsed != 0 : c.m_rowType != kPfxJointRowNone && !direct;
       if (!used) continue;
       if (inTree) {
-        const bool dampingOnly = drive && c.m_drive == kPfxJointDriveNone &&
+        const bool dampingOnly = drive && !pfxDriveHasTarget(c.m_drive) &&
                                  c.m_friction <= 0 && c.m_damping > 0;
         solveTreeJointRow(row, c.m_treeResponse[which], c, dampingOnly, joint, axis, p, tree,
                           jointPairIndex, treeHeld);

@@ -84,4 +84,11 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
 void pfxCalcJointPositions(PfxJoint& joint, const PfxRigidState& stateA,
                            const PfxRigidState& stateB);
 
+// Sets m_armA, m_armB, the six row directions m_axes and the coordinates from the two
+// bodies' states, as the solver's rows use them: a row's coordinate changes at the rate of
+// its direction dotted with the bodies' relative motion, so an impulse along it is one
+// along that coordinate alone. With all three translations locked and undriven the
+// translation rows are the world's axes and their coordinates the anchors' world gap.
+void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRigidState& stateB);
+
 }  // namespace pfx

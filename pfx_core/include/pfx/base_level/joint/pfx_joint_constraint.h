@@ -1,6 +1,7 @@
 // One axis of a joint (seed chapter 10, "Mechanism of a Joint Constraint"): locked, free or
 // limited, with the seed's bias, weight and damping, and, beyond the seed, a drive (target
-// velocity or position under a force limit) and friction, as robot joints need.
+// velocity or position under a force limit, or a commanded effort) and friction, as robot
+// joints need.
 #pragma once
 
 #include "pfx/base_level/solver/pfx_constraint_row.h"
@@ -17,7 +18,18 @@ enum PfxJointDrive : PfxUInt8 {
   kPfxJointDriveNone = 0,
   kPfxJointDriveVelocity,  // m_driveTarget is a velocity (m/s or rad/s)
   kPfxJointDrivePosition,  // m_driveTarget is a position (m or rad)
+  // m_driveTarget is a force (N) or torque (N m) along the axis, cut to +-m_driveMaxForce:
+  // an actuator's commanded effort, applied to both bodies each sub-step
+  // (pfxApplyJointEfforts) rather than solved as a row, so that damping, friction, limits
+  // and whatever the joint carries answer it as they answer gravity.
+  kPfxJointDriveEffort,
 };
+
+// Whether the drive is a solver row aiming at a target (a velocity or a position); an
+// effort drive is a force and leaves the row to friction and damping.
+inline bool pfxDriveHasTarget(PfxUInt8 drive) {
+  return drive == kPfxJointDriveVelocity || drive == kPfxJointDrivePosition;
+}
 
 // What the lock row of an axis does in the current step (set up by the solver).
 enum PfxJointRowType : PfxUInt8 {
@@ -42,7 +54,7 @@ struct PfxJointConstraint {
   // Largest friction force (N) or torque (N m) resisting motion along the axis.
   PfxFloat m_friction;
   PfxFloat m_driveTarget;
-  // Largest force (N) or torque (N m) the drive may apply.
+  // Largest force (N) or torque (N m) the drive may apply (an effort drive too).
   PfxFloat m_driveMaxForce;
 
   // Solver state, set up each step: the lock or limit row, and the row that drives, damps
