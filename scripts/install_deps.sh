@@ -24,12 +24,12 @@ if [ "$set_name" = all ]; then
     python3-roslaunch python3-rostest rosout rosbash python3-rosservice python3-rostopic
     python3-rosnode tf2-tools python3-numpy)
   for msgs in geometry-msgs std-msgs visualization-msgs sensor-msgs nav-msgs std-srvs \
-    diagnostic-msgs; do
+    diagnostic-msgs trajectory-msgs; do
     packages+=("lib${msgs}-dev" "ros-${msgs}")
   done
   # Python message classes, so that rostopic echo reads the node's topics.
   packages+=(python3-sensor-msgs python3-nav-msgs python3-diagnostic-msgs
-    python3-visualization-msgs python3-geometry-msgs python3-std-msgs)
+    python3-visualization-msgs python3-geometry-msgs python3-std-msgs python3-trajectory-msgs)
   packages+=(libros-rosgraph-msgs-dev ros-rosgraph-msgs)
   packages+=(rviz xvfb xauth imagemagick)
   packages+=(libbullet-dev libbullet-extras-dev libode-dev libmujoco-dev libembree-dev gnuplot-nox)

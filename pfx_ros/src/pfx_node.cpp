@@ -150,6 +150,12 @@ bool PfxNode::initialize() {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
   }
+  m_jointCommands =
+      std::make_unique<PfxNodeJointCommands>(m_handle, m_privateHandle, m_simulation, m_useSimTime);
+  if (!m_jointCommands->configure(&why)) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
   m_statePublisher = std::make_unique<PfxNodeStatePublisher>(
       m_handle, m_param.fixedFrame, m_param.agentFramePrefix, m_useSimTime);
   m_statePublisher->bind(m_simulation);
@@ -177,6 +183,7 @@ ros::Time PfxNode::stamp() const {
 }
 
 PfxInt32 PfxNode::stepOnce() {
+  m_jointCommands->update();
   const PfxInt32 err = m_simulation.step();
   if (err != PFX_OK) {
     ROS_ERROR_THROTTLE(1.0, "pfx_node: step at t = %.3f s failed: %s", m_simulation.getTime(),

@@ -230,9 +230,13 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
     case SetJointCommand::Request::VELOCITY:
       drive = kPfxJointDriveVelocity;
       break;
+    case SetJointCommand::Request::EFFORT:
+      drive = kPfxJointDriveEffort;
+      break;
     default:
       return reject(res, service,
-                    "mode " + std::to_string(req.mode) + ": OFF (0), POSITION (1) or VELOCITY (2)");
+                    "mode " + std::to_string(req.mode) +
+                        ": OFF (0), POSITION (1), VELOCITY (2) or EFFORT (3)");
   }
   const bool needTargets = drive != kPfxJointDriveNone;
   if (req.targets.size() != n && (needTargets || !req.targets.empty())) {

@@ -87,17 +87,28 @@ void stepOneSecond(PfxWorld& world) {
   for (int i = 0; i < kStepsPerSecond; ++i) ASSERT_EQ(world.step(), PFX_OK);
 }
 
-// A wheel (a ball) on a hinge about Z to a fixed body, from rest: its spin after 1 s.
+// A wheel (a ball) on a hinge about Z to a fixed body.
+struct Wheel {
+  PfxUInt32 base, wheel, hinge;
+};
+
+Wheel addWheel(PfxWorld& world) {
+  Wheel w;
+  w.base = addBall(world, PfxVector3::Zero(), 0);
+  w.wheel = addBall(world, PfxVector3(0, 0, 1), 2);
+  w.hinge = addHinge(world, w.base, w.wheel, PfxVector3(0, 0, 1));
+  return w;
+}
+
+// The wheel's spin after 1 s from rest under the effort.
 double wheelSpin(PfxFloat effort, PfxFloat maxForce, PfxUInt32 subSteps, PfxFloat* inertia) {
   PfxWorld world;
   initialize(world, subSteps);
-  const PfxUInt32 base = addBall(world, PfxVector3::Zero(), 0);
-  const PfxUInt32 wheel = addBall(world, PfxVector3(0, 0, 1), 2);
-  const PfxUInt32 hinge = addHinge(world, base, wheel, PfxVector3(0, 0, 1));
-  EXPECT_EQ(commandEffort(world, hinge, kPfxJointAxisTwist, effort, maxForce), PFX_OK);
+  const Wheel w = addWheel(world);
+  EXPECT_EQ(commandEffort(world, w.hinge, kPfxJointAxisTwist, effort, maxForce), PFX_OK);
   stepOneSecond(world);
-  *inertia = inertiaZ(world, wheel);
-  return double(world.getRigidState(wheel).getAngularVelocity().z());
+  *inertia = inertiaZ(world, w.wheel);
+  return double(world.getRigidState(w.wheel).getAngularVelocity().z());
 }
 
 }  // namespace
@@ -235,9 +246,7 @@ TEST(JointEffort, TurnsTheWholeSubtreeBeyondATreeJoint) {
 TEST(JointEffort, NonFiniteOrNegativeEffortsAreRefusedWithNothingChanged) {
   PfxWorld world;
   initialize(world);
-  const PfxUInt32 base = addBall(world, PfxVector3::Zero(), 0);
-  const PfxUInt32 wheel = addBall(world, PfxVector3(0, 0, 1), 2);
-  const PfxUInt32 hinge = addHinge(world, base, wheel, PfxVector3(0, 0, 1));
+  const PfxUInt32 hinge = addWheel(world).hinge;
   ASSERT_EQ(commandEffort(world, hinge, kPfxJointAxisTwist, 0.1f, 1), PFX_OK);
   const PfxJoint before = world.getJoint(hinge);
   const PfxFloat nan = std::numeric_limits<PfxFloat>::quiet_NaN();
@@ -261,9 +270,7 @@ TEST(JointEffort, NonFiniteOrNegativeEffortsAreRefusedWithNothingChanged) {
 TEST(JointEffort, StageRefusesBadJointsBeforeTouchingAnyState) {
   PfxWorld world;
   initialize(world);
-  const PfxUInt32 base = addBall(world, PfxVector3::Zero(), 0);
-  const PfxUInt32 wheel = addBall(world, PfxVector3(0, 0, 1), 2);
-  const PfxUInt32 hinge = addHinge(world, base, wheel, PfxVector3(0, 0, 1));
+  const auto [base, wheel, hinge] = addWheel(world);
   std::vector<PfxJoint> joints = {world.getJoint(hinge), world.getJoint(hinge)};
   for (PfxJoint& joint : joints) {
     joint.m_constraints[kPfxJointAxisTwist].m_drive = kPfxJointDriveEffort;

@@ -12,6 +12,7 @@
 
 #include "pfx_ros/pfx_node_agents.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
+#include "pfx_ros/pfx_node_joint_commands.h"
 #include "pfx_ros/pfx_node_markers.h"
 #include "pfx_ros/pfx_node_sensors.h"
 #include "pfx_ros/pfx_node_services.h"
@@ -30,7 +31,9 @@ struct PfxNodeParam {
   std::string fixedFrame = "world";  // ~fixed_frame
   // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
   // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the sensors
-  // (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h).
+  // (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h), the joint command
+  // topics (~joint_interfaces, ~joint_group) by PfxNodeJointCommands
+  // (pfx_node_joint_commands.h).
   std::string agentFramePrefix = "agents";
   double realTimeFactor = 1;  // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
@@ -76,6 +79,7 @@ class PfxNode {
   std::unique_ptr<PfxNodeMarkers> m_markers;
   std::unique_ptr<PfxNodeAgents> m_agents;
   std::unique_ptr<PfxNodeSensors> m_sensors;
+  std::unique_ptr<PfxNodeJointCommands> m_jointCommands;
 };
 
 }  // namespace pfx
