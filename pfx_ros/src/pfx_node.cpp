@@ -164,7 +164,10 @@ bool PfxNode::initialize() {
   m_markers = std::make_unique<PfxNodeMarkers>(m_privateHandle, m_param.fixedFrame);
   m_services = std::make_unique<PfxNodeServices>(
       m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused,
-      m_param.realTimeFactor, [this](PfxInt32 steps) { return stepPaused(steps); });
+      m_param.realTimeFactor, [this](PfxInt32 steps) { return stepPaused(steps); },
+      [this](const std::vector<PfxUInt32>& joints) {
+        m_jointCommands->releaseFromTrajectories(joints);
+      });
 
   const PfxUrdfModel& model = m_simulation.getModel();
   ROS_INFO(

@@ -53,12 +53,14 @@ bool isFinite(const geometry_msgs::Vector3& v) { return pfxIsFinite(pfxFromMsg(v
 
 PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
                                  PfxUInt32 maxBatchRays, bool startPaused,
-                                 double realTimeFactor, StepFunction stepFunction)
+                                 double realTimeFactor, StepFunction stepFunction,
+                                 JointCommandListener jointCommandListener)
     : m_simulation(simulation),
       m_maxBatchRays(maxBatchRays),
       m_paused(startPaused),
       m_realTimeFactor(realTimeFactor),
-      m_stepFunction(std::move(stepFunction)) {
+      m_stepFunction(std::move(stepFunction)),
+      m_jointCommandListener(std::move(jointCommandListener)) {
   ros::NodeHandle& nh = privateHandle;
   m_servers.push_back(nh.advertiseService("raycast", &PfxNodeServices::raycast, this));
   m_servers.push_back(nh.advertiseService("raycast_batch", &PfxNodeServices::raycastBatch, this));
@@ -286,6 +288,7 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
       err != PFX_OK) {
     return reject(res, service, pfxErrorString(err));
   }
+  m_jointCommandListener(joints);
   // The targets were cut to the joints' limits where they lay beyond; say which.
   std::string cut;
   for (std::size_t i = 0; needTargets && i < n; ++i) {

@@ -336,6 +336,34 @@ TEST(JointCommands, TrajectoriesAreFollowedInSimulatedTime) {
   EXPECT_LT(best, kTrackingError);
 }
 
+// A trajectory stamped later replaces the one being followed from its own start, which it
+// leaves from where the first meant the joint to be; a service command ends it.
+TEST(JointCommands, ALaterTrajectoryTakesOverAtItsStartAndACommandEndsIt) {
+  publishGroup({0.0, 0.05});
+  waitSimulated(1.0);
+  const double start = shared->clock->now() + 0.2;
+  shared->trajectory.publish(trajectory({"shoulder"}, {point(2, {0.8})}, start));
+  ASSERT_TRUE(shared->clock->waitUntil(start + 0.1, 30));
+  shared->trajectory.publish(trajectory({"shoulder"}, {point(1, {-0.4})}, start + 1));
+  ASSERT_TRUE(shared->clock->waitUntil(start + 0.9, 30));
+  // Still the first: 0.8 * 0.9 / 2.
+  EXPECT_NEAR(position("shoulder"), 0.36, 0.02);
+  ASSERT_TRUE(shared->clock->waitUntil(start + 2.2, 30));
+  // The second, from 0.4 at start + 1 to -0.4 at start + 2, then held.
+  EXPECT_NEAR(position("shoulder"), -0.4, kReached);
+
+  const double next = shared->clock->now();
+  shared->trajectory.publish(trajectory({"shoulder"}, {point(3, {0.9})}));
+  ASSERT_TRUE(shared->clock->waitUntil(next + 0.5, 30));
+  pfx::SetJointCommand srv;
+  srv.request.names = {"shoulder"};
+  srv.request.mode = pfx::SetJointCommand::Request::POSITION;
+  srv.request.targets = {-0.1};
+  EXPECT_TRUE(call("pfx_node/set_joint_command", srv).response.success);
+  waitSimulated(1.5);
+  EXPECT_NEAR(position("shoulder"), -0.1, kReached);
+}
+
 TEST(JointCommands, BadCommandsAreDroppedWithAWarningAndMoveNothing) {
   publishGroup({0.2, 0.05});
   waitSimulated(1.0);

@@ -8,12 +8,13 @@
 // - ~joint_trajectory (trajectory_msgs/JointTrajectory): followed in simulated time through
 //   PfxJointTrajectory (cubic between points that carry velocities, straight lines
 //   otherwise) as position targets, holding the last point at the end; a header stamp of 0
-//   starts it now, and a new trajectory replaces the one before from its own start time.
+//   starts it now, and a new trajectory replaces the one being followed from its own start
+//   time (one still waiting to start at once).
 // Every command goes through pfxSetUrdfJointCommand, so the URDF's limits and effort limits
 // win. A bad message (NaN or infinite values, unknown, fixed or mimic-follower joints,
 // wrong sizes, times that do not increase) is dropped with a warning naming what was wrong,
 // and changes nothing. A command on a joint of the trajectory being followed (or waiting to
-// start) ends that trajectory: the newest command rules.
+// start), by topic or by ~set_joint_command, ends that trajectory: the newest command rules.
 #pragma once
 
 #include <ros/ros.h>
@@ -44,6 +45,9 @@ class PfxNodeJointCommands {
   // joints' position targets. After ~reset or ~load_world, whose world has no commands,
   // the trajectories are dropped.
   void update();
+  // Ends the trajectories (followed or waiting) that hold one of `joints` (indices into
+  // the model's joints), which another command has just taken over.
+  void releaseFromTrajectories(const std::vector<PfxUInt32>& joints);
 
  private:
   struct Trajectory {
@@ -64,8 +68,6 @@ class PfxNodeJointCommands {
   // Sends commands of one drive; warns with `source` and is false when refused.
   bool command(const char* source, const std::vector<PfxUInt32>& joints, PfxJointDrive drive,
                const std::vector<double>& values);
-  // Ends the trajectories that hold one of `joints`.
-  void releaseFromTrajectories(const std::vector<PfxUInt32>& joints);
   void activate(Trajectory& next);
 
   ros::NodeHandle& m_handle;

@@ -37,11 +37,14 @@ class PfxNodeServices {
   // Takes `steps` steps as the node's loop does (sensors and diagnostics included) and
   // publishes the state after them.
   using StepFunction = std::function<PfxInt32(PfxInt32 steps)>;
+  // Told which joints (indices into the model's joints) ~set_joint_command has just
+  // commanded, so that a trajectory driving them lets them go.
+  using JointCommandListener = std::function<void(const std::vector<PfxUInt32>& joints)>;
 
   // Advertises the services on `privateHandle`; a batch may hold at most maxBatchRays rays.
   PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
                   PfxUInt32 maxBatchRays, bool startPaused, double realTimeFactor,
-                  StepFunction stepFunction);
+                  StepFunction stepFunction, JointCommandListener jointCommandListener);
 
   bool isPaused() const { return m_paused; }
   double getRealTimeFactor() const { return m_realTimeFactor; }
@@ -71,6 +74,7 @@ class PfxNodeServices {
   bool m_paused = false;
   double m_realTimeFactor;
   StepFunction m_stepFunction;
+  JointCommandListener m_jointCommandListener;
   std::vector<ros::ServiceServer> m_servers;
   std::vector<PfxRayInput> m_batchRays;  // kept between calls: batches reuse the memory
   std::vector<PfxRayOutput> m_batchHits;
