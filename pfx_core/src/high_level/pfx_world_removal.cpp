@@ -30,6 +30,7 @@ void PfxWorld::eraseJointedPairKey(const PfxJoint& joint) {
 // to the free list.
 void PfxWorld::dropPairsOf(PfxUInt32 id) {
   const auto drop = [&](std::vector<PfxBroadphasePair>& pairs, PfxUInt32& numPairs) {
+    const PfxUInt32 before = numPairs;
     PfxUInt32 kept = 0;
     for (PfxUInt32 i = 0; i < numPairs; ++i) {
       if (pfxGetObjectIdA(pairs[i]) != id && pfxGetObjectIdB(pairs[i]) != id) {
@@ -39,10 +40,11 @@ void PfxWorld::dropPairsOf(PfxUInt32 id) {
       }
     }
     numPairs = kept;
+    return kept != before;
   };
   drop(m_pairs, m_numPairs);
-  drop(m_sleepingPairs, m_numSleepingPairs);
-  countSleepingContacts();
+  // The sleeping pairs' contacts are counted over all their manifolds: only when one went.
+  if (drop(m_sleepingPairs, m_numSleepingPairs)) countSleepingContacts();
 }
 
 // The slot stays an inactive coupling, so that the ids after it keep their couplings.
