@@ -125,7 +125,6 @@ PfxInt32 PfxNodeAgentSet::add(const PfxNodeAgentSpec& spec, std::string* message
   }
   // Room first, so that nothing can fail once the character is in the world.
   m_agents.reserve(m_agents.size() + 1);
-  m_bodies.reserve(m_bodies.size() + 1);
   Agent agent;
   agent.spec = spec;
   agent.yaw = wrapAngle(spec.yaw);

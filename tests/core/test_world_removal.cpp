@@ -13,6 +13,7 @@
 #include "pfx/high_level/pfx_serialize.h"
 #include "pfx/low_level/pfx_error_detail.h"
 #include "pfx_allocation_counter.h"
+#include "pfx_serialize_test_world.h"
 
 using namespace pfx;
 
@@ -314,14 +315,11 @@ TEST(WorldRemoval, SaveAndLoadKeepTheSlotsAndTheBits) {
   ASSERT_EQ(world.removeRigidBody(b), PFX_OK);
   stepFor(world, 5);
 
-  std::unique_ptr<FILE, int (*)(FILE*)> file(std::tmpfile(), &std::fclose);
-  ASSERT_TRUE(file);
-  std::string error;
-  ASSERT_EQ(pfxSaveWorld(world, file.get(), &error), PFX_OK) << error;
-  std::rewind(file.get());
+  const pfx_test::Bytes bytes = pfx_test::saveWorld(world);
   PfxWorld loaded;
   PfxSerializedMeshes meshes;
-  ASSERT_EQ(pfxLoadWorld(loaded, file.get(), meshes, &error), PFX_OK) << error;
+  std::string error;
+  ASSERT_EQ(pfx_test::loadWorld(loaded, meshes, bytes, &error), PFX_OK) << error;
   EXPECT_EQ(loaded.getNumRigidBodies(), world.getNumRigidBodies());
   EXPECT_FALSE(loaded.hasRigidBody(2));
   EXPECT_FALSE(loaded.hasRigidBody(b));
@@ -345,4 +343,37 @@ TEST(WorldRemoval, AWarmStepAfterRemovalsAllocatesNothing) {
   ASSERT_EQ(world.removeRigidBody(3), PFX_OK);
   stepFor(world, 5);
   EXPECT_EQ(pfx_test::pfxAllocationCount(), before);
+}
+
+TEST(WorldRemoval, AFileWhoseRemovedSlotsDoNotHoldIsRejected) {
+  PfxWorld world;
+  buildStack(world);
+  stepFor(world, 10);
+  ASSERT_EQ(world.removeRigidBody(2), PFX_OK);
+  const pfx_test::Bytes bytes = pfx_test::saveWorld(world);
+  // GONE: the count of removed bodies, then their ids.
+  const std::size_t ids = pfx_test::sectionPayload(bytes, "GONE") + 4;
+  ASSERT_EQ(pfx_test::getU32(bytes, ids), 2u);
+  struct Damage {
+    PfxUInt32 id;
+    PfxInt32 code;
+    const char* says;
+  };
+  const Damage damages[] = {
+      {99, PFX_ERR_OUT_OF_RANGE, "removed slots/bodies: holds 99, which is not increasing or not below 5"},
+      {1, PFX_ERR_INVALID_VALUE, "removed slots/bodies: body 1 is removed but not inert"}};
+  for (const Damage& damage : damages) {
+    pfx_test::Bytes changed = bytes;
+    pfx_test::putU32(changed, ids, damage.id);
+    pfx_test::resealChecksum(changed);
+    PfxWorld target;
+    buildStack(target);
+    const std::vector<unsigned char> before = allStateBytes(target);
+    PfxSerializedMeshes meshes;
+    std::string error;
+    EXPECT_EQ(pfx_test::loadWorld(target, meshes, changed, &error), damage.code) << error;
+    EXPECT_NE(error.find(damage.says), std::string::npos) << error;
+    EXPECT_EQ(allStateBytes(target), before);
+    EXPECT_EQ(target.getNumRemovedRigidBodies(), 0u);
+  }
 }
