@@ -10,6 +10,7 @@
 
 #include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx/high_level/pfx_debug_render.h"
 #include "pfx/high_level/pfx_serialize.h"
 #include "pfx/low_level/pfx_error_detail.h"
 #include "pfx_allocation_counter.h"
@@ -376,4 +377,38 @@ TEST(WorldRemoval, AFileWhoseRemovedSlotsDoNotHoldIsRejected) {
     EXPECT_EQ(allStateBytes(target), before);
     EXPECT_EQ(target.getNumRemovedRigidBodies(), 0u);
   }
+}
+
+TEST(WorldRemoval, DebugDrawingLeavesRemovedBodiesAndJointsOut) {
+  PfxWorld world;
+  buildChain(world);
+  stepFor(world, 5);
+  PfxDebugRender render;
+  int drawn = 0;
+  render.setDebugRenderLineFunc([&](const PfxVector3&, const PfxVector3&, const PfxVector3&) { ++drawn; });
+  render.setDebugRenderArcFunc([&](const PfxVector3&, const PfxVector3&, const PfxVector3&, PfxFloat,
+                                   PfxFloat, PfxFloat, const PfxVector3&) { ++drawn; });
+  render.setDebugRenderBoxFunc([&](const PfxTransform3&, const PfxVector3&, const PfxVector3&) { ++drawn; });
+  render.setDebugRenderAabbFunc([&](const PfxVector3&, const PfxVector3&, const PfxVector3&) { ++drawn; });
+  const auto count = [&](auto&& draw) {
+    drawn = 0;
+    draw();
+    return drawn;
+  };
+  const auto shapes = [&] { render.renderShapes(world); };
+  const auto boxes = [&] { render.renderAabb(world); };
+  const auto joints = [&] { render.renderJoint(world); };
+  const int sphereLines = count(shapes) - count([&] {
+    render.renderShapes(world.getRigidStates(), &world.getCollidable(0), 3);
+  });
+  ASSERT_GT(sphereLines, 0);  // what the last sphere alone draws
+  const int boxesBefore = count(boxes), jointsBefore = count(joints);
+  ASSERT_EQ(world.removeJoint(2), PFX_OK);  // body 3 now hangs from nothing
+  const int oneJoint = jointsBefore - count(joints);
+  EXPECT_GT(oneJoint, 0);
+  const int shapesBefore = count(shapes);
+  ASSERT_EQ(world.removeRigidBody(3), PFX_OK);
+  EXPECT_EQ(count(shapes), shapesBefore - sphereLines);
+  EXPECT_EQ(count(boxes), boxesBefore - 1);
+  EXPECT_EQ(count(joints), jointsBefore - oneJoint);
 }

@@ -555,8 +555,11 @@ PfxInt32 PfxDebugRender::renderJoint(const PfxJoint* joints, PfxUInt32 numJoints
 }
 
 void PfxDebugRender::renderJoint(const PfxWorld& world) {
-  renderJoint(world.getNumJoints() > 0 ? &world.getJoint(0) : nullptr, world.getNumJoints(),
-              world.getRigidStates(), world.getNumRigidBodies());
+  // One by one, as removed joints' slots (PfxWorld::removeJoint) are left out.
+  for (PfxUInt32 id = 0; id < world.getNumJoints(); ++id) {
+    if (!world.hasJoint(id)) continue;
+    renderJoint(&world.getJoint(id), 1, world.getRigidStates(), world.getNumRigidBodies());
+  }
 }
 
 void PfxDebugRender::drawLargeMeshIslands(const PfxRigidState* states,
