@@ -125,7 +125,6 @@ PfxInt32 PfxNodeAgentSet::add(const PfxNodeAgentSpec& spec, std::string* message
   }
   // Room first, so that nothing can fail once the character is in the world.
   m_agents.reserve(m_agents.size() + 1);
-  m_bodies.reserve(m_bodies.size() + 1);
   Agent agent;
   agent.spec = spec;
   agent.yaw = wrapAngle(spec.yaw);
@@ -138,9 +137,6 @@ PfxInt32 PfxNodeAgentSet::add(const PfxNodeAgentSpec& spec, std::string* message
   PfxCharacterStatus status;
   m_controller.getStatus(agent.characterId, status);
   agent.bodyId = status.rigidBodyId;
-  if (std::find(m_bodies.begin(), m_bodies.end(), agent.bodyId) == m_bodies.end()) {
-    m_bodies.push_back(agent.bodyId);
-  }
   m_agents.push_back(std::move(agent));
   return PFX_OK;
 }
@@ -237,13 +233,8 @@ PfxInt32 PfxNodeAgentSet::find(const std::string& name) const {
 }
 
 bool PfxNodeAgentSet::isAgentBody(PfxUInt32 bodyId) const {
-  return std::find(m_bodies.begin(), m_bodies.end(), bodyId) != m_bodies.end();
-}
-
-bool PfxNodeAgentSet::isParkedBody(PfxUInt32 bodyId) const {
-  return isAgentBody(bodyId) &&
-         std::none_of(m_agents.begin(), m_agents.end(),
-                      [bodyId](const Agent& agent) { return agent.bodyId == bodyId; });
+  return std::any_of(m_agents.begin(), m_agents.end(),
+                     [bodyId](const Agent& agent) { return agent.bodyId == bodyId; });
 }
 
 }  // namespace pfx

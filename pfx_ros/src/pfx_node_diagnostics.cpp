@@ -112,8 +112,10 @@ void PfxNodeDiagnostics::publish(const PfxNodeSimulation& simulation, bool pause
   addValue(status, "contact points touching or pushing (get_contacts)", double(m_contacts.size()));
   addValue(status, "bodies asleep", last.numSleepingBodies);
   addValue(status, "bodies awake", last.numAwakeBodies);
-  addValue(status, "bodies", simulation.getWorld().getNumRigidBodies());
-  addValue(status, "joints", simulation.getWorld().getNumJoints());
+  const PfxWorld& world = simulation.getWorld();
+  // Removed bodies and joints (a deleted agent's) leave slots that are not counted.
+  addValue(status, "bodies", world.getNumRigidBodies() - world.getNumRemovedRigidBodies());
+  addValue(status, "joints", world.getNumJoints() - world.getNumRemovedJoints());
 
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = stamp;

@@ -126,8 +126,7 @@ void PfxNodeMarkers::addShapes(const PfxNodeSimulation& simulation, bool fixedBo
   const PfxUInt32 numBodies = world.getNumRigidBodies();
   m_render.resetVisible(numBodies);
   m_bodyMarkers.assign(numBodies, visualization_msgs::Marker());
-  // Agents have a namespace of their own (addAgents); the parked bodies of removed ones are
-  // fixed, and would otherwise stay in static_shapes.
+  // Agents have a namespace of their own (addAgents).
   for (PfxUInt32 id = 0; id < numBodies; ++id) {
     const bool fixed = world.getRigidState(id).getMotionType() == kPfxMotionTypeFixed;
     m_render.setVisible(id, fixed == fixedBodies && !agents.isAgentBody(id));
@@ -246,11 +245,6 @@ void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Tim
     m_sentGeneration = simulation.getGeneration();
   }
 
-  // A removed agent's body stays in the world, parked where it was: no box or island of it.
-  const PfxNodeAgentSet& agents = simulation.getAgents();
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
-    if (agents.isParkedBody(id)) m_render.setVisible(id, false);
-  }
   m_drawing = Drawing();
   m_render.renderContact(world);
   addDrawing("contacts", stamp);

@@ -264,23 +264,7 @@ PfxInt32 PfxNodeSimulation::setPhysics(PfxFloat timeStep, PfxUInt32 subSteps,
   return PFX_OK;
 }
 
-bool PfxNodeSimulation::holdsAgentBodies(std::string* message) const {
-  const PfxWorld& world = *m_scene->world;
-  PfxUInt32 bodies = 0;
-  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
-    bodies += m_scene->agents->isAgentBody(id) ? 1 : 0;
-  }
-  if (bodies == 0) return false;
-  if (message) {
-    *message = "the world holds " + std::to_string(bodies) + " bodies of agents (" +
-               std::to_string(m_scene->agents->getNumAgents()) +
-               " agents now), which a world file cannot hold: delete the agents and reset first";
-  }
-  return true;
-}
-
 PfxInt32 PfxNodeSimulation::saveWorld(const std::string& path, std::string* message) const {
-  if (holdsAgentBodies(message)) return PFX_ERR_INVALID_VALUE;
   std::string why;
   const PfxInt32 err = pfxSaveWorld(*m_scene->world, path.c_str(), &why);
   if (err != PFX_OK && message) *message = path + ": " + why;
@@ -289,10 +273,10 @@ PfxInt32 PfxNodeSimulation::saveWorld(const std::string& path, std::string* mess
 
 namespace {
 
-// Empty when `saved` holds the bodies, shapes and joints that `built` holds, else the
-// first difference.
+// Empty when `saved` holds the bodies, shapes and joints that `built` holds, under the same
+// ids, else the first difference. The bodies after those were agents' when it was saved.
 std::string compareWorlds(const PfxWorld& built, const PfxWorld& saved) {
-  if (saved.getNumRigidBodies() != built.getNumRigidBodies()) {
+  if (saved.getNumRigidBodies() < built.getNumRigidBodies()) {
     return "it holds " + std::to_string(saved.getNumRigidBodies()) + " bodies, the robot and " +
            "scene " + std::to_string(built.getNumRigidBodies());
   }
@@ -329,7 +313,14 @@ std::string compareWorlds(const PfxWorld& built, const PfxWorld& saved) {
 PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* message) {
   // The robot and scene are built afresh for their names, meshes and map, and checked
   // against the saved world, which then takes the built world's place.
-  if (holdsAgentBodies(message)) return PFX_ERR_INVALID_VALUE;
+  if (m_scene->agents->getNumAgents() > 0) {
+    if (message) {
+      *message = std::to_string(m_scene->agents->getNumAgents()) +
+                 " agents live, and a world file does not say who drives their bodies: "
+                 "delete the agents first";
+    }
+    return PFX_ERR_INVALID_VALUE;
+  }
   std::unique_ptr<Scene> scene;
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
   auto saved = std::make_unique<PfxWorld>();
@@ -342,6 +333,9 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
   if (const std::string difference = compareWorlds(*scene->world, *saved); !difference.empty()) {
     if (message) *message = path + " was not saved from this robot and scene: " + difference;
     return PFX_ERR_INVALID_VALUE;
+  }
+  for (PfxUInt32 id = scene->world->getNumRigidBodies(); id < saved->getNumRigidBodies(); ++id) {
+    if (saved->hasRigidBody(id)) saved->removeRigidBody(id);  // a saved agent's capsule
   }
   scene->agents.reset();  // it holds the built world
   scene->world = std::move(saved);

@@ -403,11 +403,13 @@ Scene outOfWorldScene() {
 }
 
 PfxInt32 updateOutOfWorldScene(Scene& scene, PfxUInt32 behavior, ProxyArrays& out,
-                               PfxUpdateBroadphaseProxiesResult& result) {
+                               PfxUpdateBroadphaseProxiesResult& result,
+                               const PfxUInt8* skipBodies = nullptr) {
   PfxUpdateBroadphaseProxiesParam param = out.param(scene);
   param.worldCenter = kSmallWorldCenter;
   param.worldExtent = kSmallWorldExtent;
   param.outOfWorldBehavior = behavior;
+  param.skipBodies = skipBodies;
   return pfxUpdateBroadphaseProxies(param, result);
 }
 
@@ -455,6 +457,26 @@ TEST(UpdateBroadphaseProxies, OutOfWorldBehaviours) {
       EXPECT_TRUE(hasProxyOf(out.arrays[a], result.numProxies, 10, &type));
       EXPECT_TRUE(hasProxyOf(out.arrays[a], result.numProxies, 12, &type));
     }
+  }
+}
+
+TEST(UpdateBroadphaseProxies, SkippedBodiesGetNoProxyAndAreNotChecked) {
+  Scene scene = outOfWorldScene();
+  // The skipped body lies outside the world and holds NaN: neither is looked at.
+  scene.states[1].setPosition(PfxVector3(kNaN, 0, 0));
+  const PfxUInt8 skip[3] = {0, 1, 0};
+  ProxyArrays out(scene.states.size());
+  PfxUpdateBroadphaseProxiesResult result;
+  ASSERT_EQ(PFX_OK,
+            updateOutOfWorldScene(scene, PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION, out, result, skip));
+  EXPECT_EQ(2u, result.numProxies);
+  EXPECT_EQ(0u, result.numOutOfWorldProxies);
+  EXPECT_EQ(kPfxMotionTypeActive, scene.states[1].getMotionType());
+  for (int a = 0; a < 6; ++a) {
+    PfxMotionType type = kPfxMotionTypeCount;
+    EXPECT_FALSE(hasProxyOf(out.arrays[a], result.numProxies, 11, &type));
+    EXPECT_TRUE(hasProxyOf(out.arrays[a], result.numProxies, 10, &type));
+    EXPECT_TRUE(hasProxyOf(out.arrays[a], result.numProxies, 12, &type));
   }
 }
 

@@ -885,7 +885,7 @@ TEST(CharacterController, UpdateAllocatesNothing) {
   EXPECT_EQ(allocations, 0);
 }
 
-TEST(CharacterController, RemovedCharactersVanishAndTheirBodiesAreReused) {
+TEST(CharacterController, RemovedCharactersVanishWithTheirBodies) {
   PfxWorld world;
   initWorld(world);
   addFloor(world);
@@ -911,14 +911,14 @@ TEST(CharacterController, RemovedCharactersVanishAndTheirBodiesAreReused) {
   ray.m_direction = PfxVector3(0, -10, 0);
   PfxRayOutput hit;
   ASSERT_EQ(world.castRay(ray, hit), PFX_OK);
-  EXPECT_EQ(hit.m_objectId, 0u);  // the floor, not the parked body
-  // The next character takes the parked body and the free id.
-  const PfxUInt32 numBodies = world.getNumRigidBodies();
+  EXPECT_EQ(hit.m_objectId, 0u);  // the floor, not the removed body
+  EXPECT_FALSE(world.hasRigidBody(body));
+  // The next character takes the free id and a new body.
   PfxUInt32 third = 0;
   ASSERT_EQ(controller.addCharacter(PfxCharacterParam(), PfxVector3(3, 0, 3), &third), PFX_OK);
   EXPECT_EQ(third, first);
-  EXPECT_EQ(world.getNumRigidBodies(), numBodies);
-  EXPECT_EQ(statusOf(controller, third).rigidBodyId, body);
+  EXPECT_NE(statusOf(controller, third).rigidBodyId, body);
+  EXPECT_TRUE(world.hasRigidBody(statusOf(controller, third).rigidBodyId));
   run(world, controller, 0.5f);
   EXPECT_NEAR(statusOf(controller, third).footPosition.x(), 3, 1e-3f);
   EXPECT_EQ(statusOf(controller, third).state, kPfxCharacterStanding);

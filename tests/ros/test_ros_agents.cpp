@@ -4,10 +4,11 @@
 // held to its max_speed; the other walks its square of waypoints in order, round and round.
 // Rays and get_contacts name agents. Two agents walking into each other, and one walking
 // into the crate, never overlap beyond a small tolerance. A deleted agent leaves TF,
-// markers, rays and contacts. Every bad request is refused with its reason and changes
-// nothing: no body is added (/diagnostics), no frame appears, other agents stay put. A reset
-// puts the agents back at their starts; saving the world waits until no agent's body is
-// left in it.
+// markers, rays, contacts and the world (its body is removed: /diagnostics counts one body
+// fewer). Every bad request is refused with its reason and changes nothing: no body is added
+// (/diagnostics), no frame appears, other agents stay put. A reset puts the agents back at
+// their starts; the world saves with agents in it, and loads once they are deleted, without
+// the saved agents' bodies.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Twist.h>
 #include <std_srvs/Trigger.h>
@@ -428,10 +429,12 @@ TEST(Agents, DeleteRemovesTheAgentFromTfMarkersRaysAndContacts) {
   ASSERT_TRUE(latestPose("world", "agents/driver", driver));
   const int firstId = shared->markers->labelId("driver") - 4;
   ASSERT_GE(firstId, 0);
+  const double bodiesBefore = shared->bodies->next();
   const pfx::DeleteAgent::Response res = deleteAgent("driver");
   ASSERT_TRUE(res.success) << res.message;
   const double deletedAt = shared->clock->now();
   ASSERT_TRUE(shared->clock->waitUntil(deletedAt + 1.0, 10));
+  EXPECT_EQ(shared->bodies->next(), bodiesBefore - 1) << "its body is still in the world";
 
   geometry_msgs::TransformStamped last;
   ASSERT_TRUE(pfx_test::lookup(shared->ros->tfBuffer, "world", "agents/driver", last));
@@ -532,11 +535,12 @@ TEST(Agents, BadRequestsAreRefusedWithTheirReasonAndChangeNothing) {
     EXPECT_NE(res.message.find(reason), std::string::npos) << name << ": " << res.message;
     std::printf("delete_agent '%s': %s\n", name, res.message.c_str());
   }
-  pfx::WorldFile save;
-  save.request.path = "/tmp/pfx_agents_test.pfxw";
-  save = call(kNode + "save_world", save);
-  EXPECT_FALSE(save.response.success);
-  EXPECT_NE(save.response.message.find("agents"), std::string::npos) << save.response.message;
+  // Loading a world file while agents live: the file cannot say who drives their bodies.
+  pfx::WorldFile load;
+  load.request.path = "/tmp/pfx_agents_test_absent.pfxw";
+  load = call(kNode + "load_world", load);
+  EXPECT_FALSE(load.response.success);
+  EXPECT_NE(load.response.message.find("agents"), std::string::npos) << load.response.message;
 
   // NaN commands are dropped: the agent stands where it stood.
   ASSERT_TRUE(drive("stand", twist(kNaN, 0, 0), shared->clock->now() + 1.0));
@@ -556,7 +560,7 @@ TEST(Agents, BadRequestsAreRefusedWithTheirReasonAndChangeNothing) {
   EXPECT_TRUE(good.response.success) << good.response.message;
 }
 
-TEST(Agents, ResetPutsAgentsBackAtTheirStartsAndDropsRemovedOnesBodies) {
+TEST(Agents, ResetPutsAgentsBackAndWorldFilesLeaveAgentsOut) {
   std_srvs::Trigger reset;
   reset = call(kNode + "reset", reset);
   ASSERT_TRUE(reset.response.success) << reset.response.message;
@@ -571,20 +575,26 @@ TEST(Agents, ResetPutsAgentsBackAtTheirStartsAndDropsRemovedOnesBodies) {
   // The ground, the crate and the three agents left (walker, stand, newcomer).
   EXPECT_EQ(shared->bodies->next(), 5);
 
-  // With every agent deleted and a reset, the world is the robot's and scene's again: it
-  // saves and loads.
-  for (const char* name : {"walker", "stand", "newcomer"}) EXPECT_TRUE(deleteAgent(name).success);
+  // The world saves with agents in it; it loads only once they are deleted (the file does
+  // not say who drives their bodies), and without the saved agents' bodies.
   pfx::WorldFile file;
   file.request.path = "/tmp/pfx_agents_test.pfxw";
-  pfx::WorldFile refused = call(kNode + "save_world", file);
-  EXPECT_FALSE(refused.response.success) << "the removed agents' bodies are still there";
-  reset = call(kNode + "reset", reset);
-  ASSERT_TRUE(reset.response.success) << reset.response.message;
-  EXPECT_EQ(shared->bodies->next(), 2);
   pfx::WorldFile saved = call(kNode + "save_world", file);
   EXPECT_TRUE(saved.response.success) << saved.response.message;
+  pfx::WorldFile refused = call(kNode + "load_world", file);
+  EXPECT_FALSE(refused.response.success);
+  EXPECT_NE(refused.response.message.find("delete the agents first"), std::string::npos)
+      << refused.response.message;
+  for (const char* name : {"walker", "stand", "newcomer"}) EXPECT_TRUE(deleteAgent(name).success);
+  // Deleted agents' bodies are gone at once, without a reset: the ground and the crate.
+  EXPECT_EQ(shared->bodies->next(), 2);
   pfx::WorldFile loaded = call(kNode + "load_world", file);
   EXPECT_TRUE(loaded.response.success) << loaded.response.message;
+  EXPECT_EQ(shared->bodies->next(), 2);
+  const pfx::Raycast::Response hit =
+      pfx_test::raycast(kNode + "raycast", newcomer.x - 2, newcomer.y, 1.0, 4, 0, 0);
+  ASSERT_TRUE(hit.success) << hit.message;
+  EXPECT_FALSE(hit.hit) << "the saved newcomer's body came back: " << hit.link;
   std::remove(file.request.path.c_str());
 }
 

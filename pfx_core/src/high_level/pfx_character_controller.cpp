@@ -94,26 +94,9 @@ PfxInt32 PfxCharacterController::addCharacter(const PfxCharacterParam& param,
   state.setContactFilterSelf(param.contactFilterSelf);
   state.setContactFilterTarget(param.contactFilterTarget);
 
-  // A parked body of the same shape is taken over; otherwise the world gets a new one.
-  const auto parked =
-      std::find_if(m_parkedBodies.begin(), m_parkedBodies.end(), [&](PfxUInt32 bodyId) {
-        const PfxShape& shape = m_world.getCollidable(bodyId).getShape(0);
-        return shape.getCapsule().m_radius == param.radius &&
-               shape.getCapsule().m_halfLen == capsule.getCapsule().m_halfLen &&
-               shape.getOffsetOrientation().coeffs() == capsule.getOffsetOrientation().coeffs();
-      });
   PfxUInt32 bodyId = 0;
-  if (parked != m_parkedBodies.end()) {
-    bodyId = *parked;
-    const PfxRigidBody previousBody = m_world.getRigidBody(bodyId);
-    if (const PfxInt32 err = m_world.setRigidBody(bodyId, body); err != PFX_OK) return err;
-    if (const PfxInt32 err = m_world.setRigidState(bodyId, state); err != PFX_OK) {
-      m_world.setRigidBody(bodyId, previousBody);
-      return err;
-    }
-    m_parkedBodies.erase(parked);
-  } else if (const PfxInt32 err = m_world.addRigidBody(state, body, &capsule, 1, &bodyId);
-             err != PFX_OK) {
+  if (const PfxInt32 err = m_world.addRigidBody(state, body, &capsule, 1, &bodyId);
+      err != PFX_OK) {
     return err;
   }
 
@@ -141,19 +124,9 @@ PfxInt32 PfxCharacterController::addCharacter(const PfxCharacterParam& param,
 PfxInt32 PfxCharacterController::removeCharacter(PfxUInt32 id) {
   if (!isCharacter(id)) return PFX_ERR_OUT_OF_RANGE;
   Character& character = m_characters[id];
-  PfxRigidState parked = m_world.getRigidState(character.status.rigidBodyId);
-  parked.setMotionType(kPfxMotionTypeFixed);
-  parked.setLinearVelocity(PfxVector3::Zero());
-  parked.setAngularVelocity(PfxVector3::Zero());
-  parked.setContactFilterSelf(0);
-  parked.setContactFilterTarget(0);
-  // Room first, so that the calls below cannot fail half way.
-  m_parkedBodies.reserve(m_parkedBodies.size() + 1);
-  if (const PfxInt32 err = m_world.setRigidState(character.status.rigidBodyId, parked);
-      err != PFX_OK) {
+  if (const PfxInt32 err = m_world.removeRigidBody(character.status.rigidBodyId); err != PFX_OK) {
     return err;
   }
-  m_parkedBodies.push_back(character.status.rigidBodyId);
   m_characterBodies[character.status.rigidBodyId] = false;
   character.live = false;
   --m_numCharacters;

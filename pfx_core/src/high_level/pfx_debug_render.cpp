@@ -234,6 +234,15 @@ bool PfxDebugRender::isVisible(PfxUInt32 rigidBodyId) const {
   return rigidBodyId >= m_visible.size() || m_visible[rigidBodyId] != 0;
 }
 
+// A removed body's slot (PfxWorld::removeRigidBody) is not a body to show; it never comes
+// back, so hiding it for good is right.
+void PfxDebugRender::hideRemovedBodies(const PfxWorld& world) {
+  if (world.getNumRemovedRigidBodies() == 0) return;
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    if (!world.hasRigidBody(id)) setVisible(id, false);
+  }
+}
+
 PfxInt32 PfxDebugRender::setCircleSegments(PfxUInt32 segments) {
   if (segments < 3 || segments > 256) return PFX_ERR_INVALID_VALUE;
   m_circleSegments = segments;
@@ -347,6 +356,7 @@ PfxInt32 PfxDebugRender::renderShapes(const PfxRigidState* states,
 }
 
 void PfxDebugRender::renderShapes(const PfxWorld& world) {
+  hideRemovedBodies(world);
   renderShapes(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 
@@ -378,6 +388,7 @@ PfxInt32 PfxDebugRender::renderAabb(const PfxRigidState* states, const PfxCollid
 }
 
 void PfxDebugRender::renderAabb(const PfxWorld& world) {
+  hideRemovedBodies(world);
   renderAabb(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 
@@ -397,6 +408,7 @@ PfxInt32 PfxDebugRender::renderLocalAxis(const PfxRigidState* states, PfxUInt32 
 }
 
 PfxInt32 PfxDebugRender::renderLocalAxis(const PfxWorld& world, PfxFloat scale) {
+  hideRemovedBodies(world);
   return renderLocalAxis(world.getRigidStates(), world.getNumRigidBodies(), scale);
 }
 
@@ -436,6 +448,7 @@ PfxInt32 PfxDebugRender::renderIsland(const PfxIsland& island, const PfxRigidSta
 }
 
 void PfxDebugRender::renderIsland(const PfxWorld& world) {
+  hideRemovedBodies(world);
   renderIsland(world.getIsland(), world.getRigidStates(), collidablesOf(world),
                world.getNumRigidBodies());
 }
@@ -542,8 +555,11 @@ PfxInt32 PfxDebugRender::renderJoint(const PfxJoint* joints, PfxUInt32 numJoints
 }
 
 void PfxDebugRender::renderJoint(const PfxWorld& world) {
-  renderJoint(world.getNumJoints() > 0 ? &world.getJoint(0) : nullptr, world.getNumJoints(),
-              world.getRigidStates(), world.getNumRigidBodies());
+  // One by one, as removed joints' slots (PfxWorld::removeJoint) are left out.
+  for (PfxUInt32 id = 0; id < world.getNumJoints(); ++id) {
+    if (!world.hasJoint(id)) continue;
+    renderJoint(&world.getJoint(id), 1, world.getRigidStates(), world.getNumRigidBodies());
+  }
 }
 
 void PfxDebugRender::drawLargeMeshIslands(const PfxRigidState* states,
@@ -589,6 +605,7 @@ PfxInt32 PfxDebugRender::renderLargeMesh(const PfxRigidState* states,
 }
 
 void PfxDebugRender::renderLargeMesh(const PfxWorld& world) {
+  hideRemovedBodies(world);
   renderLargeMesh(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 
@@ -609,6 +626,7 @@ PfxInt32 PfxDebugRender::renderLargeMeshInFrustum(const PfxRigidState* states,
 
 PfxInt32 PfxDebugRender::renderLargeMeshInFrustum(const PfxWorld& world,
                                                   const PfxVector4 planes[6]) {
+  hideRemovedBodies(world);
   return renderLargeMeshInFrustum(world.getRigidStates(), collidablesOf(world),
                                   world.getNumRigidBodies(), planes);
 }
@@ -690,6 +708,7 @@ PfxInt32 PfxDebugRender::renderLargeMeshByFlag(const PfxRigidState* states,
 }
 
 void PfxDebugRender::renderLargeMeshByFlag(const PfxWorld& world) {
+  hideRemovedBodies(world);
   renderLargeMeshByFlag(world.getRigidStates(), collidablesOf(world), world.getNumRigidBodies());
 }
 

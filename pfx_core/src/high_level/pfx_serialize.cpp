@@ -198,6 +198,13 @@ PfxInt32 pfxSerializeRead(FILE* file, const PfxSerializeCallbacks& callbacks) {
                    "place for: load it with pfxLoadWorld";
     return report(callbacks, kFunction, error);
   }
+  if (!image.removals.empty()) {
+    error.code = PFX_ERR_OUT_OF_BUFFER;
+    error.tags = {"removed slots"};
+    error.reason = "the file holds a world's removed bodies or joints, which PfxSerializeBuffer "
+                   "has no place for: load it with pfxLoadWorld";
+    return report(callbacks, kFunction, error);
+  }
   const PfxSerializeCapacity needed = image.capacity();
   PfxUInt32 have = 0, need = 0;
   if (const char* name = shortfall(capacity, needed, have, need)) {

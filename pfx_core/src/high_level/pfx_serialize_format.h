@@ -131,6 +131,10 @@ class PfxByteReader {
   // Enters the next section, which must carry `tag`; `inner` (sharing this reader's error
   // and tags) reads its payload.
   bool section(const char* tag, PfxByteReader& inner);
+  // Whether the next section carries `tag`, without entering it (the optional sections).
+  bool nextSectionIs(const char* tag) const {
+    return remaining() >= 4 && std::memcmp(m_data + m_at, tag, 4) == 0;
+  }
   // Fails when bytes are left over (a section longer than what it holds).
   bool finish(const char* what);
 

@@ -12,6 +12,14 @@
 
 namespace pfx {
 
+// The ids of a world's removed bodies, joints and couplings, each list increasing.
+struct PfxSerializeRemovals {
+  std::vector<PfxUInt32> bodies;
+  std::vector<PfxUInt32> joints;
+  std::vector<PfxUInt32> couplings;
+  bool empty() const { return bodies.empty() && joints.empty() && couplings.empty(); }
+};
+
 // A file's content, every value checked: ids within their arrays, meshes whole, nothing
 // NaN. Shapes point to the meshes held here, which the image frees unless they are taken.
 struct PfxSerializeImage {
@@ -39,6 +47,8 @@ struct PfxSerializeImage {
   std::vector<PfxLargeTriMesh*> largeMeshes;
   // PfxWorld's particle groups by id (null for a free id), from the optional section PART.
   std::vector<std::unique_ptr<PfxParticleGroup>> particleGroups;
+  // The slots PfxWorld::removeRigidBody and removeJoint left, from the optional section GONE.
+  PfxSerializeRemovals removals;
 
   PfxUInt32 numBodies() const { return static_cast<PfxUInt32>(states.size()); }
   // Counts as PfxSerializeCapacity names them (compound shapes only).
@@ -52,13 +62,23 @@ struct PfxSerializeImage {
 PfxInt32 pfxEncodeSerialized(
     const PfxSerializeCapacity& counts, const PfxSerializeBuffer& buffer,
     std::vector<PfxUInt8>& bytes, PfxSerializeError& error,
-    const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups = nullptr);
+    const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups = nullptr,
+    const PfxSerializeRemovals* removals = nullptr);
 
 // The section PART, both ways (pfx_serialize_particles.cpp). The reader checks each group
 // as PfxWorld::addParticleGroup would, against the bodies already read.
 void pfxEncodeParticleGroups(PfxByteWriter& w,
                              const std::vector<std::unique_ptr<PfxParticleGroup>>& groups);
 bool pfxDecodeParticleGroups(PfxByteReader& r, PfxSerializeImage& image);
+
+// The section GONE, both ways (pfx_serialize_removals.cpp), written after CONT when a world
+// has removed slots. The reader checks the ids against the counts read, that a removed
+// body's slot is inert (fixed, contact filters 0), and that nothing alive names a removed
+// slot: a joint, a coupling, a pair, an exclusion; pfxCheckRemovedPins does the particle
+// groups once they are read.
+void pfxEncodeRemovals(PfxByteWriter& w, const PfxSerializeRemovals& removals);
+bool pfxDecodeRemovals(PfxByteReader& r, PfxSerializeImage& image);
+bool pfxCheckRemovedPins(PfxByteReader& r, const PfxSerializeImage& image);
 
 // Reads the header and the body it announces from the stream, and no further. The buffer
 // grows only as bytes arrive, so a length the stream does not hold allocates nothing.
@@ -86,6 +106,7 @@ class PfxSerializeAccess {
       const PfxWorld& world) {
     return world.m_particleGroups;
   }
+  static PfxSerializeRemovals removals(const PfxWorld& world);
   static PfxInt32 checkWorldParam(const PfxWorldParam& param) {
     return PfxWorld::checkParam(param);
   }

@@ -836,12 +836,22 @@ PfxInt32 pfxDecodeSerialized(const std::vector<PfxUInt8>& bytes, PfxSerializeIma
       update(bytes.size() - body.remaining(), bytes.size(), userData);
     }
   }
-  // The one optional section: a world's particle groups.
+  // The optional sections: a world's removed slots, then its particle groups.
+  if (body.ok() && body.nextSectionIs("GONE")) {
+    PfxTagScope tag(body, "removed slots");
+    PfxByteReader inner(nullptr, 0, realBytes, error, tags);
+    if (!body.section("GONE", inner)) return error.code;
+    if (!pfxDecodeRemovals(inner, image) || !inner.finish(nullptr)) return error.code;
+    if (update) update(bytes.size() - body.remaining(), bytes.size(), userData);
+  }
   if (body.ok() && body.remaining() > 0) {
     PfxTagScope tag(body, "particle groups");
     PfxByteReader inner(nullptr, 0, realBytes, error, tags);
     if (!body.section("PART", inner)) return error.code;
-    if (!pfxDecodeParticleGroups(inner, image) || !inner.finish(nullptr)) return error.code;
+    if (!pfxDecodeParticleGroups(inner, image) || !inner.finish(nullptr) ||
+        !pfxCheckRemovedPins(inner, image)) {
+      return error.code;
+    }
     if (update) update(bytes.size() - body.remaining(), bytes.size(), userData);
   }
   body.finish("sections");

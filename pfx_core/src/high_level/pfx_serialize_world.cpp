@@ -107,9 +107,20 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_proxies.resize(capacity);
   world.m_proxySortWork.resize(capacity);
 
+  world.m_removedBodies.assign(numBodies, 0);
+  world.m_removedJoints.assign(image.joints.size(), 0);
+  world.m_removedCouplings.assign(image.jointCouplings.size(), 0);
+  for (const PfxUInt32 id : image.removals.bodies) world.m_removedBodies[id] = 1;
+  for (const PfxUInt32 id : image.removals.joints) world.m_removedJoints[id] = 1;
+  for (const PfxUInt32 id : image.removals.couplings) world.m_removedCouplings[id] = 1;
+  world.m_numRemovedBodies = static_cast<PfxUInt32>(image.removals.bodies.size());
+  world.m_numRemovedJoints = static_cast<PfxUInt32>(image.removals.joints.size());
+
   world.m_joints = image.joints;
   world.m_jointPairs.resize(world.m_joints.size());
-  for (const PfxJoint& joint : world.m_joints) {
+  for (PfxUInt32 id = 0; id < world.m_joints.size(); ++id) {
+    if (world.m_removedJoints[id]) continue;
+    const PfxJoint& joint = world.m_joints[id];
     world.m_jointedPairKeys.push_back(
         pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
                          std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB)));
@@ -165,8 +176,9 @@ PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
   PfxWorldParam param;
   double time = 0;
   PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
+  const PfxSerializeRemovals removals = PfxSerializeAccess::removals(world);
   std::vector<PfxUInt8> bytes;
-  if (pfxEncodeSerialized(counts, buffer, bytes, failure, &PfxSerializeAccess::particleGroups(world)) != PFX_OK) {
+  if (pfxEncodeSerialized(counts, buffer, bytes, failure, &PfxSerializeAccess::particleGroups(world), &removals) != PFX_OK) {
     return fail(kFunction, failure, error);
   }
   {

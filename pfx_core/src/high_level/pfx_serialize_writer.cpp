@@ -425,7 +425,8 @@ bool Encoder::contacts() {
 
 PfxInt32 pfxEncodeSerialized(const PfxSerializeCapacity& counts, const PfxSerializeBuffer& buffer,
                              std::vector<PfxUInt8>& bytes, PfxSerializeError& error,
-                             const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups) {
+                             const std::vector<std::unique_ptr<PfxParticleGroup>>* particleGroups,
+                             const PfxSerializeRemovals* removals) {
   PfxByteWriter w;
   Encoder encoder(counts, buffer, w, error);
   if (!encoder.checkBuffer() || !encoder.collectMeshes()) return error.code;
@@ -452,6 +453,9 @@ PfxInt32 pfxEncodeSerialized(const PfxSerializeCapacity& counts, const PfxSerial
   bool contactsOk = true;
   section("CONT", [&] { contactsOk = encoder.contacts(); });
   if (!contactsOk) return error.code;
+  if (removals && !removals->empty()) {
+    section("GONE", [&] { pfxEncodeRemovals(w, *removals); });
+  }
   if (particleGroups && !particleGroups->empty()) {
     section("PART", [&] { pfxEncodeParticleGroups(w, *particleGroups); });
   }

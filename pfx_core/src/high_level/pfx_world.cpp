@@ -87,6 +87,11 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_torques.clear();
   m_compoundShapes.clear();
   m_compoundShapeIds.clear();
+  m_removedBodies.clear();
+  m_removedJoints.clear();
+  m_removedCouplings.clear();
+  m_numRemovedBodies = 0;
+  m_numRemovedJoints = 0;
   m_numProxies = 0;
   m_rayProxiesStale = true;
   m_numPairs = 0;
@@ -140,6 +145,7 @@ void PfxWorld::reserveBodies(std::size_t n) {
   m_torques.reserve(capacity);
   m_compoundShapes.reserve(capacity);
   m_compoundShapeIds.reserve(capacity);
+  m_removedBodies.reserve(capacity);
 }
 
 PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
@@ -177,6 +183,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_torques.push_back(PfxVector3::Zero());
   m_compoundShapes.push_back(std::move(compound));
   m_compoundShapeIds.push_back(std::move(compoundIds));
+  m_removedBodies.push_back(0);
   m_solverBodies.resize(m_states.capacity());
   m_islandMarks.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
@@ -187,7 +194,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
 }
 
 PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
-  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = validateBody(state, m_bodies[id]); err != PFX_OK) return err;
   // Woken as it was: what rested on it when it was fixed or keyframe wakes too.
   wakeAfterChange(id);
@@ -200,7 +207,7 @@ PfxInt32 PfxWorld::setRigidState(PfxUInt32 id, const PfxRigidState& state) {
 
 PfxInt32 PfxWorld::updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh,
                                       const PfxFloat* vertices, PfxUInt32 numVertices) {
-  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
   const PfxCollidable& collidable = m_collidables[id];
   bool holdsMesh = false;
   for (PfxUInt32 i = 0; i < collidable.getNumShapes(); ++i) {
@@ -264,7 +271,7 @@ PfxInt32 PfxWorld::updateLargeTriMesh(PfxUInt32 id, PfxLargeTriMesh& mesh,
 }
 
 PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
-  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = validateBody(m_states[id], body); err != PFX_OK) return err;
   m_bodies[id] = body;
   wakeAfterChange(id);
@@ -272,7 +279,7 @@ PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
 }
 
 PfxInt32 PfxWorld::applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque) {
-  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
   if (!pfxIsFinite(force) || !pfxIsFinite(torque)) return PFX_ERR_INVALID_VALUE;
   m_forces[id] += force;
   m_torques[id] += torque;
@@ -286,7 +293,7 @@ PfxInt32 PfxWorld::applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVe
 
 PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
                                      const PfxQuat& orientation) {
-  if (id >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
   if (m_states[id].getMotionType() != kPfxMotionTypeKeyframe) return PFX_ERR_INVALID_FLAG;
   PfxRigidState target = m_states[id];
   if (const PfxInt32 err = pfxSetKeyframeTarget(target, position, orientation, m_param.timeStep);
@@ -311,7 +318,7 @@ void PfxWorld::reserveSolverWork(PfxUInt32 numContactPairs) {
 }
 
 PfxInt32 PfxWorld::validateJoint(const PfxJoint& joint) const {
-  if (joint.m_rigidBodyIdA >= getNumRigidBodies() || joint.m_rigidBodyIdB >= getNumRigidBodies()) {
+  if (!hasRigidBody(joint.m_rigidBodyIdA) || !hasRigidBody(joint.m_rigidBodyIdB)) {
     return PFX_ERR_OUT_OF_RANGE;
   }
   return pfxCheckJoint(joint);
@@ -322,6 +329,7 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
   const PfxUInt32 id = getNumJoints();
   m_joints.push_back(joint);
   m_jointPairs.emplace_back();
+  m_removedJoints.push_back(0);
   const PfxUInt64 key = pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
                                          std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
   m_jointedPairKeys.insert(
@@ -332,7 +340,7 @@ PfxInt32 PfxWorld::addJoint(const PfxJoint& joint, PfxUInt32* outId) {
 }
 
 PfxInt32 PfxWorld::excludeCollision(PfxUInt32 bodyIdA, PfxUInt32 bodyIdB) {
-  if (bodyIdA >= getNumRigidBodies() || bodyIdB >= getNumRigidBodies()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasRigidBody(bodyIdA) || !hasRigidBody(bodyIdB)) return PFX_ERR_OUT_OF_RANGE;
   if (bodyIdA == bodyIdB) return PFX_ERR_INVALID_VALUE;
   const PfxUInt64 key = pfxCreatePairKey(std::min(bodyIdA, bodyIdB), std::max(bodyIdA, bodyIdB));
   const auto at = std::lower_bound(m_excludedPairKeys.begin(), m_excludedPairKeys.end(), key);
@@ -341,7 +349,7 @@ PfxInt32 PfxWorld::excludeCollision(PfxUInt32 bodyIdA, PfxUInt32 bodyIdB) {
 }
 
 PfxInt32 PfxWorld::setJoint(PfxUInt32 id, const PfxJoint& joint) {
-  if (id >= getNumJoints()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasJoint(id)) return PFX_ERR_OUT_OF_RANGE;
   const PfxJoint& old = m_joints[id];
   if (joint.m_rigidBodyIdA != old.m_rigidBodyIdA || joint.m_rigidBodyIdB != old.m_rigidBodyIdB) {
     return PFX_ERR_INVALID_VALUE;  // a joint keeps its bodies; add another for others
@@ -384,12 +392,14 @@ PfxJointCoupling PfxWorld::measuredCoupling(const PfxJointCoupling& coupling) co
 }
 
 PfxInt32 PfxWorld::addJointCoupling(const PfxJointCoupling& coupling, PfxUInt32* outId) {
+  if (!couplesLiveJoints(coupling)) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = pfxCheckJointCoupling(coupling, m_joints.data(), getNumJoints());
       err != PFX_OK) {
     return err;
   }
   const PfxUInt32 id = getNumJointCouplings();
   m_jointCouplings.push_back(measuredCoupling(coupling));
+  m_removedCouplings.push_back(0);
   wakeJointBodies(coupling.m_leaderJointId);
   wakeJointBodies(coupling.m_followerJointId);
   if (outId) *outId = id;
@@ -397,7 +407,7 @@ PfxInt32 PfxWorld::addJointCoupling(const PfxJointCoupling& coupling, PfxUInt32*
 }
 
 PfxInt32 PfxWorld::setJointCoupling(PfxUInt32 id, const PfxJointCoupling& coupling) {
-  if (id >= getNumJointCouplings()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasJointCoupling(id) || !couplesLiveJoints(coupling)) return PFX_ERR_OUT_OF_RANGE;
   if (const PfxInt32 err = pfxCheckJointCoupling(coupling, m_joints.data(), getNumJoints());
       err != PFX_OK) {
     return err;
@@ -427,17 +437,17 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
       return PFX_ERR_OUT_OF_RANGE;
     }
   }
-  if (particlesPinBodyBeyond(numBodies)) return PFX_ERR_OUT_OF_RANGE;
+  if (particlesPinBodyIn(numBodies, getNumRigidBodies())) return PFX_ERR_OUT_OF_RANGE;
   wakeBeforeTruncate(numBodies, numJoints, numJointCouplings);
   m_jointCouplings.erase(m_jointCouplings.begin() + numJointCouplings, m_jointCouplings.end());
+  m_removedCouplings.resize(numJointCouplings);
   for (PfxUInt32 i = numJoints; i < getNumJoints(); ++i) {
-    const PfxJoint& joint = m_joints[i];
-    const PfxUInt64 key = pfxCreatePairKey(std::min(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB),
-                                           std::max(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB));
-    m_jointedPairKeys.erase(
-        std::lower_bound(m_jointedPairKeys.begin(), m_jointedPairKeys.end(), key));
+    if (!m_removedJoints[i]) eraseJointedPairKey(m_joints[i]);
   }
   m_joints.erase(m_joints.begin() + numJoints, m_joints.end());
+  m_removedJoints.resize(numJoints);
+  m_numRemovedJoints = static_cast<PfxUInt32>(
+      std::count(m_removedJoints.begin(), m_removedJoints.end(), PfxUInt8(1)));
   m_jointPairs.erase(m_jointPairs.begin() + numJoints, m_jointPairs.end());
   // The larger id of a pair is the key's low half.
   m_excludedPairKeys.erase(
@@ -471,6 +481,9 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_torques.erase(m_torques.begin() + numBodies, m_torques.end());
   m_compoundShapes.erase(m_compoundShapes.begin() + numBodies, m_compoundShapes.end());
   m_compoundShapeIds.erase(m_compoundShapeIds.begin() + numBodies, m_compoundShapeIds.end());
+  m_removedBodies.resize(numBodies);
+  m_numRemovedBodies = static_cast<PfxUInt32>(
+      std::count(m_removedBodies.begin(), m_removedBodies.end(), PfxUInt8(1)));
   m_numProxies = 0;
   m_rayProxiesStale = true;
   return generateIslands();
@@ -519,6 +532,7 @@ PfxInt32 PfxWorld::updateBroadphase() {
   param.offsetRigidStates = m_states.data();
   param.offsetCollidables = m_collidables.data();
   param.numRigidBodies = numBodies;
+  param.skipBodies = skippedBodies();
   PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
   *arrays[axis] = m_proxies.data();
   param.worldCenter = m_param.worldCenter;
@@ -828,7 +842,9 @@ PfxConservedQuantities PfxWorld::measureConservedQuantities() const {
 
 void PfxWorld::gatherStats() {
   m_stats.maxJointGap = 0;
-  for (const PfxJoint& joint : m_joints) {
+  for (PfxUInt32 id = 0; id < getNumJoints(); ++id) {
+    if (m_removedJoints[id]) continue;
+    const PfxJoint& joint = m_joints[id];
     bool anchored = true;
     for (int axis = 0; axis < 3; ++axis) {
       anchored = anchored && joint.m_constraints[axis].m_lock == kPfxJointLockLocked;

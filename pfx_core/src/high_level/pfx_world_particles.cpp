@@ -72,6 +72,16 @@ PfxInt32 PfxWorld::addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32*
   check.timeStep = m_param.timeStep;
   check.iteration = desc.iteration;
   if ((err = pfxCheckParticleConstraints(check)) != PFX_OK) return err;
+  for (PfxUInt32 i = 0; i < desc.numPins + desc.numTethers; ++i) {
+    const PfxUInt32 body = i < desc.numPins ? desc.pins[i].m_rigidBodyId
+                                            : desc.tethers[i - desc.numPins].m_rigidBodyId;
+    if (body != PFX_PARTICLE_PIN_WORLD && !hasRigidBody(body)) {
+      return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
+                            "PfxWorld::addParticleGroup: a pin or tether names body %u, which "
+                            "was removed",
+                            body);
+    }
+  }
 
   auto group = std::make_unique<PfxParticleGroup>();
   copyInto(group->particles, desc.particles, desc.numParticles);
@@ -118,18 +128,17 @@ PfxInt32 PfxWorld::setParticlePosition(PfxUInt32 groupId, PfxUInt32 particle,
   return PFX_OK;
 }
 
-bool PfxWorld::particlesPinBodyBeyond(PfxUInt32 numBodies) const {
+bool PfxWorld::particlesPinBodyIn(PfxUInt32 first, PfxUInt32 last) const {
+  const auto inRange = [&](PfxUInt32 id) {
+    return id != PFX_PARTICLE_PIN_WORLD && id >= first && id < last;
+  };
   for (const auto& group : m_particleGroups) {
     if (!group) continue;
     for (const PfxParticlePin& pin : group->pins) {
-      if (pin.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && pin.m_rigidBodyId >= numBodies) {
-        return true;
-      }
+      if (inRange(pin.m_rigidBodyId)) return true;
     }
     for (const PfxParticleTether& tether : group->tethers) {
-      if (tether.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD && tether.m_rigidBodyId >= numBodies) {
-        return true;
-      }
+      if (inRange(tether.m_rigidBodyId)) return true;
     }
   }
   return false;

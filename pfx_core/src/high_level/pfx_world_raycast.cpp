@@ -24,6 +24,7 @@ PfxInt32 PfxWorld::updateRayProxies() {
     param.offsetRigidStates = m_states.data();
     param.offsetCollidables = m_collidables.data();
     param.numRigidBodies = numBodies;
+    param.skipBodies = skippedBodies();
     param.proxiesX = proxies;
     param.worldCenter = m_param.worldCenter;
     param.worldExtent = m_param.worldExtent;

@@ -63,7 +63,7 @@ class PfxNodeAgentSet {
   // until an agent before it is removed. Rejects what check() rejects (with the reason in
   // *message); nothing changes then.
   PfxInt32 add(const PfxNodeAgentSpec& spec, std::string* message);
-  // Takes the agent out of the world (its body stays, parked: PfxCharacterController).
+  // Takes the agent out of the world, its body removed (PfxWorld::removeRigidBody).
   // Rejects an unknown name (PFX_ERR_OUT_OF_RANGE).
   PfxInt32 remove(const std::string& name);
   // A velocity command: vx forward, vy to the left (m/s, in the agent's heading) and a turn
@@ -83,10 +83,8 @@ class PfxNodeAgentSet {
   PfxNodeAgentState getAgentState(PfxUInt32 i) const;
   // Index of the agent named `name`, or -1.
   PfxInt32 find(const std::string& name) const;
-  // True for the body of an agent, and for the parked body of a removed one.
+  // True for the body of an agent.
   bool isAgentBody(PfxUInt32 bodyId) const;
-  // True for the parked body of a removed agent only.
-  bool isParkedBody(PfxUInt32 bodyId) const;
   const PfxNodeAgentSetParam& getParam() const { return m_param; }
 
  private:
@@ -108,7 +106,6 @@ class PfxNodeAgentSet {
   PfxNodeAgentSetParam m_param;
   PfxCharacterController m_controller;
   std::vector<Agent> m_agents;
-  std::vector<PfxUInt32> m_bodies;  // every body an agent ever had, parked ones included
 };
 
 }  // namespace pfx

@@ -82,7 +82,9 @@ class PfxNodeSimulation {
 
   // Writes the whole world to `path` (pfxSaveWorld: bodies, joints, motor commands,
   // contacts with their impulses, sleep and the simulated time), so that loadWorld can
-  // resume it exactly. Wrenches still to act are not saved.
+  // resume it exactly. Wrenches still to act are not saved. Agents are the node's, not the
+  // file's: their capsules are saved as the bodies they are, but not their names, headings,
+  // commands or waypoints.
   PfxInt32 saveWorld(const std::string& path, std::string* message) const;
   // Replaces the world with one that saveWorld wrote for the same robot and scene (the
   // same bodies with the same shapes, the same joints), which then continues exactly where
@@ -90,8 +92,9 @@ class PfxNodeSimulation {
   // wrenches are dropped. On error the world, the clock and the settings stay as they
   // were, and *message says why (a file that does not read, or one saved from another
   // robot or scene).
-  // Neither saves nor loads while the world holds agents' bodies (those of removed agents
-  // too, until reset()): the file format knows bodies, not the agents that drive them.
+  // Refused while agents live (delete them first): the file cannot say who drives their
+  // bodies. The saved agents' capsules are removed from the loaded world, which keeps the
+  // robot's and scene's bodies under their ids.
   PfxInt32 loadWorld(const std::string& path, std::string* message);
 
   double getTime() const {
@@ -163,7 +166,6 @@ class PfxNodeSimulation {
   PfxInt32 buildScene(const PfxNodeSimulationConfig& config, std::unique_ptr<Scene>& scene,
                       std::string* message) const;
   static void nameAgentBody(Scene& scene, const std::string& name, PfxUInt32 bodyId);
-  bool holdsAgentBodies(std::string* message) const;
 
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;

@@ -110,10 +110,9 @@ class PfxCharacterController {
   // free one: ids of removed characters are given out again.
   PfxInt32 addCharacter(const PfxCharacterParam& param, const PfxVector3& footPosition,
                         PfxUInt32* outId = nullptr);
-  // Takes a character out of play. The world cannot remove a body, so its body stays,
-  // parked: fixed, and with contact filters that nothing matches, so that no body, ray or
-  // query meets it; a character added later with the same radius and height takes it over.
-  // Rejects an unknown id (PFX_ERR_OUT_OF_RANGE).
+  // Takes a character out of play and removes its body from the world
+  // (PfxWorld::removeRigidBody): no body, ray or query meets it again. Rejects an unknown id
+  // (PFX_ERR_OUT_OF_RANGE) and what the world's removal rejects; nothing changes then.
   PfxInt32 removeCharacter(PfxUInt32 id);
 
   // The velocity to walk at (m/s, world frame), kept until changed; its part along up is
@@ -185,7 +184,6 @@ class PfxCharacterController {
   std::vector<Character> m_characters;  // indexed by character id
   std::vector<Plan> m_plans;
   std::vector<PfxQueryContact> m_contacts;
-  std::vector<PfxUInt32> m_parkedBodies;
   std::vector<bool> m_characterBodies;  // indexed by rigid body id: held by a live character
   PfxUInt32 m_numCharacters = 0;
 };

@@ -65,7 +65,8 @@ class PfxDebugRender {
 
   // Bodies whose visibility flag is off are skipped by every render method. Bodies start
   // visible; resetVisible makes the first numRigidBodies visible again, and setVisible
-  // grows the flags as needed.
+  // grows the flags as needed. The calls that take a world also hide its removed bodies'
+  // slots (PfxWorld::removeRigidBody).
   void resetVisible(PfxUInt32 numRigidBodies);
   void setVisible(PfxUInt32 rigidBodyId, bool visible);
   bool isVisible(PfxUInt32 rigidBodyId) const;
@@ -160,6 +161,7 @@ class PfxDebugRender {
   struct LargeMeshFlag {
     PfxUInt32 rigidBodyId, islandId, triangleId, flags;
   };
+  void hideRemovedBodies(const PfxWorld& world);
   void drawLine(const PfxVector3& a, const PfxVector3& b, const PfxVector3& color) const;
   void drawBox(const PfxTransform3& transform, const PfxVector3& half, const PfxVector3& color) const;
   void drawAabb(const PfxVector3& center, const PfxVector3& half, const PfxVector3& color) const;

@@ -179,7 +179,11 @@ class PfxWorld {
   PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
                         const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
 
+  // Ids run below getNumRigidBodies(), removed ones included (see removeRigidBody).
   PfxUInt32 getNumRigidBodies() const { return static_cast<PfxUInt32>(m_states.size()); }
+  // Whether `id` names a body: below getNumRigidBodies() and not removed.
+  bool hasRigidBody(PfxUInt32 id) const { return id < getNumRigidBodies() && !m_removedBodies[id]; }
+  PfxUInt32 getNumRemovedRigidBodies() const { return m_numRemovedBodies; }
   const PfxRigidState& getRigidState(PfxUInt32 id) const { return m_states[id]; }
   const PfxRigidBody& getRigidBody(PfxUInt32 id) const { return m_bodies[id]; }
   const PfxCollidable& getCollidable(PfxUInt32 id) const { return m_collidables[id]; }
@@ -246,6 +250,37 @@ class PfxWorld {
   // the current one and a kept joint or coupling that names a removed body or joint
   // (PFX_ERR_OUT_OF_RANGE); nothing changes then.
   PfxInt32 truncate(PfxUInt32 numBodies, PfxUInt32 numJoints, PfxUInt32 numJointCouplings);
+
+  // Removal, between steps. Ids are the indices that every caller keeps (a URDF model's
+  // link-to-body map, a ROS node's names, a saved file), so a removed body or joint leaves
+  // its slot behind instead of moving another into it: every other id keeps naming what it
+  // named, and removal costs a pass over the pairs and joints, not a rebuild. The slot is
+  // inert: a fixed body at the world's centre with no shape memory of its own, contact
+  // filters 0 and no broadphase or ray proxy, so that no pair, ray, contact query, particle
+  // or statistic sees it, and it costs a step only the loops over all bodies. A removed id
+  // is never given out again (addRigidBody and addJoint append), so a stale id held by an
+  // application is rejected with PFX_ERR_OUT_OF_RANGE by every call that takes an id rather
+  // than naming a newer body; initialize() or truncate() below the slot reclaims it.
+  // getRigidState() of a removed id gives the inert slot. Saved files keep the slots
+  // (pfx_serialize.h), so ids survive a save and load.
+  //
+  // Removing a body removes, as a physics engine's user expects of a body that is gone:
+  // the joints that name it (and the couplings that name those), its contact pairs and
+  // their manifolds, the collision exclusions that name it, its pending force. The islands
+  // it touched or was jointed to wake, so that nothing sleeps on a support that is gone.
+  // Rejected, with nothing changed: an id without a body (PFX_ERR_OUT_OF_RANGE), and a body
+  // that particles are pinned or tethered to (PFX_ERR_INVALID_VALUE: remove the particle
+  // group first). A character controller (pfx_character_controller.h) driving the body
+  // must be dropped by the application first; its calls on a removed body fail.
+  PfxInt32 removeRigidBody(PfxUInt32 id);
+  // Removes a joint and the couplings that name it; its bodies may collide again and their
+  // islands wake. PFX_ERR_OUT_OF_RANGE for an id without a joint.
+  PfxInt32 removeJoint(PfxUInt32 id);
+  bool hasJoint(PfxUInt32 id) const { return id < getNumJoints() && !m_removedJoints[id]; }
+  PfxUInt32 getNumRemovedJoints() const { return m_numRemovedJoints; }
+  bool hasJointCoupling(PfxUInt32 id) const {
+    return id < getNumJointCouplings() && !m_removedCouplings[id];
+  }
 
   // Particle groups (seed sample 9; pfx_particle_group.h), stepped with the bodies in every
   // step: at each sub-step after the bodies, so that a rope pinned to a body pulls it and a
@@ -375,7 +410,17 @@ class PfxWorld {
   void updateParticleSleep();
   void wakeSleepingParticleGroups();
   void gatherParticleStats();
-  bool particlesPinBodyBeyond(PfxUInt32 numBodies) const;
+  // Whether a pin or tether of a particle group names a body in [first, last).
+  bool particlesPinBodyIn(PfxUInt32 first, PfxUInt32 last) const;
+  bool couplesLiveJoints(const PfxJointCoupling& coupling) const;
+  // Removal (pfx_world_removal.cpp).
+  void dropPairsOf(PfxUInt32 id);
+  void removeJointSlot(PfxUInt32 id);
+  void removeCouplingSlot(PfxUInt32 id);
+  void eraseJointedPairKey(const PfxJoint& joint);
+  const PfxUInt8* skippedBodies() const {
+    return m_numRemovedBodies > 0 ? m_removedBodies.data() : nullptr;
+  }
 
   PfxWorldParam m_param;
   PfxWorldStats m_stats;
@@ -391,6 +436,12 @@ class PfxWorld {
   // Compound shapes live here, one block per body, so that collidables can refer to them.
   std::vector<std::unique_ptr<PfxShape[]>> m_compoundShapes;
   std::vector<std::unique_ptr<PfxUInt16[]>> m_compoundShapeIds;
+  // One flag per slot: 1 where the body, joint or coupling was removed (removeRigidBody).
+  std::vector<PfxUInt8> m_removedBodies;
+  std::vector<PfxUInt8> m_removedJoints;
+  std::vector<PfxUInt8> m_removedCouplings;
+  PfxUInt32 m_numRemovedBodies = 0;
+  PfxUInt32 m_numRemovedJoints = 0;
 
   std::vector<PfxBroadphaseProxy> m_proxies;
   std::vector<PfxSortData32> m_proxySortWork;

@@ -217,7 +217,9 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   }
   // Checked before anything is written, so that a rejected call leaves states and arrays
   // as they were.
+  const auto skipped = [&param](PfxUInt32 i) { return param.skipBodies && param.skipBodies[i]; };
   for (PfxUInt32 i = 0; i < n; ++i) {
+    if (skipped(i)) continue;
     if (!param.offsetRigidStates[i].isValid()) {
       return pfxRejectParam(PFX_ERR_INVALID_VALUE,
                             "pfxUpdateBroadphaseProxies: PfxUpdateBroadphaseProxiesParam::"
@@ -240,6 +242,7 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   // marks a body outside the world until the proxies are counted in body order.
   pfxParallelFor(taskManager, n, kBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
     for (PfxUInt32 i = begin; i < end; ++i) {
+      if (skipped(i)) continue;
       PfxRigidState& state = param.offsetRigidStates[i];
       PfxBroadphaseProxy& proxy = primary[i];
       const bool outOfWorld =
@@ -254,6 +257,7 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   PfxUInt32 numProxies = 0;
   PfxUInt32 numOutOfWorld = 0;
   for (PfxUInt32 i = 0; i < n; ++i) {
+    if (skipped(i)) continue;
     const bool outOfWorld = pfxGetSortValue(primary[i]) != 0;
     numOutOfWorld += outOfWorld ? 1 : 0;
     if (outOfWorld && removeOutside) continue;

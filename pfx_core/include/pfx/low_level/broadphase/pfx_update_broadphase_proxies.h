@@ -30,6 +30,9 @@ struct PfxUpdateBroadphaseProxiesParam {
   PfxRigidState* offsetRigidStates = nullptr;
   const PfxCollidable* offsetCollidables = nullptr;
   PfxUInt32 numRigidBodies = 0;
+  // Optional, one entry per body: a body whose entry is not 0 gets no proxy, as if it were
+  // not there (the slot of a body PfxWorld removed). Null: every body gets one.
+  const PfxUInt8* skipBodies = nullptr;
   // Sorted by minimum along X, Y, Z, and by maximum along X, Y, Z in descending order
   // ("b" for backward), for rays that travel in either direction. Any array may be null
   // when not needed; the simulation needs only the one of its sweep axis.
