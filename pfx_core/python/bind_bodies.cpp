@@ -11,15 +11,15 @@ void bindBodies(py::module_& m) {
       .value("ONE_WAY", kPfxMotionTypeOneWay, "Pushed by others, pushes none.")
       .value("TRIGGER", kPfxMotionTypeTrigger, "Reports contacts, no response.");
 
-  py::class_<PfxBodyInit> init(m, "BodyInit",
+  py::class_<PfxBodyInit> bodyInit(m, "BodyInit",
                                "PfxBodyInit: pose, velocities, mass (0: fixed), friction,\n"
                                "restitution and motion type of a body to add.");
-  defKeywordInit(init, "Any field as a keyword; the rest keep pfx's defaults.");
-  defVector3(init, "position", &PfxBodyInit::position, "m.");
-  defQuat(init, "orientation", &PfxBodyInit::orientation, "(x, y, z, w).");
-  defVector3(init, "linear_velocity", &PfxBodyInit::linearVelocity, "m/s.");
-  defVector3(init, "angular_velocity", &PfxBodyInit::angularVelocity, "rad/s.");
-  init.def_readwrite("mass", &PfxBodyInit::mass, "kg; 0 makes a fixed body.")
+  defKeywordInit(bodyInit, "Any field as a keyword; the rest keep pfx's defaults.");
+  defVector3(bodyInit, "position", &PfxBodyInit::position, "m.");
+  defQuat(bodyInit, "orientation", &PfxBodyInit::orientation, "(x, y, z, w).");
+  defVector3(bodyInit, "linear_velocity", &PfxBodyInit::linearVelocity, "m/s.");
+  defVector3(bodyInit, "angular_velocity", &PfxBodyInit::angularVelocity, "rad/s.");
+  bodyInit.def_readwrite("mass", &PfxBodyInit::mass, "kg; 0 makes a fixed body.")
       .def_readwrite("friction", &PfxBodyInit::friction, "Coefficient of friction.")
       .def_readwrite("restitution", &PfxBodyInit::restitution, "0 (no bounce) to 1.")
       .def_readwrite("motion_type", &PfxBodyInit::motionType, "MotionType when mass > 0.");
