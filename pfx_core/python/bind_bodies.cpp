@@ -1,4 +1,6 @@
 // Adding bodies: PfxBodyInit and pfxAddBody, one shape or a compound of up to 64.
+#include <pybind11/stl.h>
+
 #include "pfx_python.h"
 
 namespace pfx::python {

@@ -92,8 +92,8 @@ void bindJointTypes(py::module_& m) {
   py::class_<PfxJoint>(m, "Joint",
                        "PfxJoint: a copy of a world's joint (World.joint); change its axes and\n"
                        "give it back with World.set_joint.")
-      .def_readonly("body_a", &PfxJoint::m_rigidBodyIdA)
-      .def_readonly("body_b", &PfxJoint::m_rigidBodyIdB)
+      .def_readonly("body_a", &PfxJoint::m_rigidBodyIdA, "Id of body A.")
+      .def_readonly("body_b", &PfxJoint::m_rigidBodyIdB, "Id of body B.")
       .def_property_readonly("type", [](const PfxJoint& j) { return int(j.m_type); },
                              "JOINT_* kind it was made as.")
       .def(
@@ -166,7 +166,7 @@ void bindCoupling(py::module_& m) {
                py::arg("leader_joint"), py::arg("leader_axis"), py::arg("follower_joint"),
                py::arg("follower_axis"), py::arg("multiplier") = 1, py::arg("offset") = 0,
                "A coupling of one axis (0..5) of each of two joints.")
-      .def_readwrite("multiplier", &PfxJointCoupling::m_multiplier)
+      .def_readwrite("multiplier", &PfxJointCoupling::m_multiplier, "Follower per unit of leader.")
       .def_readwrite("offset", &PfxJointCoupling::m_offset, "m or rad.")
       .def_readwrite("bias", &PfxJointCoupling::m_bias, "Share of the error corrected per step.")
       .def_readwrite("max_impulse_force", &PfxJointCoupling::m_maxImpulseForce,

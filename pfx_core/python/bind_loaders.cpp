@@ -72,9 +72,9 @@ void bindUrdfParam(py::module_& m) {
 
 void bindUrdfModel(py::module_& m) {
   py::class_<PfxUrdfJoint>(m, "UrdfJoint", "A joint of the URDF file and what it became.")
-      .def_readonly("name", &PfxUrdfJoint::name)
-      .def_readonly("parent_link", &PfxUrdfJoint::parentLink)
-      .def_readonly("child_link", &PfxUrdfJoint::childLink)
+      .def_readonly("name", &PfxUrdfJoint::name, "As in the file.")
+      .def_readonly("parent_link", &PfxUrdfJoint::parentLink, "Parent link's name.")
+      .def_readonly("child_link", &PfxUrdfJoint::childLink, "Child link's name.")
       .def_property_readonly(
           "joint_id",
           [](const PfxUrdfJoint& j) {
@@ -88,13 +88,13 @@ void bindUrdfModel(py::module_& m) {
       .def_readonly("velocity_limit", &PfxUrdfJoint::velocityLimit, "0: none given.");
 
   py::class_<UrdfModel>(m, "UrdfModel", "A robot loaded by World.load_urdf.")
-      .def_property_readonly("name", [](const UrdfModel& u) { return u.current().name; })
-      .def_property_readonly("fixed_base", [](const UrdfModel& u) { return u.current().fixedBase; })
-      .def_property_readonly("warnings", [](const UrdfModel& u) { return u.current().warnings; })
-      .def_property_readonly("first_body_id", [](const UrdfModel& u) { return u.current().firstBodyId; })
-      .def_property_readonly("num_bodies", [](const UrdfModel& u) { return u.current().numBodies; })
-      .def_property_readonly("first_joint_id", [](const UrdfModel& u) { return u.current().firstJointId; })
-      .def_property_readonly("num_joints", [](const UrdfModel& u) { return u.current().numJoints; })
+      .def_property_readonly("name", [](const UrdfModel& u) { return u.current().name; }, "The robot's name.")
+      .def_property_readonly("fixed_base", [](const UrdfModel& u) { return u.current().fixedBase; }, "Whether the root link is fixed.")
+      .def_property_readonly("warnings", [](const UrdfModel& u) { return u.current().warnings; }, "What the loader noted but accepted.")
+      .def_property_readonly("first_body_id", [](const UrdfModel& u) { return u.current().firstBodyId; }, "First of the bodies the load added (contiguous).")
+      .def_property_readonly("num_bodies", [](const UrdfModel& u) { return u.current().numBodies; }, "Bodies the load added.")
+      .def_property_readonly("first_joint_id", [](const UrdfModel& u) { return u.current().firstJointId; }, "First of the joints the load added (contiguous).")
+      .def_property_readonly("num_joints", [](const UrdfModel& u) { return u.current().numJoints; }, "World joints the load added.")
       .def_property_readonly(
           "joints", [](const UrdfModel& u) { return u.current().joints; },
           "UrdfJoint of every joint in file order.")
@@ -141,10 +141,10 @@ void bindUrdfModel(py::module_& m) {
 
 void bindScene(py::module_& m) {
   py::class_<SceneModel>(m, "SceneModel", "A scene loaded by World.load_scene.")
-      .def_property_readonly("warnings", [](const SceneModel& s) { return s.current().warnings; })
-      .def_property_readonly("first_body_id", [](const SceneModel& s) { return s.current().firstBodyId; })
-      .def_property_readonly("num_bodies", [](const SceneModel& s) { return s.current().numBodies; })
-      .def_property_readonly("num_joints", [](const SceneModel& s) { return s.current().numJoints; })
+      .def_property_readonly("warnings", [](const SceneModel& s) { return s.current().warnings; }, "What the loader noted but accepted.")
+      .def_property_readonly("first_body_id", [](const SceneModel& s) { return s.current().firstBodyId; }, "First of the bodies the load added (contiguous).")
+      .def_property_readonly("num_bodies", [](const SceneModel& s) { return s.current().numBodies; }, "Bodies the load added.")
+      .def_property_readonly("num_joints", [](const SceneModel& s) { return s.current().numJoints; }, "Joints the load added.")
       .def_property_readonly(
           "bodies",
           [](const SceneModel& s) {
@@ -166,10 +166,10 @@ void bindScene(py::module_& m) {
           "Joint name -> world joint id (None when it became none).");
 
   py::class_<Octomap>(m, "Octomap", "An OctoMap loaded by World.load_octomap.")
-      .def_property_readonly("body_id", [](const Octomap& o) { return o.current().bodyId; })
+      .def_property_readonly("body_id", [](const Octomap& o) { return o.current().bodyId; }, "Id of the map's fixed body.")
       .def_property_readonly("num_occupied_voxels",
-                             [](const Octomap& o) { return o.current().numOccupiedVoxels; })
-      .def_property_readonly("resolution", [](const Octomap& o) { return o.current().resolution; });
+                             [](const Octomap& o) { return o.current().numOccupiedVoxels; }, "Occupied cells at the finest resolution.")
+      .def_property_readonly("resolution", [](const Octomap& o) { return o.current().resolution; }, "Finest cell size (m).");
 }
 
 void bindMeshes(py::module_& m) {
