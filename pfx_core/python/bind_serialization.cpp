@@ -4,13 +4,22 @@
 
 namespace pfx::python {
 
+namespace {
+
+// The file, then what the serializer said about it, if anything.
+std::string aboutFile(const std::string& path, const std::string& message) {
+  return message.empty() ? path : path + ": " + message;
+}
+
+}  // namespace
+
 void bindSerialization(py::module_& m) {
   py::class_<PyWorld>(m.attr("World"))
       .def(
           "save",
           [](const PyWorld& w, const std::string& path) {
             std::string message;
-            raiseIfError(pfxSaveWorld(w.world, path.c_str(), &message), path + ": " + message);
+            raiseIfError(pfxSaveWorld(w.world, path.c_str(), &message), aboutFile(path, message));
           },
           py::arg("path"),
           "Writes the whole world (bodies, joints, contacts with their impulses, sleep) to path.")
@@ -26,7 +35,7 @@ void bindSerialization(py::module_& m) {
             auto meshes = std::make_shared<PfxSerializedMeshes>();
             std::string message;
             raiseIfError(pfxLoadWorld(w.world, path.c_str(), *meshes, &message, options),
-                         path + ": " + message);
+                         aboutFile(path, message));
             w.startGeneration(true);
             w.resources.push_back(std::move(meshes));
           },

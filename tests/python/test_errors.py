@@ -115,3 +115,24 @@ def test_bad_array_shapes_raise_value_error():
         world.cast_rays(np.zeros((3, 3)), np.zeros((2, 3)))
     with pytest.raises(TypeError):
         pfx.WorldParam(no_such_field=1)
+
+
+def test_nan_ray_is_rejected():
+    world = small_world()
+    before = state_lines(world)
+    with pytest.raises(pfx.InvalidValueError):
+        world.cast_rays([[0, 0, 2], [0, 0, np.nan]], [[0, 0, -3], [0, 0, -3]])
+    with pytest.raises(pfx.InvalidValueError):
+        world.cast_ray((0, 0, 2), (np.inf, 0, -3))
+    assert_unchanged(world, before)
+
+
+def test_corrupt_saved_world_is_rejected(tmp_path):
+    world = small_world()
+    path = tmp_path / "small.pfx"
+    world.save(str(path))
+    path.write_bytes(path.read_bytes()[:100])
+    before = state_lines(world)
+    with pytest.raises(pfx.Error, match="small.pfx"):
+        world.load(str(path))
+    assert_unchanged(world, before)
