@@ -1,5 +1,6 @@
-// pfx's error codes as Python exceptions, and the conversions every binding uses.
-#include <cmath>
+// pfx's error codes as Python exceptions, the conversions every binding uses, and the
+// world's guard of its zero-copy state arrays.
+#include <algorithm>
 
 #include "pfx/low_level/pfx_error_detail.h"
 #include "pfx_python.h"

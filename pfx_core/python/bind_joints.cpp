@@ -1,5 +1,7 @@
 // Joints (the six kinds and their pfxInitialize...Joint helpers, then each axis's lock,
 // limits and drive) and couplings between two joints' axes.
+#include <algorithm>
+
 #include "pfx_python.h"
 
 namespace pfx::python {

@@ -1,6 +1,8 @@
 // The loaders: URDF robots, scene files (pfx XML and SDFormat), OctoMaps and mesh files
 // (as convex hulls and large meshes). A model is kept by the world, whose bodies point into
 // its meshes; its Python object names bodies and joints until the world is emptied.
+#include <algorithm>
+
 #include <pybind11/stl.h>
 
 #include "pfx/loaders/pfx_mesh_loader.h"

@@ -1,5 +1,7 @@
 // Queries on the world as it is: rays (one, or a batch from numpy arrays), the contact points
 // of the last step, and the contacts a shape placed anywhere would have.
+#include <algorithm>
+
 #include "pfx_python.h"
 
 namespace pfx::python {

@@ -1,5 +1,7 @@
 // Shapes: the four geometric ones by value, convex meshes from a triangle list, and (with the
 // loaders) large triangle meshes, each placed in its body by an offset pose.
+#include <algorithm>
+
 #include "pfx_python.h"
 
 namespace pfx::python {

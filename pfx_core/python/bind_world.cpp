@@ -90,7 +90,7 @@ void bindWorldParam(py::module_& m) {
       .def_readwrite("measure_conservation", &PfxWorldParam::measureConservation,
                      "Report energy and momentum changes in the statistics.")
       .def_readwrite("out_of_world_behavior", &PfxWorldParam::outOfWorldBehavior,
-                     "What happens to a body leaving the bounds (PFX_OUT_OF_WORLD_BEHAVIOR_*).")
+                     "What happens to a body leaving the bounds: OUT_OF_WORLD_* flags.")
       .def_readwrite("enable_sleep", &PfxWorldParam::enableSleep, "Let islands at rest sleep.")
       .def_readwrite("sleep_linear_velocity", &PfxWorldParam::sleepLinearVelocity,
                      "Below this speed (m/s) a body counts as still.")
@@ -100,6 +100,11 @@ void bindWorldParam(py::module_& m) {
                      "Seconds an island must stay still to sleep.")
       .def_readwrite("num_threads", &PfxWorldParam::numThreads,
                      "Threads of a step (0: every core); results are the same bits with any.");
+}
+
+void bindOutOfWorldFlags(py::module_& m) {
+  m.attr("OUT_OF_WORLD_FIX_MOTION") = PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION);
+  m.attr("OUT_OF_WORLD_REMOVE_PROXY") = PfxUInt32(PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY);
 }
 
 void bindStats(py::module_& m) {
@@ -136,6 +141,7 @@ void bindStats(py::module_& m) {
 
 void bindWorld(py::module_& m) {
   bindWorldParam(m);
+  bindOutOfWorldFlags(m);
   bindStats(m);
   py::class_<StateViewLease>(m, "_StateViewLease",
                              "Holds a world while a zero-copy state array reads it.");
