@@ -11,6 +11,7 @@
 #include <string>
 
 #include "pfx_ros/pfx_node_agents.h"
+#include "pfx_ros/pfx_node_cable_params.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_markers.h"
 #include "pfx_ros/pfx_node_sensors.h"
@@ -29,7 +30,8 @@ struct PfxNodeParam {
                                        // ~agent_max_turn_rate, ~agent_waypoint_tolerance
   std::string fixedFrame = "world";  // ~fixed_frame
   // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
-  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the sensors
+  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the cables and
+  // cloths (~cables, ~cloths) by pfxAddDeclaredCablesAndCloths (pfx_node_cable_params.h), the sensors
   // (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h).
   std::string agentFramePrefix = "agents";
   double realTimeFactor = 1;  // ~real_time_factor: 0 runs as fast as it can
