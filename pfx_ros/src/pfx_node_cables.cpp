@@ -163,8 +163,10 @@ PfxInt32 pfxBuildNodeCable(const PfxNodeCableSpec& spec, const PfxVector3& start
   pin(group, first, startBody);
   if (endBody) {
     pin(group, first + n - 1, *endBody);
-  } else {
-    // Hanging free from its start: tethers keep a long cable from stretching under its weight.
+  } else if (startBody.bodyId == PFX_PARTICLE_PIN_WORLD) {
+    // Hanging free from the world: tethers keep a long cable from stretching under its
+    // weight. Not from a body: a tether holds a particle to its anchor particle without
+    // pulling on it, so the body would not carry the cable's weight.
     group.tetherRope(first, n, first);
   }
   group.linearDamping = kLinearDamping;

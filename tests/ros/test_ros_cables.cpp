@@ -115,7 +115,7 @@ TEST(Cables, ACableBetweenTheFixedPostAndTheWorldSagsAsTheCatenary) {
   const double expected = catenarySag(2.0, 1.6);
   std::printf("catenary: lowest point %.5f m below the ends (analytic %.5f m), at x = %.4f\n",
               sag, expected, lowest.x);
-  EXPECT_NEAR(sag, expected, 0.01);
+  EXPECT_NEAR(sag, expected, 0.005);
   EXPECT_NEAR(lowest.x, 0.8, 0.05);
 
   // A ray straight down through the lowest particle's centre meets its top.
