@@ -226,6 +226,20 @@ bool PfxNodeSimulation::findAnchor(const Scene& scene, const std::string& link,
   return true;
 }
 
+PfxInt32 PfxNodeSimulation::addGroup(Scene& scene, const PfxParticleGroupBuilder& group,
+                                     const std::string& name, std::vector<PfxUInt32>& ids,
+                                     std::string* message) {
+  PfxUInt32 id = 0;
+  if (const PfxInt32 err = scene.world->addParticleGroup(group.desc(), &id); err != PFX_OK) {
+    if (message) *message = std::string("the world refused it: ") + pfxGetLastErrorDetail();
+    return err;
+  }
+  ids.push_back(id);
+  if (scene.groupNames.size() <= id) scene.groupNames.resize(id + 1);
+  scene.groupNames[id] = name;
+  return PFX_OK;
+}
+
 PfxInt32 PfxNodeSimulation::buildCable(Scene& scene, const PfxNodeCableSpec& spec,
                                        std::string* message) const {
   PfxNodeAnchorBody startBody, endBody;
@@ -250,15 +264,7 @@ PfxInt32 PfxNodeSimulation::buildCable(Scene& scene, const PfxNodeCableSpec& spe
     if (message) *message = std::string("it did not settle: ") + pfxErrorString(err);
     return err;
   }
-  PfxUInt32 id = 0;
-  if (const PfxInt32 err = scene.world->addParticleGroup(group.desc(), &id); err != PFX_OK) {
-    if (message) *message = std::string("the world refused it: ") + pfxGetLastErrorDetail();
-    return err;
-  }
-  scene.cableGroups.push_back(id);
-  if (scene.groupNames.size() <= id) scene.groupNames.resize(id + 1);
-  scene.groupNames[id] = spec.name;
-  return PFX_OK;
+  return addGroup(scene, group, spec.name, scene.cableGroups, message);
 }
 
 PfxInt32 PfxNodeSimulation::buildCloth(Scene& scene, const PfxNodeClothSpec& spec,
@@ -271,24 +277,18 @@ PfxInt32 PfxNodeSimulation::buildCloth(Scene& scene, const PfxNodeClothSpec& spe
   }
   PfxParticleGroupBuilder group;
   pfxBuildNodeCloth(spec, pinBody, group);
-  PfxUInt32 id = 0;
-  if (const PfxInt32 err = scene.world->addParticleGroup(group.desc(), &id); err != PFX_OK) {
-    if (message) *message = std::string("the world refused it: ") + pfxGetLastErrorDetail();
-    return err;
-  }
-  scene.clothGroups.push_back(id);
-  if (scene.groupNames.size() <= id) scene.groupNames.resize(id + 1);
-  scene.groupNames[id] = spec.name;
-  return PFX_OK;
+  return addGroup(scene, group, spec.name, scene.clothGroups, message);
+}
+
+PfxInt32 PfxNodeSimulation::refuse(const std::string& why, std::string* message) {
+  if (message) *message = why;
+  return PFX_ERR_INVALID_VALUE;
 }
 
 PfxInt32 PfxNodeSimulation::addCable(const PfxNodeCableSpec& spec, std::string* message) {
   std::string why = checkGroupName(*m_scene, spec.name);
   if (why.empty()) why = pfxCheckCableSpec(spec);
-  if (!why.empty()) {
-    if (message) *message = why;
-    return PFX_ERR_INVALID_VALUE;
-  }
+  if (!why.empty()) return refuse(why, message);
   if (const PfxInt32 err = buildCable(*m_scene, spec, message); err != PFX_OK) return err;
   m_config.cables.push_back(spec);
   return PFX_OK;
@@ -297,10 +297,7 @@ PfxInt32 PfxNodeSimulation::addCable(const PfxNodeCableSpec& spec, std::string* 
 PfxInt32 PfxNodeSimulation::addCloth(const PfxNodeClothSpec& spec, std::string* message) {
   std::string why = checkGroupName(*m_scene, spec.name);
   if (why.empty()) why = pfxCheckClothSpec(spec);
-  if (!why.empty()) {
-    if (message) *message = why;
-    return PFX_ERR_INVALID_VALUE;
-  }
+  if (!why.empty()) return refuse(why, message);
   if (const PfxInt32 err = buildCloth(*m_scene, spec, message); err != PFX_OK) return err;
   m_config.cloths.push_back(spec);
   return PFX_OK;

@@ -10,9 +10,7 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 
 #include "pfx/GetContacts.h"
 #include "pfx/RaycastBatch.h"
@@ -78,13 +76,6 @@ double catenarySag(double length, double span) {
   }
   const double a = std::sqrt(lo * hi);
   return a * (std::cosh(span / (2 * a)) - 1);
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 }  // namespace
@@ -182,6 +173,7 @@ TEST(Cables, GetContactsListsTheClothLyingOnThePad) {
     EXPECT_GE(c.impulse, 0);
   }
   // The 7 x 7 particles over the pad's 0.2 m square, at least, rest on it.
+  std::printf("cloth on the pad: %d contact points\n", clothPoints);
   EXPECT_GE(clothPoints, 25);
 
   pfx::GetContacts ofCloth;
@@ -235,7 +227,7 @@ TEST(Cables, TheMarkersDrawEveryCableAndTheCloth) {
 TEST(Cables, BadCablesAndClothsAreRefusedAndTheNodeStartsWithTheRest) {
   const std::string ns = "/bad_cables";
   ros::param::set(ns + "/robot_description",
-                  readText(PFX_SOURCE_DIR "/tests/ros/data/ft_bumper.urdf"));
+                  pfx_test::readText(PFX_SOURCE_DIR "/tests/ros/data/ft_bumper.urdf"));
   ros::param::set(ns + "/pfx_node/fixed_base", true);
   ros::param::set(ns + "/pfx_node/initial_height", 1.0);
   ros::param::set(ns + "/pfx_node/paused", true);
@@ -261,13 +253,9 @@ TEST(Cables, BadCablesAndClothsAreRefusedAndTheNodeStartsWithTheRest) {
     const std::string command = "rosparam set " + ns + "/pfx_node/" + list + " '" + yaml + "'";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
   }
-  const std::string command = "timeout 10 " PFX_NODE " __ns:=" + ns + " __name:=pfx_node 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof(buffer), pipe)) output += buffer;
-  const int status = pclose(pipe);
+  int status = 0;
+  const std::string output = pfx_test::runCommand(
+      "timeout 10 " PFX_NODE " __ns:=" + ns + " __name:=pfx_node 2>&1", status);
   // Still running when the timeout stopped it.
   EXPECT_EQ(WEXITSTATUS(status), 124) << output;
   const char* const expected[] = {

@@ -194,6 +194,12 @@ class PfxNodeSimulation {
   bool findAnchor(const Scene& scene, const std::string& link, const PfxVector3& point,
                   PfxNodeAnchorBody& body, PfxVector3& world) const;
   PfxInt32 buildCable(Scene& scene, const PfxNodeCableSpec& spec, std::string* message) const;
+  // Adds a built cable or cloth to the scene's world under `name`, its group id to `ids`.
+  static PfxInt32 addGroup(Scene& scene, const PfxParticleGroupBuilder& group,
+                           const std::string& name, std::vector<PfxUInt32>& ids,
+                           std::string* message);
+  // PFX_ERR_INVALID_VALUE with `why` in *message.
+  static PfxInt32 refuse(const std::string& why, std::string* message);
   PfxInt32 buildCloth(Scene& scene, const PfxNodeClothSpec& spec, std::string* message) const;
   bool holdsAgentBodies(std::string* message) const;
 
