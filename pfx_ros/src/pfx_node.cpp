@@ -142,6 +142,8 @@ bool PfxNode::initialize() {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
   }
+  // Before the sensors: the first scan sees them.
+  pfxAddDeclaredCablesAndCloths(m_privateHandle, m_simulation);
   m_sensors = std::make_unique<PfxNodeSensors>(m_handle, m_param.fixedFrame);
   const std::string urdfName =
       m_param.simulation.urdfPath.empty() ? "robot_description" : m_param.simulation.urdfPath;
@@ -172,11 +174,13 @@ bool PfxNode::initialize() {
   const PfxUrdfModel& model = m_simulation.getModel();
   ROS_INFO(
       "pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
-      "%u sub-steps, %u iterations, real-time factor %g, %u agents, %zu sensors%s",
+      "%u sub-steps, %u iterations, real-time factor %g, %u agents, %zu cables, %zu cloths, "
+      "%zu sensors%s",
       model.name.c_str(), model.links.size(), model.joints.size(),
       m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
       m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
-      m_simulation.getAgents().getNumAgents(), m_sensors->getNumSensors(),
+      m_simulation.getAgents().getNumAgents(), m_simulation.getCables().size(),
+      m_simulation.getCloths().size(), m_sensors->getNumSensors(),
       m_param.paused ? " (paused)" : "");
   return true;
 }

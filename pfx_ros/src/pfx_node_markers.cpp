@@ -19,6 +19,8 @@ constexpr PfxFloat kArcStep = PFX_PI / 16;
 // An agent is drawn as a cylinder, two spheres, an arrow along its heading and its name.
 constexpr PfxInt32 kMarkersPerAgent = 5;
 const PfxVector3 kAgentColor(PfxFloat(1), PfxFloat(0.55), PfxFloat(0.1));
+const PfxVector3 kCableColor(PfxFloat(0.15), PfxFloat(0.15), PfxFloat(0.15));
+const PfxVector3 kClothColor(PfxFloat(0.2), PfxFloat(0.45), PfxFloat(0.85));
 
 std_msgs::ColorRGBA toColor(const PfxVector3& rgb) {
   std_msgs::ColorRGBA c;
@@ -232,6 +234,31 @@ void PfxNodeMarkers::addAgents(const PfxNodeSimulation& simulation, const ros::T
   m_agentIds.swap(drawn);
 }
 
+void PfxNodeMarkers::addCablesAndCloths(const PfxNodeSimulation& simulation,
+                                        const ros::Time& stamp) {
+  const std::vector<PfxNodeCableSpec>& cables = simulation.getCables();
+  for (PfxUInt32 i = 0; i < cables.size(); ++i) {
+    visualization_msgs::Marker strip =
+        makeMarker("cables", PfxInt32(i), visualization_msgs::Marker::LINE_STRIP, stamp);
+    strip.scale.x = 2 * cables[i].radius;
+    strip.color = toColor(kCableColor);
+    for (const PfxParticle& p : simulation.getCableGroup(i).particles) {
+      strip.points.push_back(pfxToPointMsg(p.m_position));
+    }
+    m_array.markers.push_back(std::move(strip));
+  }
+  for (PfxUInt32 i = 0; i < simulation.getCloths().size(); ++i) {
+    visualization_msgs::Marker surface =
+        makeMarker("cloths", PfxInt32(i), visualization_msgs::Marker::TRIANGLE_LIST, stamp);
+    surface.color = toColor(kClothColor);
+    const PfxParticleGroup& group = simulation.getClothGroup(i);
+    for (const PfxUInt32 corner : group.triangleIndices) {
+      surface.points.push_back(pfxToPointMsg(group.particles[corner].m_position));
+    }
+    m_array.markers.push_back(std::move(surface));
+  }
+}
+
 void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
   if (m_publisher.getNumSubscribers() == 0) return;
   const PfxWorld& world = simulation.getWorld();
@@ -239,6 +266,7 @@ void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Tim
 
   addShapes(simulation, false, "shapes", stamp);
   addAgents(simulation, stamp);
+  addCablesAndCloths(simulation, stamp);
   if (m_sendStatic || m_sentGeneration != simulation.getGeneration()) {
     addShapes(simulation, true, "static_shapes", stamp);
     m_sendStatic = false;

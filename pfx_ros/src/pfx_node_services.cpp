@@ -81,7 +81,11 @@ PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulati
 }
 
 std::string PfxNodeServices::hitName(const PfxRayOutput& hit) const {
-  if (!hit.m_contactFlag || hit.m_objectId == PFX_RAY_NO_OBJECT) return "";
+  if (!hit.m_contactFlag) return "";
+  if (hit.m_particleGroupId != PFX_RAY_NO_OBJECT) {
+    return m_simulation.getParticleGroupName(hit.m_particleGroupId);
+  }
+  if (hit.m_objectId == PFX_RAY_NO_OBJECT) return "";
   return m_simulation.getShapeName(hit.m_objectId, hit.m_shapeId);
 }
 
@@ -148,13 +152,16 @@ bool PfxNodeServices::raycastBatch(RaycastBatch::Request& req, RaycastBatch::Res
 }
 
 bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Response& res) {
-  if (!req.link.empty() && m_simulation.findBody(req.link) < 0) {
+  if (!req.link.empty() && m_simulation.findBody(req.link) < 0 &&
+      m_simulation.findParticleGroup(req.link) < 0) {
     return reject(res, "get_contacts", unknownLink(req.link));
   }
   m_simulation.getContacts(m_contacts);
   for (const PfxNodeContact& c : m_contacts) {
     const std::string& nameA = m_simulation.getShapeName(c.bodyA, c.shapeA);
-    const std::string& nameB = m_simulation.getShapeName(c.bodyB, c.shapeB);
+    const std::string& nameB = c.particleGroup != PFX_RAY_NO_OBJECT
+                                   ? m_simulation.getParticleGroupName(c.particleGroup)
+                                   : m_simulation.getShapeName(c.bodyB, c.shapeB);
     if (!req.link.empty() && nameA != req.link && nameB != req.link) continue;
     // The link asked about comes first, the normal pointing away from it.
     const bool swap = !req.link.empty() && nameA != req.link;

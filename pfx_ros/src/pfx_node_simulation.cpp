@@ -1,11 +1,13 @@
 #include "pfx_ros/pfx_node_simulation.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <unordered_map>
 
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_serialize.h"
+#include "pfx/low_level/pfx_error_detail.h"
 
 namespace pfx {
 
@@ -21,6 +23,11 @@ struct PfxNodeSimulation::Scene {
   std::unique_ptr<PfxNodeAgentSet> agents;
   std::vector<std::string> bodyNames;
   std::unordered_map<std::string, PfxUInt32> bodyByName;
+  // Cables and cloths: their particle groups in the order of the config's lists, and the
+  // name of each group by id.
+  std::vector<PfxUInt32> cableGroups;
+  std::vector<PfxUInt32> clothGroups;
+  std::vector<std::string> groupNames;
   std::vector<std::string> warnings;
 };
 
@@ -169,8 +176,149 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
     built->bodyByName.emplace(link.name, link.bodyId);
   }
   built->agents = std::make_unique<PfxNodeAgentSet>(world, config.agents);
+  for (const PfxNodeCableSpec& cable : config.cables) {
+    if (const PfxInt32 err = buildCable(*built, cable, message); err != PFX_OK) return err;
+  }
+  for (const PfxNodeClothSpec& cloth : config.cloths) {
+    if (const PfxInt32 err = buildCloth(*built, cloth, message); err != PFX_OK) return err;
+  }
   scene = std::move(built);
   return PFX_OK;
+}
+
+std::string PfxNodeSimulation::checkGroupName(const Scene& scene, const std::string& name) const {
+  bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0])) != 0;
+  for (const char c : name) {
+    valid = valid && (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_');
+  }
+  if (!valid) return "name: '" + name + "' is not letters, digits and _ starting with a letter";
+  // Rays and contacts name what they meet: a name must say which.
+  if (scene.bodyByName.count(name) != 0 || name == kPfxNodeWorldLink ||
+      std::find(scene.groupNames.begin(), scene.groupNames.end(), name) !=
+          scene.groupNames.end()) {
+    return "name: '" + name + "' names a link, body, agent, cable or cloth already";
+  }
+  return "";
+}
+
+bool PfxNodeSimulation::findAnchor(const Scene& scene, const std::string& link,
+                                   const PfxVector3& point, PfxNodeAnchorBody& body,
+                                   PfxVector3& world) const {
+  const PfxWorld& w = *scene.world;
+  if (link == kPfxNodeWorldLink) {
+    body = PfxNodeAnchorBody();
+    world = point;
+    return true;
+  }
+  PfxTransform3 linkPose;
+  if (const PfxInt32 index = pfxFindUrdfLink(scene.model, link); index >= 0) {
+    const PfxUrdfLink& urdfLink = scene.model.links[index];
+    body.bodyId = urdfLink.bodyId;
+    linkPose = pfxGetUrdfLinkPose(w, urdfLink);
+  } else if (const auto named = scene.bodyByName.find(link); named != scene.bodyByName.end()) {
+    body.bodyId = named->second;
+    linkPose = w.getRigidState(named->second).getTransform();
+  } else {
+    return false;
+  }
+  body.pose = w.getRigidState(body.bodyId).getTransform();
+  world = linkPose * point;
+  return true;
+}
+
+PfxInt32 PfxNodeSimulation::addGroup(Scene& scene, const PfxParticleGroupBuilder& group,
+                                     const std::string& name, std::vector<PfxUInt32>& ids,
+                                     std::string* message) {
+  PfxUInt32 id = 0;
+  if (const PfxInt32 err = scene.world->addParticleGroup(group.desc(), &id); err != PFX_OK) {
+    if (message) *message = std::string("the world refused it: ") + pfxGetLastErrorDetail();
+    return err;
+  }
+  ids.push_back(id);
+  if (scene.groupNames.size() <= id) scene.groupNames.resize(id + 1);
+  scene.groupNames[id] = name;
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::buildCable(Scene& scene, const PfxNodeCableSpec& spec,
+                                       std::string* message) const {
+  PfxNodeAnchorBody startBody, endBody;
+  PfxVector3 start, end = PfxVector3::Zero();
+  if (!findAnchor(scene, spec.startLink, spec.startPoint, startBody, start)) {
+    if (message) *message = "start_link: no link or body named '" + spec.startLink + "'";
+    return PFX_ERR_INVALID_VALUE;
+  }
+  const bool freeEnd = spec.endLink.empty();
+  if (!freeEnd && !findAnchor(scene, spec.endLink, spec.endPoint, endBody, end)) {
+    if (message) *message = "end_link: no link or body named '" + spec.endLink + "'";
+    return PFX_ERR_INVALID_VALUE;
+  }
+  PfxParticleGroupBuilder group;
+  if (const PfxInt32 err = pfxBuildNodeCable(spec, start, startBody, end,
+                                             freeEnd ? nullptr : &endBody, group, message);
+      err != PFX_OK) {
+    return err;
+  }
+  if (const PfxInt32 err = pfxSettleNodeCable(scene.world->getParam().gravity, group);
+      err != PFX_OK) {
+    if (message) *message = std::string("it did not settle: ") + pfxErrorString(err);
+    return err;
+  }
+  return addGroup(scene, group, spec.name, scene.cableGroups, message);
+}
+
+PfxInt32 PfxNodeSimulation::buildCloth(Scene& scene, const PfxNodeClothSpec& spec,
+                                       std::string* message) const {
+  PfxNodeAnchorBody pinBody;
+  PfxVector3 unused;
+  if (!findAnchor(scene, spec.pinLink, PfxVector3::Zero(), pinBody, unused)) {
+    if (message) *message = "pin_link: no link or body named '" + spec.pinLink + "'";
+    return PFX_ERR_INVALID_VALUE;
+  }
+  PfxParticleGroupBuilder group;
+  pfxBuildNodeCloth(spec, pinBody, group);
+  return addGroup(scene, group, spec.name, scene.clothGroups, message);
+}
+
+PfxInt32 PfxNodeSimulation::refuse(const std::string& why, std::string* message) {
+  if (message) *message = why;
+  return PFX_ERR_INVALID_VALUE;
+}
+
+PfxInt32 PfxNodeSimulation::addCable(const PfxNodeCableSpec& spec, std::string* message) {
+  std::string why = checkGroupName(*m_scene, spec.name);
+  if (why.empty()) why = pfxCheckCableSpec(spec);
+  if (!why.empty()) return refuse(why, message);
+  if (const PfxInt32 err = buildCable(*m_scene, spec, message); err != PFX_OK) return err;
+  m_config.cables.push_back(spec);
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::addCloth(const PfxNodeClothSpec& spec, std::string* message) {
+  std::string why = checkGroupName(*m_scene, spec.name);
+  if (why.empty()) why = pfxCheckClothSpec(spec);
+  if (!why.empty()) return refuse(why, message);
+  if (const PfxInt32 err = buildCloth(*m_scene, spec, message); err != PFX_OK) return err;
+  m_config.cloths.push_back(spec);
+  return PFX_OK;
+}
+
+const PfxParticleGroup& PfxNodeSimulation::getCableGroup(PfxUInt32 i) const {
+  return *m_scene->world->getParticleGroup(m_scene->cableGroups[i]);
+}
+
+const PfxParticleGroup& PfxNodeSimulation::getClothGroup(PfxUInt32 i) const {
+  return *m_scene->world->getParticleGroup(m_scene->clothGroups[i]);
+}
+
+const std::string& PfxNodeSimulation::getParticleGroupName(PfxUInt32 groupId) const {
+  return m_scene->groupNames[groupId];
+}
+
+PfxInt64 PfxNodeSimulation::findParticleGroup(const std::string& name) const {
+  const auto& names = m_scene->groupNames;
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<PfxInt64>(it - names.begin());
 }
 
 PfxInt32 PfxNodeSimulation::load(const PfxNodeSimulationConfig& config, std::string* message) {
@@ -391,6 +539,10 @@ PfxInt32 PfxNodeSimulation::addAgent(const PfxNodeAgentSpec& spec, std::string* 
     if (message) *message = "'" + spec.name + "' names a body of the robot or scene already";
     return PFX_ERR_INVALID_VALUE;
   }
+  if (findParticleGroup(spec.name) >= 0) {
+    if (message) *message = "'" + spec.name + "' names a cable or cloth already";
+    return PFX_ERR_INVALID_VALUE;
+  }
   if (const std::string why = agents.check(spec); !why.empty()) {
     if (message) *message = why;
     return PFX_ERR_INVALID_VALUE;
@@ -468,6 +620,27 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
       contact.impulse = impulse;
       contacts.push_back(contact);
     }
+  }
+  PfxQueryContactsResult found;
+  // Grown until every point fits; a node's cables and cloths make few.
+  for (std::size_t room = 256;; room *= 2) {
+    m_particleContacts.resize(room);
+    found = PfxQueryContactsResult();
+    world.getParticleBodyContacts(m_particleContacts.data(), PfxUInt32(room), found);
+    if (!found.truncated) break;
+  }
+  for (PfxUInt32 i = 0; i < found.numContacts; ++i) {
+    const PfxParticleBodyContact& c = m_particleContacts[i];
+    if (c.m_depth < -kTouchingDistance && c.m_impulse <= 0) continue;
+    PfxNodeContact contact;
+    contact.bodyA = c.m_rigidBodyId;
+    contact.shapeA = c.m_shapeId;
+    contact.particleGroup = c.m_particleGroupId;
+    contact.position = c.m_point;
+    contact.normal = c.m_normal;
+    contact.depth = c.m_depth;
+    contact.impulse = c.m_impulse;
+    contacts.push_back(contact);
   }
 }
 

@@ -399,14 +399,14 @@ TEST(WorldParticles, RaysAndQueriesFindParticles) {
   ray.reset();
   ray.m_startPosition = PfxVector3(0.1, 3, 0.2);
   ray.m_direction = PfxVector3(0, -4, 0);
-  PfxParticleRayOutput out;
-  ASSERT_EQ(world.castParticleRay(ray, out), PFX_OK);
+  PfxRayOutput out;
+  ASSERT_EQ(world.castRay(ray, out), PFX_OK);
   ASSERT_TRUE(out.m_contactFlag);
   EXPECT_EQ(out.m_particleGroupId, id);
-  // Particle (6, 7) sits at (0.1, 1, 0.2): the ray meets its top.
-  EXPECT_EQ(out.m_particle, 6u + 7u * 11u);
-  EXPECT_NEAR(out.m_contactPoint.y(), 1.02, 1e-4);
-  EXPECT_NEAR(out.m_contactNormal.y(), 1, 1e-4);
+  // Particle (6, 7) sits at (0.1, 1, 0.2): the ray meets the cloth's surface there.
+  EXPECT_EQ(out.m_particleIndex, 6u + 7u * 11u);
+  EXPECT_NEAR(out.m_contactPoint.y(), 1, 1e-5);
+  EXPECT_NEAR(out.m_contactNormal.y(), 1, 1e-5);
 
   PfxShape sphere = pfxMakeShape(PfxSphere(0.15));
   PfxCollidable collidable;

@@ -13,8 +13,11 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -134,6 +137,25 @@ inline bool readRobot(const std::string& param, UrdfRobot& robot) {
   }
   for (const auto& joint : model->joints_) robot.joints[joint.first] = joint.second;
   return true;
+}
+
+// Runs a shell command to its end and returns what it wrote (stderr too, when the command
+// says 2>&1), with its wait status in `status`: how the rostests start a second pfx_node
+// with a configuration of their own.
+inline std::string runCommand(const std::string& command, int& status) {
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  char buffer[512];
+  while (pipe && std::fgets(buffer, sizeof(buffer), pipe)) output += buffer;
+  status = pipe ? pclose(pipe) : -1;
+  return output;
+}
+
+inline std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace pfx_test

@@ -14,11 +14,8 @@
 #include <std_srvs/Trigger.h>
 
 #include <Eigen/Geometry>
-#include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 
 #include "pfx/RaycastBatch.h"
 #include "pfx_ros_test_util.h"
@@ -131,20 +128,8 @@ std::vector<Eigen::Vector3d> scanBeams(const sensor_msgs::LaserScan& scan) {
 // Runs pfx_node in namespace `ns` (its parameters set there beforehand) and returns what it
 // logged; it must exit by itself, refusing its configuration, within 30 s.
 std::string runRefusedNode(const std::string& ns, int& status) {
-  const std::string command = "timeout 30 " PFX_NODE " __ns:=" + ns + " __name:=pfx_node 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[512];
-  while (pipe && std::fgets(buffer, sizeof(buffer), pipe)) output += buffer;
-  status = pipe ? pclose(pipe) : -1;
-  return output;
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return pfx_test::runCommand(
+      "timeout 30 " PFX_NODE " __ns:=" + ns + " __name:=pfx_node 2>&1", status);
 }
 
 }  // namespace
@@ -371,7 +356,7 @@ TEST(Sensors, OdometryIsTheLinksGroundTruth) {
 }
 
 TEST(Sensors, BadSensorConfigurationsAreRefusedWithTheirReason) {
-  const std::string urdf = readText(PFX_SOURCE_DIR "/urdf/turtlebot3/turtlebot3_burger.urdf");
+  const std::string urdf = pfx_test::readText(PFX_SOURCE_DIR "/urdf/turtlebot3/turtlebot3_burger.urdf");
   ASSERT_FALSE(urdf.empty());
   auto ray = [](const std::string& extra) {
     return "[{name: bad, type: ray, link: base_scan, range_max: 2.0" + extra + "}]";

@@ -104,6 +104,7 @@ PfxInt32 PfxWorld::addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32*
   } else {
     *freeSlot = std::move(group);
   }
+  m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
 }
@@ -112,6 +113,7 @@ PfxInt32 PfxWorld::removeParticleGroup(PfxUInt32 id) {
   if (!getParticleGroup(id)) return PFX_ERR_OUT_OF_RANGE;
   m_particleGroups[id].reset();
   while (!m_particleGroups.empty() && !m_particleGroups.back()) m_particleGroups.pop_back();
+  m_rayProxiesStale = true;
   return PFX_OK;
 }
 
@@ -125,6 +127,7 @@ PfxInt32 PfxWorld::setParticlePosition(PfxUInt32 groupId, PfxUInt32 particle,
   group->particles[particle].m_previousPosition = position;
   group->asleep = false;
   group->sleepCount = 0;
+  m_rayProxiesStale = true;
   return PFX_OK;
 }
 
@@ -339,8 +342,8 @@ void PfxWorld::updateParticleSleep() {
     }
     group->sleepCount = still ? group->sleepCount + 1 : 0;
     if (group->sleepCount >= stepsToSleep) {
+      // Its contacts stay as they are, for the queries, until it wakes and finds new ones.
       group->asleep = true;
-      group->numContacts = 0;
       for (PfxParticle& p : group->particles) p.m_velocity.setZero();
     }
   }
@@ -373,18 +376,96 @@ void PfxWorld::gatherParticleStats() {
   }
 }
 
-PfxInt32 PfxWorld::castParticleRay(const PfxRayInput& in, PfxParticleRayOutput& out) const {
-  PfxParticleRayOutput best;
-  if (const PfxInt32 err = pfxCastParticleRay(in, nullptr, 0, best); err != PFX_OK) return err;
+void PfxWorld::updateParticleRayBounds() {
+  m_particleRayBounds.resize(2 * m_particleGroups.size());
+  for (PfxUInt32 id = 0; id < getParticleGroupCapacity(); ++id) {
+    PfxVector3 lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
+    PfxVector3 hi = -lo;
+    if (const PfxParticleGroup* group = getParticleGroup(id)) {
+      for (const PfxParticle& p : group->particles) {
+        lo = lo.cwiseMin(p.m_position - PfxVector3::Constant(p.m_radius));
+        hi = hi.cwiseMax(p.m_position + PfxVector3::Constant(p.m_radius));
+      }
+    }
+    m_particleRayBounds[2 * id] = lo;
+    m_particleRayBounds[2 * id + 1] = hi;
+  }
+}
+
+namespace {
+
+// Whether the part [0, maxFraction] of the ray meets the box, by slabs in double.
+bool rayMeetsBounds(const PfxRayInput& ray, const PfxVector3& lo, const PfxVector3& hi,
+                    PfxFloat maxFraction) {
+  double enter = 0, leave = maxFraction;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double start = ray.m_startPosition[axis];
+    const double d = ray.m_direction[axis];
+    if (d == 0) {
+      if (start < lo[axis] || start > hi[axis]) return false;
+      continue;
+    }
+    double t0 = (lo[axis] - start) / d, t1 = (hi[axis] - start) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void PfxWorld::castParticleRay(const PfxRayInput& in, PfxRayOutput& out) const {
+  for (PfxUInt32 id = 0; id < getParticleGroupCapacity(); ++id) {
+    const PfxParticleGroup* group = getParticleGroup(id);
+    if (!group ||
+        !rayMeetsBounds(in, m_particleRayBounds[2 * id], m_particleRayBounds[2 * id + 1],
+                        out.m_variable)) {
+      continue;
+    }
+    const PfxFloat closestBefore = out.m_variable;
+    // The ray was checked, and the group's triangles when it was added: this cannot fail.
+    pfxCastParticleRay(in, group->particles.data(), static_cast<PfxUInt32>(group->particles.size()),
+                       group->triangleIndices.data(),
+                       static_cast<PfxUInt32>(group->triangleIndices.size() / 3), out);
+    if (out.m_variable < closestBefore) out.m_particleGroupId = id;
+  }
+}
+
+PfxInt32 PfxWorld::getParticleBodyContacts(PfxParticleBodyContact* out, PfxUInt32 maxContacts,
+                                           PfxQueryContactsResult& result) const {
+  if (!out && maxContacts > result.numContacts) {
+    return pfxRejectNull(PfxParamNames{"PfxWorld::getParticleBodyContacts", ""}, "out",
+                         "maxContacts", maxContacts);
+  }
+  const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
   for (PfxUInt32 id = 0; id < getParticleGroupCapacity(); ++id) {
     const PfxParticleGroup* group = getParticleGroup(id);
     if (!group) continue;
-    const PfxFloat closestBefore = best.m_variable;
-    pfxCastParticleRay(in, group->particles.data(), static_cast<PfxUInt32>(group->particles.size()),
-                       best);
-    if (best.m_variable < closestBefore) best.m_particleGroupId = id;
+    for (PfxUInt32 i = 0; i < group->numContacts; ++i) {
+      const PfxParticleContact& c = group->contacts[i];
+      if (c.m_kind != kPfxParticleContactRigidBody) continue;
+      if (result.numContacts == maxContacts) {
+        result.truncated = true;
+        return PFX_OK;
+      }
+      const PfxRigidState& s = m_states[c.m_other];
+      const PfxParticle& p = group->particles[c.m_particle];
+      const PfxVector3 surface = s.getPosition() + s.getOrientation() * c.m_localPoint;
+      const PfxVector3 normal = s.getOrientation() * c.m_localNormal;
+      const PfxFloat depth = p.m_radius - (p.m_position - surface).dot(normal);
+      PfxParticleBodyContact& o = out[result.numContacts++];
+      o.m_particleGroupId = id;
+      o.m_particle = c.m_particle;
+      o.m_rigidBodyId = c.m_other;
+      o.m_shapeId = c.m_shapeId;
+      o.m_normal = normal;
+      o.m_depth = depth;
+      o.m_point = surface - PfxFloat(0.5) * depth * normal;
+      o.m_impulse = std::max(c.m_lambdaNormal, PfxFloat(0)) / subTimeStep;
+    }
   }
-  out = best;
   return PFX_OK;
 }
 

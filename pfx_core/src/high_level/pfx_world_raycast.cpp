@@ -50,6 +50,7 @@ PfxInt32 PfxWorld::updateRayProxies() {
     if (const PfxInt32 err = pfxBuildRayBvh(bvhParam); err != PFX_OK) return err;
     m_numRayProxies = result.numProxies;
   }
+  updateParticleRayBounds();
   m_rayProxiesStale = false;
   return PFX_OK;
 }
@@ -70,7 +71,10 @@ PfxRayCastParam PfxWorld::rayCastParam() const {
 
 PfxInt32 PfxWorld::castRay(const PfxRayInput& in, PfxRayOutput& out) {
   if (const PfxInt32 err = updateRayProxies(); err != PFX_OK) return err;
-  return pfxCastSingleRay(in, out, rayCastParam());
+  const PfxRayInput ray = in;  // `out` may be the same memory
+  if (const PfxInt32 err = pfxCastSingleRay(ray, out, rayCastParam()); err != PFX_OK) return err;
+  castParticleRay(ray, out);
+  return PFX_OK;
 }
 
 PfxInt32 PfxWorld::castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays) {
@@ -84,7 +88,16 @@ PfxInt32 PfxWorld::castRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 
     param.workBuff = m_rayOrderWork.data();
     param.workBytes = pfxGetWorkBytesOfCastRays(numRays);
   }
-  return pfxCastRays(in, out, numRays, param, &m_taskManager);
+  if (const PfxInt32 err = pfxCastRays(in, out, numRays, param, &m_taskManager); err != PFX_OK) {
+    return err;
+  }
+  if (m_particleGroups.empty()) return PFX_OK;
+  // The rays were checked by pfxCastRays; each writes only its own output.
+  constexpr PfxUInt32 kRaysPerTask = 64;
+  return pfxParallelFor(&m_taskManager, numRays, kRaysPerTask,
+                        [&](PfxUInt32 begin, PfxUInt32 end) {
+                          for (PfxUInt32 i = begin; i < end; ++i) castParticleRay(in[i], out[i]);
+                        });
 }
 
 PfxInt32 PfxWorld::queryContacts(const PfxContactQueryInput& query, PfxQueryContact* out,

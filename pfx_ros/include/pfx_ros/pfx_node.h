@@ -11,6 +11,7 @@
 #include <string>
 
 #include "pfx_ros/pfx_node_agents.h"
+#include "pfx_ros/pfx_node_cable_params.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_joint_commands.h"
 #include "pfx_ros/pfx_node_markers.h"
@@ -30,8 +31,9 @@ struct PfxNodeParam {
                                        // ~agent_max_turn_rate, ~agent_waypoint_tolerance
   std::string fixedFrame = "world";  // ~fixed_frame
   // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
-  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the sensors
-  // (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h), the joint command
+  // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the cables and
+  // cloths (~cables, ~cloths) by pfxAddDeclaredCablesAndCloths (pfx_node_cable_params.h), the
+  // sensors (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h), the joint command
   // topics (~joint_interfaces, ~joint_group) by PfxNodeJointCommands
   // (pfx_node_joint_commands.h).
   std::string agentFramePrefix = "agents";

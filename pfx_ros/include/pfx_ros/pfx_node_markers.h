@@ -8,6 +8,9 @@
 // while it lives: a CYLINDER and two SPHEREs (its capsule), an ARROW along its heading and
 // its name as TEXT_VIEW_FACING; when it is deleted they are sent once with action DELETE.
 // Agents are not in "shapes", and the parked bodies of deleted ones are drawn nowhere.
+// Namespace "cables" draws each cable as a LINE_STRIP through its particles, as wide as the
+// cable, and "cloths" each cloth as a TRIANGLE_LIST of its surface; the id is the cable's or
+// cloth's place in its list.
 #pragma once
 
 #include <ros/ros.h>
@@ -42,6 +45,7 @@ class PfxNodeMarkers {
   void addShapes(const PfxNodeSimulation& simulation, bool fixedBodies, const char* ns,
                  const ros::Time& stamp);
   void addAgents(const PfxNodeSimulation& simulation, const ros::Time& stamp);
+  void addCablesAndCloths(const PfxNodeSimulation& simulation, const ros::Time& stamp);
   void addDrawing(const char* ns, const ros::Time& stamp);
   visualization_msgs::Marker makeMarker(const char* ns, PfxInt32 id, PfxInt32 type,
                                         const ros::Time& stamp) const;

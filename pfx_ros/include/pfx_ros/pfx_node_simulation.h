@@ -13,6 +13,7 @@
 #include "pfx/loaders/pfx_scene_loader.h"
 #include "pfx/loaders/pfx_urdf_loader.h"
 #include "pfx_ros/pfx_node_agent_set.h"
+#include "pfx_ros/pfx_node_cables.h"
 
 namespace pfx {
 
@@ -44,12 +45,17 @@ struct PfxNodeSimulationConfig {
   // the load.
   bool allowMissingMeshes = false;
   PfxNodeAgentSetParam agents;
+  // Accepted by addCable and addCloth, and built again with the world by reset().
+  std::vector<PfxNodeCableSpec> cables;
+  std::vector<PfxNodeClothSpec> cloths;
 };
 
-// One point where two bodies touch (or pushed on each other during the last step).
+// One point where two bodies touch (or pushed on each other during the last step), or a
+// body (A) and a particle of a cable or cloth (B: particleGroup names it, bodyB is unused).
 struct PfxNodeContact {
   PfxUInt32 bodyA = 0;
   PfxUInt32 bodyB = 0;
+  PfxUInt32 particleGroup = PFX_RAY_NO_OBJECT;
   PfxUInt32 shapeA = 0;  // which shape of each body's compound (getShapeName)
   PfxUInt32 shapeB = 0;
   PfxVector3 position = PfxVector3::Zero();  // midway between the two surfaces
@@ -134,11 +140,29 @@ class PfxNodeSimulation {
   PfxInt32 commandAgent(const std::string& name, PfxFloat vx, PfxFloat vy, PfxFloat turnRate);
   const PfxNodeAgentSet& getAgents() const;
 
+  // Adds a cable or cloth (pfx_node_cables.h) to the world as it is now, its ends or pins
+  // tied to the links' poses of the moment; reset() builds it again at the robot's start.
+  // Rejects, with *message naming the field and nothing changed: what pfxCheckCableSpec or
+  // pfxCheckClothSpec rejects, a name that is not letters, digits and _ starting with a
+  // letter or that a body, agent, cable or cloth has already, an unknown link, and a cable
+  // shorter than the distance between its ends.
+  PfxInt32 addCable(const PfxNodeCableSpec& spec, std::string* message);
+  PfxInt32 addCloth(const PfxNodeClothSpec& spec, std::string* message);
+  const std::vector<PfxNodeCableSpec>& getCables() const { return m_config.cables; }
+  const std::vector<PfxNodeClothSpec>& getCloths() const { return m_config.cloths; }
+  // The particle group of the i-th cable or cloth.
+  const PfxParticleGroup& getCableGroup(PfxUInt32 i) const;
+  const PfxParticleGroup& getClothGroup(PfxUInt32 i) const;
+  // The cable or cloth a particle group is, by group id; -1 for a name that is none.
+  const std::string& getParticleGroupName(PfxUInt32 groupId) const;
+  PfxInt64 findParticleGroup(const std::string& name) const;
+
   PfxInt32 castRay(const PfxRayInput& ray, PfxRayOutput& hit);
   PfxInt32 castRays(const PfxRayInput* rays, PfxRayOutput* hits, PfxUInt32 numRays);
   // The points of the last step where bodies touch (closer than 1 mm) or pushed on each
   // other, those of sleeping bodies included (they keep the points they had when they fell
-  // asleep); speculative points farther apart that did nothing are left out.
+  // asleep); speculative points farther apart that did nothing are left out. Then, by the
+  // same rule, the points where cables and cloths touch bodies.
   void getContacts(std::vector<PfxNodeContact>& contacts) const;
 
   // A force at the link's origin plus a torque (world frame), on the link's body for
@@ -166,10 +190,25 @@ class PfxNodeSimulation {
   PfxInt32 buildScene(const PfxNodeSimulationConfig& config, std::unique_ptr<Scene>& scene,
                       std::string* message) const;
   static void nameAgentBody(Scene& scene, const std::string& name, PfxUInt32 bodyId);
+  // Empty when `name` may name a new cable or cloth, else why not.
+  std::string checkGroupName(const Scene& scene, const std::string& name) const;
+  // The body a cable end or cloth pin named `link` holds on to, and where `point` (in the
+  // link's frame) lies in the world; false for an unknown link.
+  bool findAnchor(const Scene& scene, const std::string& link, const PfxVector3& point,
+                  PfxNodeAnchorBody& body, PfxVector3& world) const;
+  PfxInt32 buildCable(Scene& scene, const PfxNodeCableSpec& spec, std::string* message) const;
+  // Adds a built cable or cloth to the scene's world under `name`, its group id to `ids`.
+  static PfxInt32 addGroup(Scene& scene, const PfxParticleGroupBuilder& group,
+                           const std::string& name, std::vector<PfxUInt32>& ids,
+                           std::string* message);
+  // PFX_ERR_INVALID_VALUE with `why` in *message.
+  static PfxInt32 refuse(const std::string& why, std::string* message);
+  PfxInt32 buildCloth(Scene& scene, const PfxNodeClothSpec& spec, std::string* message) const;
 
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;
   std::vector<Wrench> m_wrenches;
+  mutable std::vector<PfxParticleBodyContact> m_particleContacts;  // getContacts' scratch
   // Simulated time at the last load (of a saved world) or change of the time step, and
   // steps since.
   double m_startTime = 0;

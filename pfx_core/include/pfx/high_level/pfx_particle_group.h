@@ -58,6 +58,18 @@ struct PfxParticleGroup {
   PfxParticleGroupDesc desc() const;
 };
 
+// A point where a particle touches a body (PfxWorld::getParticleBodyContacts).
+struct PfxParticleBodyContact {
+  PfxUInt32 m_particleGroupId = 0;
+  PfxUInt32 m_particle = 0;
+  PfxUInt32 m_rigidBodyId = 0;
+  PfxUInt8 m_shapeId = 0;  // the body's shape touched (its index in the body's collidable)
+  PfxVector3 m_point = PfxVector3::Zero();   // world, midway between the two surfaces
+  PfxVector3 m_normal = PfxVector3::Zero();  // world, unit, out of the body to the particle
+  PfxFloat m_depth = 0;    // overlap (m), > 0 when the particle is inside the body
+  PfxFloat m_impulse = 0;  // normal impulse of the last sub-step (N s), >= 0
+};
+
 // Fills vectors that a PfxParticleGroupDesc then points at: ropes (or hair strands) and
 // rectangular cloths, with the distance, angle and tether constraints that make them
 // behave, and pins.

@@ -303,9 +303,13 @@ class PfxWorld {
   // how an application drives particles of zero mass. Rejects an unknown group or particle
   // (PFX_ERR_OUT_OF_RANGE) and a non-finite position (PFX_ERR_INVALID_VALUE).
   PfxInt32 setParticlePosition(PfxUInt32 groupId, PfxUInt32 particle, const PfxVector3& position);
-  // The closest particle a ray hits, over every group (pfx_query_particles.h); castRay
-  // reports bodies only, so a caller wanting both compares the two fractions.
-  PfxInt32 castParticleRay(const PfxRayInput& in, PfxParticleRayOutput& out) const;
+  // The points where particles touch bodies as the last step left them (a sleeping group
+  // keeps those it had when it fell asleep, as sleeping bodies keep theirs), speculative
+  // ones within the contact margin included: appended to out[result.numContacts ..
+  // maxContacts - 1], group by group, with result.truncated set when some do not fit.
+  // Rejects a null out with room in it (PFX_ERR_NULL_POINTER); nothing is written then.
+  PfxInt32 getParticleBodyContacts(PfxParticleBodyContact* out, PfxUInt32 maxContacts,
+                                   PfxQueryContactsResult& result) const;
   // The particles within the query's threshold of a collidable at a pose, as queryContacts
   // gives bodies (pfx_query_particles.h).
   PfxInt32 queryParticleContacts(const PfxContactQueryInput& query, PfxParticleQueryContact* out,
@@ -319,8 +323,13 @@ class PfxWorld {
   const PfxWorldStats& getStats() const { return m_stats; }
   PfxConservedQuantities measureConservedQuantities() const;
 
-  // The closest hit of a ray, or of each of `numRays` rays, on the bodies as they are now
-  // (seed chapter 5; rules in pfx_ray.h and pfx_cast_rays.h). The first cast after a step
+  // The closest hit of a ray, or of each of `numRays` rays, on the bodies and particles as
+  // they are now (seed chapter 5; rules in pfx_ray.h, pfx_cast_rays.h and, for particles,
+  // pfx_query_particles.h: ropes are their particles' spheres, cloths their triangles). A
+  // particle's hit names its group and particle (PfxRayOutput::m_particleGroupId,
+  // m_particleIndex) and has no body; of a body and a particle hit at the same fraction
+  // the body wins. Particles are searched group by group, inside each group's bounding box
+  // one by one: a ray that misses a group's box costs one box test. The first cast after a step
   // or a change to the bodies updates the bodies' proxies and the hierarchy over them that
   // rays descend (pfx_build_ray_bvh.h: about ten times the rays per second of the seed's
   // sorted arrays among 1,000 bodies), so a world that casts no rays never pays for them,
@@ -403,6 +412,8 @@ class PfxWorld {
   void gatherSleepStats();
   PfxInt32 updateRayProxies();
   PfxRayCastParam rayCastParam() const;
+  void updateParticleRayBounds();
+  void castParticleRay(const PfxRayInput& in, PfxRayOutput& out) const;
   // Particles (pfx_world_particles.cpp).
   PfxInt32 detectParticleContacts();
   PfxInt32 detectGroupContacts(PfxParticleGroup& group, PfxFloat bodyReach);
@@ -496,6 +507,8 @@ class PfxWorld {
   PfxUInt32 m_numRayProxies = 0;
   bool m_rayProxiesStale = true;
   std::vector<PfxSortData16> m_rayOrderWork;  // castRays' Morton order
+  // Each particle group's bounds (lower, upper corner) by id, updated with the proxies.
+  std::vector<PfxVector3> m_particleRayBounds;
 
   // Particle groups by id; null for a removed group's id.
   std::vector<std::unique_ptr<PfxParticleGroup>> m_particleGroups;

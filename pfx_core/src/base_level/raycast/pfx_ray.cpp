@@ -19,6 +19,8 @@ void PfxRayOutput::setMiss(const PfxRayInput& ray) {
   m_triangleIndex = PFX_RAY_NO_TRIANGLE;
   m_shapeId = 0;
   m_contactFlag = false;
+  m_particleGroupId = PFX_RAY_NO_OBJECT;
+  m_particleIndex = PFX_RAY_NO_OBJECT;
 }
 
 namespace {

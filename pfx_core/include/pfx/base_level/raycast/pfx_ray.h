@@ -60,6 +60,11 @@ struct PfxRayOutput {
   PfxUInt32 m_triangleIndex;   // large meshes: the triangle in the creator's list
   PfxUInt8 m_shapeId;          // index of the shape in the body's collidable
   bool m_contactFlag;          // whether anything was hit
+  // A particle group's hit (PfxWorld): the group and the particle, m_objectId then being
+  // PFX_RAY_NO_OBJECT and m_triangleIndex the cloth's triangle; PFX_RAY_NO_OBJECT when a
+  // body was hit or nothing.
+  PfxUInt32 m_particleGroupId = PFX_RAY_NO_OBJECT;
+  PfxUInt32 m_particleIndex = PFX_RAY_NO_OBJECT;
 
   // The answer for a ray that hits nothing: no contact, fraction 1, point at the end of the
   // ray, zero normal.

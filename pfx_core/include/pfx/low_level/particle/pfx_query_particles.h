@@ -1,6 +1,8 @@
-// Rays and contact queries against particles, each a sphere of its radius: what a sensor
-// sees of a cloth, or what a gripper's fingers touch of a rope. Rays follow the rules of
-// rays against bodies (pfx_ray.h): the filters of particle and ray must match, and a ray
+// Rays and contact queries against particles. A particle is a sphere of its radius; a cloth
+// (particles with triangles) is seen as its surface: the triangles through the particles'
+// centres, hit from either side as a large mesh is, which is what a range sensor sees of a
+// thin sheet. Rays follow the rules of rays against bodies (pfx_ray.h): the filters of
+// particle and ray must match (for a triangle, those of its three particles), and a ray
 // starting inside a particle does not hit it.
 #pragma once
 
@@ -10,23 +12,22 @@
 
 namespace pfx {
 
-// PfxParticleRayOutput::m_particle on a miss.
-constexpr PfxUInt32 PFX_PARTICLE_NONE = 0xffffffffu;
-
-struct PfxParticleRayOutput {
-  PfxVector3 m_contactPoint = PfxVector3::Zero();
-  PfxVector3 m_contactNormal = PfxVector3::Zero();  // unit, out of the particle
-  PfxFloat m_variable = 1;                           // fraction of the ray; 1 on a miss
-  PfxUInt32 m_particleGroupId = PFX_PARTICLE_NONE;   // filled in by PfxWorld
-  PfxUInt32 m_particle = PFX_PARTICLE_NONE;
-  bool m_contactFlag = false;
-};
-
-// The closest hit among particles[0..numParticles-1] nearer than out.m_variable: call it
-// again with more particles to keep the closest over several arrays. Rejects what
-// pfxCheckRayInput rejects and a null array with particles; out is untouched then.
+// Keeps in `out` the closest hit nearer than out.m_variable, among the triangles when
+// numTriangles > 0 (triples of indices into particles, as PfxParticleGroupDesc holds them)
+// and among the particles' spheres otherwise; call it again with more particles to keep the
+// closest over several groups. A hit writes the point, the unit normal (out of the sphere,
+// or the triangle's turned against the ray), the fraction, the particle (for a triangle, its
+// corner nearest the hit), m_triangleIndex (PFX_RAY_NO_TRIANGLE for a sphere), m_objectId
+// PFX_RAY_NO_OBJECT and m_contactFlag; m_particleGroupId is the caller's. Rejects what
+// pfxCheckRayInput rejects, null arrays with particles or triangles, and a triangle index
+// not below numParticles (PFX_ERR_OUT_OF_RANGE); out is untouched then. The tests run in
+// double whatever PfxFloat is.
 PfxInt32 pfxCastParticleRay(const PfxRayInput& ray, const PfxParticle* particles,
-                            PfxUInt32 numParticles, PfxParticleRayOutput& out);
+                            PfxUInt32 numParticles, const PfxUInt32* triangleIndices,
+                            PfxUInt32 numTriangles, PfxRayOutput& out);
+
+// PfxParticleQueryContact::m_particleGroupId until PfxWorld fills it in.
+constexpr PfxUInt32 PFX_PARTICLE_NONE = 0xffffffffu;
 
 // One point of a particle query: side A the queried collidable, side B the particle (a
 // sphere shape), as in PfxQueryContact.
