@@ -29,7 +29,6 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 jointPair;  // joint pair index, or -1 for a body node
   PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
-  PfxUInt32 tree;       // index of this node's tree
   PfxUInt32 treeBegin;  // the nodes of this node's tree
   PfxUInt32 treeEnd;
 };
@@ -43,8 +42,7 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       2 * numRigidBodies + 1 +  // nodes, sets
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
-                                                      numRigidBodies + 1)) +    // tree starts
-      PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);           // held trees
+                                                      numRigidBodies + 1));     // tree starts
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -68,9 +66,8 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
-  m_treeHeld = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
-  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_treeHeld ||
+  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
@@ -165,7 +162,6 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       }
     }
     for (std::size_t n = root; n < m_numNodes; ++n) {
-      m_nodes[n].tree = m_numTrees - 1;
       m_nodes[n].treeBegin = static_cast<PfxUInt32>(root);
       m_nodes[n].treeEnd = static_cast<PfxUInt32>(m_numNodes);
     }
@@ -228,7 +224,6 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
   m_treeStarts[m_numTrees] = m_numNodes;
-  releaseAll();
   pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
@@ -245,22 +240,6 @@ void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, ta
 void PfxJointTreeSolver::solveVelocitiesOfTree(PfxUInt32 jointPairIndex) {
   const Node& node = m_nodes[m_jointNode[jointPairIndex]];
   solveTree(false, node.treeBegin, node.treeEnd);
-  m_treeHeld[node.tree] = 1;
-}
-
-void PfxJointTreeSolver::holdVelocitiesOfTree(PfxUInt32 jointPairIndex) {
-  if (!m_treeHeld[m_nodes[m_jointNode[jointPairIndex]].tree]) {
-    solveVelocitiesOfTree(jointPairIndex);
-  }
-}
-
-void PfxJointTreeSolver::releaseAll() {
-  for (PfxUInt32 t = 0; t < m_numTrees; ++t) m_treeHeld[t] = 0;
-}
-
-void PfxJointTreeSolver::releaseBody(PfxUInt32 rigidBodyId) {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
-  m_treeHeld[m_nodes[m_bodyNode[rigidBodyId]].tree] = 0;
 }
 
 PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
@@ -274,14 +253,7 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
 void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
   pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) {
-      if (push) {
-        solveTree(true, m_treeStarts[t], m_treeStarts[t + 1]);
-      } else if (!m_treeHeld[t]) {
-        solveTree(false, m_treeStarts[t], m_treeStarts[t + 1]);
-        m_treeHeld[t] = 1;
-      }
-    }
+    for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
   });
 }
 

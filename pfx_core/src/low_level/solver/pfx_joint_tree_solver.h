@@ -34,24 +34,13 @@ class PfxJointTreeSolver {
 
   // Adds to the rows' impulses and the bodies' velocity changes what makes every locked
   // axis move at its target velocity (m_rhs). Trees are solved in parallel with a task
-  // manager; they share no moving body, so the result is the same. A tree whose velocities
-  // are held (below) is left as it is: solving it again would only add rounding.
+  // manager; they share no moving body, so the result is the same.
   void solveVelocities(PfxTaskManager* taskManager = nullptr);
   // The same for the push velocities and the rows' position corrections (m_pushRhs).
   void solvePush(PfxTaskManager* taskManager = nullptr);
   // solveVelocities() for the one tree that holds the i-th joint pair (contained), after
   // an impulse on that tree: its cost is the tree's size, not the forest's.
   void solveVelocitiesOfTree(PfxUInt32 jointPairIndex);
-  // solveVelocitiesOfTree() unless the tree's velocities are held already.
-  void holdVelocitiesOfTree(PfxUInt32 jointPairIndex);
-
-  // A tree's velocities are held from its last velocity solve until the caller says that
-  // something else changed them: one body of it (releaseBody), or any (releaseAll). A
-  // bounded row of a tree joint needs held velocities to measure the tree's response, and
-  // the joints of one tree follow one another in a sweep with nothing in between, so the
-  // solve each of them would make first is needed once per sweep, not once per joint.
-  void releaseAll();
-  void releaseBody(PfxUInt32 rigidBodyId);
   // One body of the tree that holds body `rigidBodyId`, the same for every body of that
   // tree, or -1 for a body in no tree: a joint row that asks its tree how it answers
   // (solveVelocitiesOfTree) touches every body of the tree.
@@ -66,7 +55,6 @@ class PfxJointTreeSolver {
   PfxInt32* m_jointNode = nullptr;
   PfxUInt32 m_numNodes = 0;
   PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
-  PfxUInt8* m_treeHeld = nullptr;      // per tree: velocities solved, untouched since
   PfxUInt32 m_numTrees = 0;
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxUInt32 m_numRigidBodies = 0;

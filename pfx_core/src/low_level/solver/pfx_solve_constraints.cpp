@@ -230,11 +230,13 @@ constexpr PfxFloat kDampingProbe = PfxFloat(1);
 // what the measured response wants, and the tree answers the difference. Later iterations
 // reuse the response (`response`, 0 until measured). Either way the update changes the
 // velocities of every body of the tree, not only the joint's two.
-// The response is measured from velocities that the tree's locked axes hold: contacts and
-// other joints since the tree's last direct solve may have upset them.
+// `treeHeld` says whether the tree's locked axes hold the current velocities: the response
+// is measured from such velocities, and contacts and other joints since the tree's last
+// direct solve may have upset them.
 void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJointConstraint& c,
                        bool dampingOnly, const PfxJoint& joint, PfxUInt32 axis,
-                       const PairBodies& p, PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex) {
+                       const PairBodies& p, PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex,
+                       bool& treeHeld) {
   if (row.m_jacDiagInv <= 0) return;
   const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
   const auto velocity = [&] {
@@ -247,7 +249,8 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
                             &PfxSolverBody::m_deltaAngularVelocity);
     tree.solveVelocitiesOfTree(jointPairIndex);
   };
-  tree.holdVelocitiesOfTree(jointPairIndex);
+  if (!treeHeld) tree.solveVelocitiesOfTree(jointPairIndex);
+  treeHeld = true;
   const PfxFloat before = velocity();
   const PfxFloat previous = row.m_accumImpulse;
   // The accumulated impulse wanted, given the row velocity per unit impulse.
@@ -310,14 +313,10 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
 // The rows of a joint that the direct solve leaves to iteration: limits, drives, friction,
 // and every row of a joint outside the forest. (Their position errors are corrected after
 // the bodies have moved, by pfxCorrectJointPositions.)
-void solveJoint(PfxJoint& joint, const PfxConstraintPair& pair, const PairBodies& p,
-                PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex) {
+void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
+                PfxUInt32 jointPairIndex) {
   const bool inTree = tree.contains(jointPairIndex);
-  if (!inTree) {
-    // Its rows move its two bodies alone, which may belong to trees.
-    tree.releaseBody(pfxGetObjectIdA(pair));
-    tree.releaseBody(pfxGetObjectIdB(pair));
-  }
+  bool treeHeld = false;
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
     const bool direct = inTree && c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
@@ -330,7 +329,7 @@ void solveJoint(PfxJoint& joint, const PfxConstraintPair& pair, const PairBodies
         const bool dampingOnly = drive && !pfxDriveHasTarget(c.m_drive) &&
                                  c.m_friction <= 0 && c.m_damping > 0;
         solveTreeJointRow(row, c.m_treeResponse[which], c, dampingOnly, joint, axis, p, tree,
-                          jointPairIndex);
+                          jointPairIndex, treeHeld);
       } else {
         pfxSolveJointRow(row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
       }
@@ -483,8 +482,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
   };
   auto sweepJoints = [&](auto&& work) {
     jointBatches.sweep(taskManager, 1, [&](PfxUInt32, const PfxConstraintPair& pair, PfxUInt32 i) {
-      work(param.offsetJoints[pfxGetConstraintId(pair)], pair,
-           bodiesOf(pair, param.offsetSolverBodies), i);
+      work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
+           i);
     });
   };
   auto restitution = [&](PfxContactManifold& m, const PairBodies& p) {
@@ -523,9 +522,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     });
   } else {
     sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
-    sweepJoints([](PfxJoint& j, const PfxConstraintPair&, const PairBodies& p, PfxUInt32) {
-      warmStartJoint(j, p);
-    });
+    sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
       pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
@@ -539,16 +536,13 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
         solveContacts(m, p);
       });
-      // The contacts, the warm start or the last iteration's contact trees moved the
-      // trees' bodies.
-      tree.releaseAll();
-      sweepJoints([&](PfxJoint& j, const PfxConstraintPair& pair, const PairBodies& p,
-                      PfxUInt32 index) { solveJoint(j, pair, p, tree, index); });
+      sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
+        solveJoint(j, p, tree, index);
+      });
       for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
         pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
                                    param.offsetSolverBodies, false);
       }
-      if (param.numJointCouplings > 0) tree.releaseAll();
       tree.solveVelocities(taskManager);
       if (iteration == 0) solveContactTrees();
     }
