@@ -58,7 +58,20 @@ void bindBodies(py::module_& m) {
             if (id >= w.world.getNumRigidBodies()) raiseIfError(PFX_ERR_OUT_OF_RANGE, "body id");
             return w.world.getRigidBody(id).getMass();
           },
-          py::arg("body"), "The body's mass in kg.");
+          py::arg("body"), "The body's mass in kg.")
+      .def(
+          "remove_body",
+          [](PyWorld& w, PfxUInt32 id) {
+            raiseIfError(w.world.removeRigidBody(id), "remove_body " + std::to_string(id));
+          },
+          py::arg("body"),
+          "Removes the body with its joints, couplings and contacts. Its id is not given out\n"
+          "again and every other id keeps its body; the state views stay valid (the slot\n"
+          "stays, inert). Raises pfx.Error for an unknown or removed id, or a body particles\n"
+          "are pinned to; the world is unchanged then.")
+      .def(
+          "has_body", [](const PyWorld& w, PfxUInt32 id) { return w.world.hasRigidBody(id); },
+          py::arg("body"), "False for a removed id and for one never given.");
 }
 
 }  // namespace pfx::python

@@ -211,6 +211,17 @@ void bindJoints(py::module_& m) {
           },
           py::arg("id"), py::arg("joint"), "Replaces joint id (limits, drives), checked.")
       .def(
+          "remove_joint",
+          [](PyWorld& w, PfxUInt32 id) {
+            raiseIfError(w.world.removeJoint(id), "remove_joint " + std::to_string(id));
+          },
+          py::arg("id"),
+          "Removes the joint and its couplings; its bodies may collide again. Raises\n"
+          "pfx.Error for an unknown or removed id, with nothing changed.")
+      .def(
+          "has_joint", [](const PyWorld& w, PfxUInt32 id) { return w.world.hasJoint(id); },
+          py::arg("id"), "False for a removed id and for one never given.")
+      .def(
           "joint_coordinates",
           [](const PyWorld& w, PfxUInt32 id) {
             const PfxJoint& joint = jointOf(w, id);

@@ -75,6 +75,38 @@ def test_hinge_pendulum_swings_about_its_axis():
     assert abs(twist) > 0.1
 
 
+def test_removing_a_joint_and_a_body():
+    world = ground_world()
+    anchor = world.add_body(pfx.Shape.sphere(0.05), pfx.BodyInit(mass=0, position=(0, 3, 0)))
+    bob = world.add_body(pfx.Shape.sphere(0.1), pfx.BodyInit(position=(1, 3, 0)))
+    joint = world.add_hinge_joint(anchor, bob, pfx.HingeJointInitParam(anchor_point=(0, 3, 0),
+                                                                       axis=(0, 0, 1)))
+    box = world.add_body(pfx.Shape.box((0.2, 0.2, 0.2)), pfx.BodyInit(position=(3, 0.2, 0)))
+    positions = world.positions  # a live view: removal keeps the state array where it is
+    world.step(30)
+    assert np.linalg.norm(positions[bob] - (0, 3, 0)) == pytest.approx(1, abs=2e-3)
+
+    world.remove_joint(joint)
+    assert not world.has_joint(joint)
+    with pytest.raises(pfx.Error, match="remove_joint"):
+        world.remove_joint(joint)
+    world.step(60)  # the bob falls free, no longer held at 1 m from the anchor
+    assert np.linalg.norm(positions[bob] - (0, 3, 0)) > 1.5
+
+    resting = positions[box].copy()
+    world.remove_body(box)
+    assert not world.has_body(box) and world.has_body(bob)
+    before = positions.copy()
+    with pytest.raises(pfx.Error, match="remove_body"):
+        world.remove_body(box)
+    with pytest.raises(pfx.Error):
+        world.remove_body(world.num_bodies + 5)
+    assert np.array_equal(positions, before)
+    hit = world.cast_ray((3, 2, 0), (0, -3, 0))  # straight down where the box rested
+    assert hit["hit"][0] and hit["body"][0] != box
+    assert float(hit["point"][0][1]) < resting[1] - 0.1  # the ground, not the box
+
+
 def test_joint_drive_and_limits_through_set_joint():
     world = pfx.World(pfx.WorldParam(enable_sleep=False, gravity=(0, 0, 0)))
     base = world.add_body(pfx.Shape.box((0.1, 0.1, 0.1)), pfx.BodyInit(mass=0))
