@@ -75,6 +75,7 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param("publish_rate", p.publishRate, 100.0);
   nh.param("marker_rate", p.markerRate, 10.0);
   nh.param("diagnostics_rate", p.diagnosticsRate, 1.0);
+  nh.param("link_states_rate", p.linkStatesRate, 10.0);
   nh.param("max_batch_rays", p.maxBatchRays, 100000);
   nh.param<std::string>("agent_frame_prefix", p.agentFramePrefix, "agents");
   double commandTimeout, maxTurnRate, waypointTolerance;
@@ -92,8 +93,8 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   }
   if (!nonNegativeFinite(p.realTimeFactor)) invalid = "~real_time_factor must be >= 0";
   if (!nonNegativeFinite(p.publishRate) || !nonNegativeFinite(p.markerRate) ||
-      !nonNegativeFinite(p.diagnosticsRate)) {
-    invalid = "~publish_rate, ~marker_rate and ~diagnostics_rate must be >= 0";
+      !nonNegativeFinite(p.diagnosticsRate) || !nonNegativeFinite(p.linkStatesRate)) {
+    invalid = "~publish_rate, ~marker_rate, ~diagnostics_rate and ~link_states_rate must be >= 0";
   }
   if (p.maxBatchRays < 1) invalid = "~max_batch_rays must be at least 1";
   if (p.fixedFrame.empty()) invalid = "~fixed_frame must not be empty";
@@ -158,6 +159,14 @@ bool PfxNode::initialize() {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
   }
+  // After the robot's own sensors and topics: a model's namespace is checked against them.
+  m_models = std::make_unique<PfxNodeModels>(m_handle, m_privateHandle, m_simulation,
+                                             m_param.fixedFrame, m_useSimTime);
+  if (!m_models->addDeclared(&why)) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
+  m_linkStates = std::make_unique<PfxNodeLinkStates>(m_privateHandle, m_param.fixedFrame);
   m_statePublisher = std::make_unique<PfxNodeStatePublisher>(
       m_handle, m_param.fixedFrame, m_param.agentFramePrefix, m_useSimTime);
   m_statePublisher->bind(m_simulation);
@@ -175,12 +184,12 @@ bool PfxNode::initialize() {
   ROS_INFO(
       "pfx_node: robot '%s': %zu links, %zu joints, %u bodies in the world; dt %g s, "
       "%u sub-steps, %u iterations, real-time factor %g, %u agents, %zu cables, %zu cloths, "
-      "%zu sensors%s",
+      "%zu sensors, %zu added models%s",
       model.name.c_str(), model.links.size(), model.joints.size(),
       m_simulation.getWorld().getNumRigidBodies(), double(m_param.simulation.timeStep),
       m_param.simulation.subSteps, m_param.simulation.iterations, m_param.realTimeFactor,
       m_simulation.getAgents().getNumAgents(), m_simulation.getCables().size(),
-      m_simulation.getCloths().size(), m_sensors->getNumSensors(),
+      m_simulation.getCloths().size(), m_sensors->getNumSensors(), m_models->getNumModels(),
       m_param.paused ? " (paused)" : "");
   return true;
 }
@@ -191,6 +200,7 @@ ros::Time PfxNode::stamp() const {
 
 PfxInt32 PfxNode::stepOnce() {
   m_jointCommands->update();
+  m_models->beforeStep();
   const PfxInt32 err = m_simulation.step();
   if (err != PFX_OK) {
     ROS_ERROR_THROTTLE(1.0, "pfx_node: step at t = %.3f s failed: %s", m_simulation.getTime(),
@@ -198,6 +208,7 @@ PfxInt32 PfxNode::stepOnce() {
   }
   m_diagnostics->addStep(m_simulation.getWorld().getStats());
   m_sensors->update(m_simulation, stamp());
+  m_models->afterStep(stamp());
   return err;
 }
 
@@ -206,6 +217,7 @@ bool PfxNode::rebindIfRebuilt() {
   m_statePublisher->bind(m_simulation);
   m_boundGeneration = m_simulation.getGeneration();
   m_sensors->restart();
+  m_models->rebind();
   return true;
 }
 
@@ -218,8 +230,14 @@ PfxInt32 PfxNode::stepPaused(PfxInt32 steps) {
     if (firstError == PFX_OK) firstError = err;
   }
   // Whoever asked for the steps looks at the state right after the answer.
-  m_statePublisher->publish(m_simulation, stamp());
+  publishState();
   return firstError;
+}
+
+void PfxNode::publishState() {
+  const ros::Time now = stamp();
+  m_statePublisher->publish(m_simulation, now);
+  m_models->publishState(now);
 }
 
 void PfxNode::run() {
@@ -234,9 +252,10 @@ void PfxNode::run() {
   const ros::WallDuration statePeriod = periodOf(m_param.publishRate);
   const ros::WallDuration markerPeriod = periodOf(m_param.markerRate);
   const ros::WallDuration diagnosticsPeriod = periodOf(m_param.diagnosticsRate);
+  const ros::WallDuration linkStatesPeriod = periodOf(m_param.linkStatesRate);
 
   ros::WallTime now = ros::WallTime::now();
-  ros::WallTime nextStep = now, nextState = now, nextMarkers = now;
+  ros::WallTime nextStep = now, nextState = now, nextMarkers = now, nextLinkStates = now;
   ros::WallTime nextDiagnostics = now + diagnosticsPeriod;
   bool stepsUnpublished = false;
   while (ros::ok()) {
@@ -254,13 +273,18 @@ void PfxNode::run() {
     if (rebindIfRebuilt()) stepsUnpublished = true;
     // Stamps are simulated time under use_sim_time: only a step makes a new state.
     if (stepsUnpublished && now >= nextState) {
-      m_statePublisher->publish(m_simulation, stamp());
+      publishState();
       stepsUnpublished = false;
       nextState = now + statePeriod;
     }
     if (m_param.markerRate > 0 && now >= nextMarkers) {
       m_markers->publish(m_simulation, stamp());
       nextMarkers = now + markerPeriod;
+    }
+    // Paused too, like the markers: a client stepping the world reads the state after it.
+    if (m_param.linkStatesRate > 0 && now >= nextLinkStates) {
+      m_linkStates->publish(m_simulation, stamp());
+      nextLinkStates = now + linkStatesPeriod;
     }
     if (m_param.diagnosticsRate > 0 && now >= nextDiagnostics) {
       m_diagnostics->setTargetRealTimeFactor(m_services->getRealTimeFactor());

@@ -35,19 +35,21 @@ bool contains(const std::vector<PfxUInt32>& joints, PfxUInt32 joint) {
 
 PfxNodeJointCommands::PfxNodeJointCommands(ros::NodeHandle& handle,
                                            ros::NodeHandle& privateHandle,
-                                           PfxNodeSimulation& simulation, bool useSimTime)
+                                           PfxNodeSimulation& simulation, bool useSimTime,
+                                           PfxUInt32 model)
     : m_handle(handle),
       m_privateHandle(privateHandle),
       m_simulation(simulation),
-      m_useSimTime(useSimTime) {}
+      m_useSimTime(useSimTime),
+      m_model(model) {}
 
 PfxInt32 PfxNodeJointCommands::commandable(const std::string& name, std::string* why) const {
-  const PfxInt32 index = m_simulation.findJoint(name);
+  const PfxInt32 index = m_simulation.findJoint(name, m_model);
   if (index < 0) {
     *why = "unknown joint '" + name + "'";
     return -1;
   }
-  const PfxUrdfModel& model = m_simulation.getModel();
+  const PfxUrdfModel& model = m_simulation.getModel(m_model);
   const PfxUrdfJoint& joint = model.joints[index];
   if (joint.jointId == kPfxUrdfNoJoint) {
     *why = "joint '" + name + "' has no coordinate to drive";
@@ -62,7 +64,7 @@ PfxInt32 PfxNodeJointCommands::commandable(const std::string& name, std::string*
 }
 
 bool PfxNodeJointCommands::configure(std::string* message) {
-  const PfxUrdfModel& model = m_simulation.getModel();
+  const PfxUrdfModel& model = m_simulation.getModel(m_model);
   m_interfaces.assign(model.joints.size(), kPfxJointDrivePosition);
   m_generation = m_simulation.getGeneration();
   if (!readInterfaces(message) || !readGroup(message)) return false;
@@ -157,12 +159,13 @@ bool PfxNodeJointCommands::command(const char* source, const std::vector<PfxUInt
                                    PfxJointDrive drive, const std::vector<double>& values) {
   const std::vector<PfxFloat> targets(values.begin(), values.end());
   const std::vector<PfxFloat> noForceLimits(joints.size(), 0);
-  if (const PfxInt32 err = m_simulation.setJointCommands(joints, drive, targets, noForceLimits);
+  if (const PfxInt32 err = m_simulation.setJointCommands(joints, drive, targets, noForceLimits,
+                                                         m_model);
       err != PFX_OK) {
     ROS_WARN_THROTTLE(1.0, "pfx_node: %s refused: %s", source, pfxErrorString(err));
     return false;
   }
-  const PfxUrdfModel& model = m_simulation.getModel();
+  const PfxUrdfModel& model = m_simulation.getModel(m_model);
   for (std::size_t i = 0; i < joints.size(); ++i) {
     std::string note;
     pfxClampUrdfJointTarget(model.joints[joints[i]], drive, targets[i], &note);
@@ -184,7 +187,7 @@ void PfxNodeJointCommands::releaseFromTrajectories(const std::vector<PfxUInt32>&
 }
 
 void PfxNodeJointCommands::onJointCommand(PfxUInt32 joint, const std_msgs::Float64& msg) {
-  const std::string& name = m_simulation.getModel().joints[joint].name;
+  const std::string& name = m_simulation.getModel(m_model).joints[joint].name;
   if (!std::isfinite(msg.data)) {
     ROS_WARN_THROTTLE(1.0, "pfx_node: %s/command dropped: the value is not finite", name.c_str());
     return;
@@ -206,7 +209,7 @@ void PfxNodeJointCommands::onGroupCommand(const std_msgs::Float64MultiArray& msg
       ROS_WARN_THROTTLE(1.0,
                         "pfx_node: joint_group_command dropped: the value of joint '%s' is not "
                         "finite",
-                        m_simulation.getModel().joints[m_groupJoints[i]].name.c_str());
+                        m_simulation.getModel(m_model).joints[m_groupJoints[i]].name.c_str());
       return;
     }
   }
@@ -256,7 +259,7 @@ void PfxNodeJointCommands::activate(Trajectory& next) {
   // meant them to be.
   const double now = m_simulation.getTime();
   std::vector<double> measured, measuredVelocities;
-  pfxGetUrdfJointStates(m_simulation.getWorld(), m_simulation.getModel(), measured,
+  pfxGetUrdfJointStates(m_simulation.getWorld(), m_simulation.getModel(m_model), measured,
                         measuredVelocities);
   if (m_current.active) m_current.curve.sample(now, m_positions, m_velocities);
   std::vector<double> positions, velocities;

@@ -86,8 +86,9 @@ sensor_msgs::PointCloud2 makeOrganisedCloud(const std_msgs::Header& header, PfxU
 
 }  // namespace
 
-PfxNodeSensors::PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame)
-    : m_handle(handle), m_fixedFrame(fixedFrame) {}
+PfxNodeSensors::PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame,
+                               PfxUInt32 model)
+    : m_handle(handle), m_fixedFrame(fixedFrame), m_model(model) {}
 
 PfxNodeSensors::~PfxNodeSensors() = default;
 
@@ -117,7 +118,7 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
     }
   }
 
-  const PfxUrdfModel& model = simulation.getModel();
+  const PfxUrdfModel& model = simulation.getModel(m_model);
   std::vector<std::string> links, joints;
   for (const PfxUrdfLink& link : model.links) links.push_back(link.name);
   for (const PfxUrdfJoint& joint : model.joints) joints.push_back(joint.name);
@@ -128,7 +129,7 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
     if (why.empty() && spec.type == PfxSensorType::kForceTorque) {
       // The wrench is the world joint's: a fixed joint is lumped into one body and a
       // floating or planar one has no single joint, so they transmit nothing to measure.
-      const PfxUrdfJoint& joint = model.joints[PfxUInt32(simulation.findJoint(spec.joint))];
+      const PfxUrdfJoint& joint = model.joints[PfxUInt32(simulation.findJoint(spec.joint, m_model))];
       spec.link = joint.childLink;
       if (joint.jointId == kPfxUrdfNoJoint || joint.collapsed) {
         why = "sensor '" + spec.name + "': joint '" + spec.joint +
@@ -137,7 +138,10 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
       }
     }
     if (spec.topic.empty()) spec.topic = spec.name;
-    if (spec.frame.empty()) spec.frame = spec.link;
+    if (spec.frame.empty()) {
+      spec.frame = simulation.getLinkName(PfxUInt32(simulation.findLink(spec.link, m_model)),
+                                          m_model);
+    }
     if (why.empty() && !names.insert(spec.name).second) {
       why = "sensor '" + spec.name + "': another sensor has this name already";
     }
@@ -153,7 +157,7 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
     const PfxSensorSpec& spec = specs[i];
     auto sensor = std::make_unique<Sensor>();
     sensor->spec = spec;
-    sensor->linkIndex = PfxUInt32(simulation.findLink(spec.link));
+    sensor->linkIndex = PfxUInt32(simulation.findLink(spec.link, m_model));
     sensor->period = spec.updateRate > 0 ? 1.0 / spec.updateRate : 0;
     sensor->nextTime = simulation.getTime();
     sensor->random.seed(std::uint32_t(seed) + std::uint32_t(i));
@@ -201,7 +205,7 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
       }
       case PfxSensorType::kForceTorque:
         sensor->publisher = m_handle.advertise<geometry_msgs::WrenchStamped>(spec.topic, 10);
-        sensor->jointIndex = PfxUInt32(simulation.findJoint(spec.joint));
+        sensor->jointIndex = PfxUInt32(simulation.findJoint(spec.joint, m_model));
         kind = "geometry_msgs/WrenchStamped";
         break;
     }
@@ -231,8 +235,9 @@ void PfxNodeSensors::update(PfxNodeSimulation& simulation, const ros::Time& stam
   bool contactsRead = false;  // read once per step, for all contact sensors
   for (auto& owned : m_sensors) {
     Sensor& sensor = *owned;
-    const PfxUrdfLink& link = simulation.getModel().links[sensor.linkIndex];
-    const PfxTransform3 pose = simulation.getLinkPose(sensor.linkIndex) * sensor.spec.pose;
+    const PfxUrdfLink& link = simulation.getModel(m_model).links[sensor.linkIndex];
+    const PfxTransform3 pose =
+        simulation.getLinkPose(sensor.linkIndex, m_model) * sensor.spec.pose;
     const PfxRigidState& state = world.getRigidState(link.bodyId);
     const PfxVector3 pointVelocity = pfxGetPointVelocity(state, pose.translation());
     // Half a step of slack: a rate that divides the step exactly must not slip a step
@@ -381,8 +386,9 @@ bool sameContacts(const std::vector<PfxNodeContact>& a, const std::vector<PfxNod
 
 void PfxNodeSensors::publishContacts(Sensor& sensor, const PfxNodeSimulation& simulation,
                                      const ros::Time& stamp) {
-  // The points on the sensor's link, turned so that the link is side A.
-  const std::string& link = sensor.spec.link;
+  // The points on the sensor's link, turned so that the link is side A; named as rays and
+  // contacts name it (with an added model's frame prefix).
+  const std::string& link = simulation.getLinkName(sensor.linkIndex, m_model);
   std::vector<PfxNodeContact> mine;
   for (const PfxNodeContact& c : m_contacts) {
     if (simulation.getShapeName(c.bodyA, c.shapeA) == link) {
@@ -418,7 +424,7 @@ void PfxNodeSensors::publishContacts(Sensor& sensor, const PfxNodeSimulation& si
 void PfxNodeSensors::publishWrench(Sensor& sensor, const PfxNodeSimulation& simulation,
                                    const PfxTransform3& pose, const ros::Time& stamp) {
   const PfxWorld& world = simulation.getWorld();
-  const PfxJoint& joint = world.getJoint(simulation.getModel().joints[sensor.jointIndex].jointId);
+  const PfxJoint& joint = world.getJoint(simulation.getModel(m_model).joints[sensor.jointIndex].jointId);
   // The solver's impulses are those of the last sub-step.
   const PfxFloat subStep = world.getParam().timeStep / PfxFloat(world.getParam().subStep);
   // What the parent exerts on the child (body B), the torque about the joint's origin.

@@ -11,10 +11,17 @@
 
 namespace pfx {
 
+// A model added by addModel: the loaded robot and its links' names as the node gives them.
+struct PfxNodeAddedModel {
+  PfxUrdfModel urdf;
+  std::vector<std::string> linkNames;  // "<prefix>/<link>", in urdf.links' order
+};
+
 struct PfxNodeSimulation::Scene {
-  // Declared before the world: the world's shapes point into the model's and the map's
+  // Declared before the world: the world's shapes point into the models' and the map's
   // meshes, so the world goes first when a scene is destroyed.
   PfxUrdfModel model;
+  std::vector<std::unique_ptr<PfxNodeAddedModel>> addedModels;  // slot - 1; null: removed
   PfxSceneModel worldFile;
   std::unique_ptr<PfxOctomap> octomap;
   PfxSerializedMeshes savedMeshes;  // the meshes of a saved world loaded into `world`
@@ -42,6 +49,21 @@ const PfxFloat kTouchingDistance = PfxFloat(1e-3);
 // An agent may start this deep (m) in a body: one standing on the ground touches it, and
 // a foot given to the centimetre may sink a little.
 const PfxFloat kAgentStartOverlap = PfxFloat(0.01);
+// An added model's root may start this far (m) from the origin: beyond the world's bounds
+// (1000 m each way) a body is stopped for good.
+const PfxFloat kMaxModelDistance = PfxFloat(1000);
+// How far from 1 the length of an added model's orientation quaternion may be.
+const PfxFloat kUnitQuaternionTolerance = PfxFloat(1e-3);
+
+// Letters, digits and _, a letter first: a ROS name without namespaces, so that it can name
+// a topic, a frame and a body.
+bool isPlainName(const std::string& name) {
+  bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0])) != 0;
+  for (const char c : name) {
+    valid = valid && (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_');
+  }
+  return valid;
+}
 
 std::string folderOf(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -51,17 +73,22 @@ std::string folderOf(const std::string& path) {
 
 // Several links share a body when fixed joints lumped them; the body is named after the
 // one whose parent lies on another body (or that has no parent).
-void nameRobotBodies(const PfxUrdfModel& model, std::vector<std::string>& bodyNames) {
+void nameRobotBodies(const PfxUrdfModel& model, const std::vector<std::string>& linkNames,
+                     std::vector<std::string>& bodyNames) {
+  if (bodyNames.size() < model.firstBodyId + model.numBodies) {
+    bodyNames.resize(model.firstBodyId + model.numBodies);
+  }
   std::unordered_map<std::string, PfxUInt32> bodyOfLink;
   for (const PfxUrdfLink& link : model.links) bodyOfLink[link.name] = link.bodyId;
   std::unordered_map<std::string, std::string> parentOf;
   for (const PfxUrdfJoint& joint : model.joints) parentOf[joint.childLink] = joint.parentLink;
-  for (const PfxUrdfLink& link : model.links) {
+  for (std::size_t i = 0; i < model.links.size(); ++i) {
+    const PfxUrdfLink& link = model.links[i];
     const auto parent = parentOf.find(link.name);
     const bool parentOnSameBody = parent != parentOf.end() &&
                                   bodyOfLink.count(parent->second) != 0 &&
                                   bodyOfLink[parent->second] == link.bodyId;
-    if (!parentOnSameBody && bodyNames[link.bodyId].empty()) bodyNames[link.bodyId] = link.name;
+    if (!parentOnSameBody && bodyNames[link.bodyId].empty()) bodyNames[link.bodyId] = linkNames[i];
   }
 }
 
@@ -167,13 +194,23 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   for (const PfxSceneBody& body : built->worldFile.bodies) {
     built->bodyNames[body.bodyId] = body.name;
   }
-  nameRobotBodies(built->model, built->bodyNames);
+  std::vector<std::string> linkNames;
+  for (const PfxUrdfLink& link : built->model.links) linkNames.push_back(link.name);
+  nameRobotBodies(built->model, linkNames, built->bodyNames);
   for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
     if (built->bodyNames[id].empty()) built->bodyNames[id] = "body_" + std::to_string(id);
     built->bodyByName.emplace(built->bodyNames[id], id);
   }
   for (const PfxUrdfLink& link : built->model.links) {
     built->bodyByName.emplace(link.name, link.bodyId);
+  }
+  built->addedModels.resize(config.models.size());
+  for (std::size_t i = 0; i < config.models.size(); ++i) {
+    if (!config.models[i]) continue;
+    if (const PfxInt32 err = buildModel(*built, *config.models[i], PfxUInt32(i + 1), message);
+        err != PFX_OK) {
+      return err;
+    }
   }
   built->agents = std::make_unique<PfxNodeAgentSet>(world, config.agents);
   for (const PfxNodeCableSpec& cable : config.cables) {
@@ -187,11 +224,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
 }
 
 std::string PfxNodeSimulation::checkGroupName(const Scene& scene, const std::string& name) const {
-  bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0])) != 0;
-  for (const char c : name) {
-    valid = valid && (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_');
-  }
-  if (!valid) return "name: '" + name + "' is not letters, digits and _ starting with a letter";
+  if (!isPlainName(name)) return "name: '" + name + "' is not letters, digits and _ starting with a letter";
   // Rays and contacts name what they meet: a name must say which.
   if (scene.bodyByName.count(name) != 0 || name == kPfxNodeWorldLink ||
       std::find(scene.groupNames.begin(), scene.groupNames.end(), name) !=
@@ -469,6 +502,16 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
     }
     return PFX_ERR_INVALID_VALUE;
   }
+  const auto live = std::count_if(m_config.models.begin(), m_config.models.end(),
+                                  [](const auto& model) { return model.has_value(); });
+  if (live > 0) {
+    if (message) {
+      *message = std::to_string(live) +
+                 " added models live, and a world file does not say which robots its bodies "
+                 "are: delete the models first";
+    }
+    return PFX_ERR_INVALID_VALUE;
+  }
   std::unique_ptr<Scene> scene;
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
   auto saved = std::make_unique<PfxWorld>();
@@ -502,26 +545,165 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
 }
 
 const std::string& PfxNodeSimulation::getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const {
-  const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex);
-  return link < 0 ? getBodyName(bodyId) : m_scene->model.links[link].name;
+  if (const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex); link >= 0) {
+    return m_scene->model.links[link].name;
+  }
+  for (const auto& added : m_scene->addedModels) {
+    if (!added) continue;
+    if (const PfxInt32 link = pfxFindUrdfShapeLink(added->urdf, bodyId, shapeIndex); link >= 0) {
+      return added->linkNames[link];
+    }
+  }
+  return getBodyName(bodyId);
 }
 
 const PfxWorld& PfxNodeSimulation::getWorld() const { return *m_scene->world; }
 
 const std::vector<std::string>& PfxNodeSimulation::getWarnings() const { return m_scene->warnings; }
 
-const PfxUrdfModel& PfxNodeSimulation::getModel() const { return m_scene->model; }
+const PfxUrdfModel& PfxNodeSimulation::getModel(PfxUInt32 model) const {
+  return model == 0 ? m_scene->model : m_scene->addedModels[model - 1]->urdf;
+}
+
+bool PfxNodeSimulation::hasModel(PfxUInt32 slot) const {
+  return slot == 0 || (slot <= m_config.models.size() && m_config.models[slot - 1].has_value());
+}
+
+const std::string& PfxNodeSimulation::getModelName(PfxUInt32 slot) const {
+  return slot == 0 ? m_scene->model.name : m_config.models[slot - 1]->name;
+}
+
+PfxInt64 PfxNodeSimulation::findModel(const std::string& name) const {
+  for (PfxUInt32 slot = 0; slot < getNumModelSlots(); ++slot) {
+    if (hasModel(slot) && getModelName(slot) == name) return slot;
+  }
+  return -1;
+}
+
+const std::string& PfxNodeSimulation::getLinkName(PfxUInt32 linkIndex, PfxUInt32 model) const {
+  return model == 0 ? m_scene->model.links[linkIndex].name
+                    : m_scene->addedModels[model - 1]->linkNames[linkIndex];
+}
+
+PfxInt32 PfxNodeSimulation::buildModel(Scene& scene, const PfxNodeModelSpec& spec,
+                                       PfxUInt32 slot, std::string* message) {
+  PfxWorld& world = *scene.world;
+  auto added = std::make_unique<PfxNodeAddedModel>();
+  PfxUrdfLoadParam param;
+  param.rootPosition = spec.position;
+  param.rootOrientation = spec.orientation.normalized();
+  param.fixedBase = spec.fixedBase;
+  param.allowMissingMeshes = spec.allowMissingMeshes;
+  const std::string basePath = spec.urdfPath.empty() ? "." : folderOf(spec.urdfPath);
+  if (const PfxInt32 err =
+          pfxLoadUrdfString(world, spec.urdfXml, basePath, param, added->urdf, message);
+      err != PFX_OK) {
+    return err;
+  }
+  PfxUrdfModel& urdf = added->urdf;
+  for (const PfxUrdfLink& link : urdf.links) {
+    added->linkNames.push_back(spec.framePrefix + "/" + link.name);
+    const std::string& name = added->linkNames.back();
+    if (scene.bodyByName.count(name) != 0 || name == kPfxNodeWorldLink ||
+        std::find(scene.groupNames.begin(), scene.groupNames.end(), name) !=
+            scene.groupNames.end()) {
+      world.truncate(urdf.firstBodyId, urdf.firstJointId, urdf.firstCouplingId);
+      if (message) {
+        *message = "its link frame '" + name +
+                   "' names a link, body, agent, cable or cloth already: give another tf_prefix";
+      }
+      return PFX_ERR_INVALID_VALUE;
+    }
+  }
+  nameRobotBodies(urdf, added->linkNames, scene.bodyNames);
+  for (std::size_t i = 0; i < urdf.links.size(); ++i) {
+    scene.bodyByName.emplace(added->linkNames[i], urdf.links[i].bodyId);
+  }
+  scene.warnings.insert(scene.warnings.end(), urdf.warnings.begin(), urdf.warnings.end());
+  if (scene.addedModels.size() < slot) scene.addedModels.resize(slot);
+  scene.addedModels[slot - 1] = std::move(added);
+  return PFX_OK;
+}
+
+std::string PfxNodeSimulation::checkModelSpec(const PfxNodeModelSpec& spec) const {
+  if (!isPlainName(spec.name)) {
+    return "name: '" + spec.name + "' is not letters, digits and _ starting with a letter";
+  }
+  if (findModel(spec.name) >= 0) {
+    return "name: a model named '" + spec.name + "' is in the world already";
+  }
+  bool prefixValid = !spec.framePrefix.empty();
+  for (std::size_t start = 0; prefixValid && start <= spec.framePrefix.size();) {
+    const std::size_t slash = std::min(spec.framePrefix.find('/', start), spec.framePrefix.size());
+    prefixValid = isPlainName(spec.framePrefix.substr(start, slash - start));
+    start = slash + 1;
+  }
+  if (!prefixValid) {
+    return "tf_prefix: '" + spec.framePrefix +
+           "' is not names of letters, digits and _ (a letter first) joined by /";
+  }
+  if (!pfxIsFinite(spec.position) || spec.position.cwiseAbs().maxCoeff() > kMaxModelDistance) {
+    return "pose: the position must be finite and within 1000 m of the origin";
+  }
+  const PfxFloat norm = spec.orientation.coeffs().norm();
+  if (!pfxIsFinite(spec.orientation) ||
+      !(std::abs(norm - 1) <= kUnitQuaternionTolerance)) {
+    return "pose: the orientation is not a unit quaternion (its length is " +
+           std::to_string(norm) + ")";
+  }
+  return "";
+}
+
+PfxInt32 PfxNodeSimulation::addModel(const PfxNodeModelSpec& spec, PfxUInt32* slot,
+                                     std::string* message) {
+  if (const std::string why = checkModelSpec(spec); !why.empty()) return refuse(why, message);
+  const PfxUInt32 newSlot = getNumModelSlots();
+  if (const PfxInt32 err = buildModel(*m_scene, spec, newSlot, message); err != PFX_OK) {
+    return err;
+  }
+  m_config.models.push_back(spec);
+  if (slot) *slot = newSlot;
+  return PFX_OK;
+}
+
+PfxInt32 PfxNodeSimulation::removeModel(PfxUInt32 slot, std::string* message) {
+  if (slot == 0) {
+    return refuse("the robot of robot_description cannot be deleted, only added models",
+                  message);
+  }
+  if (!hasModel(slot)) return refuse("no model in slot " + std::to_string(slot), message);
+  std::unique_ptr<PfxNodeAddedModel>& added = m_scene->addedModels[slot - 1];
+  const PfxUrdfModel& urdf = added->urdf;
+  PfxWorld& world = *m_scene->world;
+  const bool addedLast = urdf.firstBodyId + urdf.numBodies == world.getNumRigidBodies() &&
+                         urdf.firstJointId + urdf.numJoints == world.getNumJoints() &&
+                         urdf.firstCouplingId + urdf.numCouplings == world.getNumJointCouplings();
+  if (addedLast) {
+    // Nothing came after it: its slots go too, as if it had never been added.
+    world.truncate(urdf.firstBodyId, urdf.firstJointId, urdf.firstCouplingId);
+    m_scene->bodyNames.resize(std::min<std::size_t>(m_scene->bodyNames.size(), urdf.firstBodyId));
+  } else {
+    for (PfxUInt32 id = urdf.firstBodyId; id < urdf.firstBodyId + urdf.numBodies; ++id) {
+      if (world.hasRigidBody(id)) world.removeRigidBody(id);
+    }
+  }
+  for (const std::string& name : added->linkNames) m_scene->bodyByName.erase(name);
+  // The world's shapes pointed into the model's meshes; its bodies are gone now.
+  added.reset();
+  m_config.models[slot - 1].reset();
+  return PFX_OK;
+}
 
 const std::string& PfxNodeSimulation::getBodyName(PfxUInt32 bodyId) const {
   return m_scene->bodyNames[bodyId];
 }
 
-PfxInt32 PfxNodeSimulation::findLink(const std::string& name) const {
-  return pfxFindUrdfLink(m_scene->model, name);
+PfxInt32 PfxNodeSimulation::findLink(const std::string& name, PfxUInt32 model) const {
+  return pfxFindUrdfLink(getModel(model), name);
 }
 
-PfxInt32 PfxNodeSimulation::findJoint(const std::string& name) const {
-  return pfxFindUrdfJoint(m_scene->model, name);
+PfxInt32 PfxNodeSimulation::findJoint(const std::string& name, PfxUInt32 model) const {
+  return pfxFindUrdfJoint(getModel(model), name);
 }
 
 PfxInt64 PfxNodeSimulation::findBody(const std::string& name) const {
@@ -529,8 +711,8 @@ PfxInt64 PfxNodeSimulation::findBody(const std::string& name) const {
   return it == m_scene->bodyByName.end() ? -1 : static_cast<PfxInt64>(it->second);
 }
 
-PfxTransform3 PfxNodeSimulation::getLinkPose(PfxUInt32 linkIndex) const {
-  return pfxGetUrdfLinkPose(*m_scene->world, m_scene->model.links[linkIndex]);
+PfxTransform3 PfxNodeSimulation::getLinkPose(PfxUInt32 linkIndex, PfxUInt32 model) const {
+  return pfxGetUrdfLinkPose(*m_scene->world, getModel(model).links[linkIndex]);
 }
 
 PfxInt32 PfxNodeSimulation::addAgent(const PfxNodeAgentSpec& spec, std::string* message) {
@@ -677,12 +859,13 @@ PfxInt32 PfxNodeSimulation::setLinkState(PfxUInt32 linkIndex, const PfxTransform
 PfxInt32 PfxNodeSimulation::setJointCommands(const std::vector<PfxUInt32>& jointIndices,
                                              PfxJointDrive drive,
                                              const std::vector<PfxFloat>& targets,
-                                             const std::vector<PfxFloat>& maxForces) {
+                                             const std::vector<PfxFloat>& maxForces,
+                                             PfxUInt32 modelSlot) {
   if (targets.size() != jointIndices.size() || maxForces.size() != jointIndices.size()) {
     return PFX_ERR_INVALID_VALUE;
   }
   PfxWorld& world = *m_scene->world;
-  const PfxUrdfModel& model = m_scene->model;
+  const PfxUrdfModel& model = getModel(modelSlot);
   for (const PfxUInt32 index : jointIndices) {
     if (index >= model.joints.size()) return PFX_ERR_OUT_OF_RANGE;
   }

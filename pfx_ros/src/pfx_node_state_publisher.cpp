@@ -9,16 +9,18 @@
 namespace pfx {
 
 PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
-                                             const std::string& agentFramePrefix, bool publishClock)
+                                             const std::string& agentFramePrefix, bool publishClock,
+                                             PfxUInt32 model)
     : m_fixedFrame(fixedFrame),
       m_agentFramePrefix(agentFramePrefix.empty() ? "" : agentFramePrefix + "/"),
-      m_publishClock(publishClock) {
+      m_publishClock(publishClock),
+      m_model(model) {
   m_jointStates = handle.advertise<sensor_msgs::JointState>("joint_states", 10);
   if (m_publishClock) m_clock = handle.advertise<rosgraph_msgs::Clock>("/clock", 10);
 }
 
 void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
-  const PfxUrdfModel& model = simulation.getModel();
+  const PfxUrdfModel& model = simulation.getModel(m_model);
   std::unordered_map<std::string, PfxInt32> linkIndex;
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     linkIndex[model.links[i].name] = PfxInt32(i);
@@ -34,8 +36,9 @@ void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
   m_transforms.assign(model.links.size(), geometry_msgs::TransformStamped());
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     m_transforms[i].header.frame_id =
-        m_parentLink[i] < 0 ? m_fixedFrame : model.links[m_parentLink[i]].name;
-    m_transforms[i].child_frame_id = model.links[i].name;
+        m_parentLink[i] < 0 ? m_fixedFrame
+                            : simulation.getLinkName(PfxUInt32(m_parentLink[i]), m_model);
+    m_transforms[i].child_frame_id = simulation.getLinkName(PfxUInt32(i), m_model);
   }
   m_linkPoses.resize(model.links.size());
 
@@ -55,7 +58,7 @@ void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
 
 void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const ros::Time& stamp) {
   for (std::size_t i = 0; i < m_linkPoses.size(); ++i) {
-    m_linkPoses[i] = simulation.getLinkPose(PfxUInt32(i));
+    m_linkPoses[i] = simulation.getLinkPose(PfxUInt32(i), m_model);
   }
   for (std::size_t i = 0; i < m_linkPoses.size(); ++i) {
     const PfxTransform3 pose =
@@ -67,8 +70,9 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
   }
   // Agents come and go between publications: their frames are made anew each time.
   const PfxNodeAgentSet& agents = simulation.getAgents();
-  m_transforms.resize(m_linkPoses.size() + agents.getNumAgents());
-  for (PfxUInt32 i = 0; i < agents.getNumAgents(); ++i) {
+  const PfxUInt32 numAgents = m_model == 0 ? agents.getNumAgents() : 0;
+  m_transforms.resize(m_linkPoses.size() + numAgents);
+  for (PfxUInt32 i = 0; i < numAgents; ++i) {
     const PfxNodeAgentState state = agents.getAgentState(i);
     geometry_msgs::TransformStamped& agent = m_transforms[m_linkPoses.size() + i];
     agent.header.frame_id = m_fixedFrame;
@@ -79,7 +83,7 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
   }
   m_broadcaster.sendTransform(m_transforms);
 
-  pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(), m_positions, m_velocities);
+  pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(m_model), m_positions, m_velocities);
   for (std::size_t k = 0; k < m_publishedJoints.size(); ++k) {
     m_jointState.position[k] = m_positions[m_publishedJoints[k]];
     m_jointState.velocity[k] = m_velocities[m_publishedJoints[k]];

@@ -14,7 +14,9 @@
 #include "pfx_ros/pfx_node_cable_params.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_joint_commands.h"
+#include "pfx_ros/pfx_node_link_states.h"
 #include "pfx_ros/pfx_node_markers.h"
+#include "pfx_ros/pfx_node_models.h"
 #include "pfx_ros/pfx_node_sensors.h"
 #include "pfx_ros/pfx_node_services.h"
 #include "pfx_ros/pfx_node_simulation.h"
@@ -35,7 +37,8 @@ struct PfxNodeParam {
   // cloths (~cables, ~cloths) by pfxAddDeclaredCablesAndCloths (pfx_node_cable_params.h), the
   // sensors (~sensors, ~sensor_seed) by PfxNodeSensors (pfx_node_sensors.h), the joint command
   // topics (~joint_interfaces, ~joint_group) by PfxNodeJointCommands
-  // (pfx_node_joint_commands.h).
+  // (pfx_node_joint_commands.h), the added models (~models) by PfxNodeModels
+  // (pfx_node_models.h).
   std::string agentFramePrefix = "agents";
   double realTimeFactor = 1;  // ~real_time_factor: 0 runs as fast as it can
   // Wall-clock rates (Hz) of what is published; 0 for the state means after every step,
@@ -43,6 +46,7 @@ struct PfxNodeParam {
   double publishRate = 100;    // ~publish_rate: TF, /joint_states, /clock
   double markerRate = 10;      // ~marker_rate
   double diagnosticsRate = 1;  // ~diagnostics_rate
+  double linkStatesRate = 10;  // ~link_states_rate
   int maxBatchRays = 100000;   // ~max_batch_rays
   bool paused = false;         // ~paused: start paused
 };
@@ -66,6 +70,8 @@ class PfxNode {
   // After ~reset or ~load_world: the state publisher and the sensors start on the new
   // world. True when they did.
   bool rebindIfRebuilt();
+  // TF and joint_states of every model (and /clock).
+  void publishState();
   // ~step's steps, and the state after them published at once.
   PfxInt32 stepPaused(PfxInt32 steps);
 
@@ -82,6 +88,8 @@ class PfxNode {
   std::unique_ptr<PfxNodeAgents> m_agents;
   std::unique_ptr<PfxNodeSensors> m_sensors;
   std::unique_ptr<PfxNodeJointCommands> m_jointCommands;
+  std::unique_ptr<PfxNodeModels> m_models;
+  std::unique_ptr<PfxNodeLinkStates> m_linkStates;
 };
 
 }  // namespace pfx

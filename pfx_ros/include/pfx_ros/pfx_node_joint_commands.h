@@ -33,9 +33,10 @@ namespace pfx {
 class PfxNodeJointCommands {
  public:
   // `useSimTime`: trajectory stamps are simulated time (else wall-clock ROS time, mapped
-  // onto simulated time at their arrival).
+  // onto simulated time at their arrival). `model`: the simulation's model slot whose
+  // joints these are (0: the robot of robot_description).
   PfxNodeJointCommands(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                       PfxNodeSimulation& simulation, bool useSimTime);
+                       PfxNodeSimulation& simulation, bool useSimTime, PfxUInt32 model = 0);
 
   // Reads ~joint_interfaces ({joint: position|velocity|effort}) and ~joint_group
   // ({joints: [...], interface: ...}) and subscribes; false, with *message naming the
@@ -74,6 +75,7 @@ class PfxNodeJointCommands {
   ros::NodeHandle& m_privateHandle;
   PfxNodeSimulation& m_simulation;
   bool m_useSimTime;
+  PfxUInt32 m_model;
   std::vector<PfxJointDrive> m_interfaces;  // per model joint
   std::vector<PfxUInt32> m_groupJoints;
   PfxJointDrive m_groupInterface = kPfxJointDrivePosition;

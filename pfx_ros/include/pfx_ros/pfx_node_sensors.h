@@ -33,7 +33,10 @@ std::string pfxReadSensorParam(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec);
 
 class PfxNodeSensors {
  public:
-  PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame);
+  // `model`: the simulation's model slot whose links carry the sensors (0: the robot of
+  // robot_description); a sensor's frame defaults to its link's name there
+  // (PfxNodeSimulation::getLinkName, with an added model's frame prefix).
+  PfxNodeSensors(ros::NodeHandle& handle, const std::string& fixedFrame, PfxUInt32 model = 0);
   ~PfxNodeSensors();
 
   // Reads the sensors of the URDF text (`urdfName` names it in messages), then ~sensors and
@@ -69,6 +72,7 @@ class PfxNodeSensors {
 
   ros::NodeHandle& m_handle;
   std::string m_fixedFrame;
+  PfxUInt32 m_model;
   std::vector<std::unique_ptr<Sensor>> m_sensors;
   std::vector<PfxNodeContact> m_contacts;  // the world's, read once per step when needed
 };

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,20 @@
 #include "pfx_ros/pfx_node_cables.h"
 
 namespace pfx {
+
+// A robot added while the node runs (README, "Models"), beside the robot of
+// robot_description, into the same world.
+struct PfxNodeModelSpec {
+  std::string name;  // letters, digits and _, a letter first; link_states' "<name>::<link>"
+  std::string urdfXml;
+  std::string urdfPath;  // the file the text came from, for relative mesh paths; may be empty
+  // Its links' TF frames, and their names in rays and contacts: "<framePrefix>/<link>".
+  std::string framePrefix;
+  PfxVector3 position = PfxVector3::Zero();  // of its root link, in the world
+  PfxQuat orientation = PfxQuat::Identity();
+  bool fixedBase = false;
+  bool allowMissingMeshes = false;
+};
 
 struct PfxNodeSimulationConfig {
   std::string urdfXml;
@@ -48,6 +63,9 @@ struct PfxNodeSimulationConfig {
   // Accepted by addCable and addCloth, and built again with the world by reset().
   std::vector<PfxNodeCableSpec> cables;
   std::vector<PfxNodeClothSpec> cloths;
+  // Models added by addModel, slot 1 on (slot 0 is the robot of urdfXml); a removed one
+  // leaves its slot empty, so that the others keep their slots. Built again by reset().
+  std::vector<std::optional<PfxNodeModelSpec>> models;
 };
 
 // One point where two bodies touch (or pushed on each other during the last step), or a
@@ -98,8 +116,8 @@ class PfxNodeSimulation {
   // wrenches are dropped. On error the world, the clock and the settings stay as they
   // were, and *message says why (a file that does not read, or one saved from another
   // robot or scene).
-  // Refused while agents live (delete them first): the file cannot say who drives their
-  // bodies. The saved agents' capsules are removed from the loaded world, which keeps the
+  // Refused while agents or added models live (delete them first): the file cannot say
+  // who drives the agents' bodies nor which robot a body belongs to. The saved agents' capsules are removed from the loaded world, which keeps the
   // robot's and scene's bodies under their ids.
   PfxInt32 loadWorld(const std::string& path, std::string* message);
 
@@ -113,7 +131,9 @@ class PfxNodeSimulation {
   // Counts load(), reset() and loadWorld() calls: whoever draws the static bodies draws them again.
   PfxUInt32 getGeneration() const { return m_generation; }
   const PfxWorld& getWorld() const;
-  const PfxUrdfModel& getModel() const;
+  // The robot in model slot `model`: 0 the robot of robot_description, from 1 on the models
+  // addModel added (hasModel says whether the slot still holds one).
+  const PfxUrdfModel& getModel(PfxUInt32 model = 0) const;
   // Warnings of the robot's and the scene file's loads.
   const std::vector<std::string>& getWarnings() const;
   // The link a body carries (the one nearest the URDF root when fixed joints lumped
@@ -124,12 +144,38 @@ class PfxNodeSimulation {
   // that carries the geometry is named after the latter; getBodyName for the ground, the
   // OctoMap and a body's placeholder shape.
   const std::string& getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const;
-  // Index into getModel().links, or -1.
-  PfxInt32 findLink(const std::string& name) const;
-  PfxInt32 findJoint(const std::string& name) const;
+  // Index into getModel(model).links or .joints by the URDF's name, or -1.
+  PfxInt32 findLink(const std::string& name, PfxUInt32 model = 0) const;
+  PfxInt32 findJoint(const std::string& name, PfxUInt32 model = 0) const;
   // Body id of a link, of "ground" or of "octomap", or -1.
   PfxInt64 findBody(const std::string& name) const;
-  PfxTransform3 getLinkPose(PfxUInt32 linkIndex) const;
+  PfxTransform3 getLinkPose(PfxUInt32 linkIndex, PfxUInt32 model = 0) const;
+  // A link's TF frame, and its name in rays and contacts: the URDF's name for model 0,
+  // "<framePrefix>/<link>" for an added model.
+  const std::string& getLinkName(PfxUInt32 linkIndex, PfxUInt32 model = 0) const;
+
+  // Loads a robot into the world as it is now, its root link at spec's pose (nothing moves
+  // out of its way), in a new model slot (*slot). Rejects, with *message saying why and
+  // nothing changed: a name that is not letters, digits and _ starting with a letter or
+  // that names a model already (the robot of robot_description is named after its URDF),
+  // a frame prefix that is not such names joined by /, a link frame that names a body,
+  // agent, cable or cloth already, a position that is not finite or beyond 1000 m, an
+  // orientation that is not a unit quaternion (within 1e-3), and what the URDF loader
+  // rejects (its message).
+  PfxInt32 addModel(const PfxNodeModelSpec& spec, PfxUInt32* slot, std::string* message);
+  // What addModel would refuse before loading the URDF (the name, the frame prefix, the
+  // pose), or empty.
+  std::string checkModelSpec(const PfxNodeModelSpec& spec) const;
+  // Removes an added model's bodies and joints from the world (PfxWorld::removeRigidBody);
+  // reset() does not bring it back. Refused for slot 0 and an empty slot.
+  PfxInt32 removeModel(PfxUInt32 slot, std::string* message);
+  // Slot of the model named `name`, or -1.
+  PfxInt64 findModel(const std::string& name) const;
+  PfxUInt32 getNumModelSlots() const { return PfxUInt32(m_config.models.size()) + 1; }
+  bool hasModel(PfxUInt32 slot) const;
+  const std::string& getModelName(PfxUInt32 slot) const;
+  // The spec an added model was made from (slot >= 1 and hasModel).
+  const PfxNodeModelSpec& getModelSpec(PfxUInt32 slot) const { return *m_config.models[slot - 1]; }
 
   // Adds an agent (PfxNodeAgentSet::add) after checking that its name is no body's name
   // (rays and contacts name it) and that at its start it overlaps no body by more than 1 cm
@@ -173,11 +219,11 @@ class PfxNodeSimulation {
   // velocity and the angular velocity given (world frame).
   PfxInt32 setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,
                         const PfxVector3& linearVelocity, const PfxVector3& angularVelocity);
-  // One drive for several joints, all or none: when one is rejected the joints set before
-  // it are put back.
+  // One drive for several joints of a model, all or none: when one is rejected the joints
+  // set before it are put back.
   PfxInt32 setJointCommands(const std::vector<PfxUInt32>& jointIndices, PfxJointDrive drive,
                             const std::vector<PfxFloat>& targets,
-                            const std::vector<PfxFloat>& maxForces);
+                            const std::vector<PfxFloat>& maxForces, PfxUInt32 model = 0);
 
  private:
   struct Scene;
@@ -190,6 +236,9 @@ class PfxNodeSimulation {
   PfxInt32 buildScene(const PfxNodeSimulationConfig& config, std::unique_ptr<Scene>& scene,
                       std::string* message) const;
   static void nameAgentBody(Scene& scene, const std::string& name, PfxUInt32 bodyId);
+  // Loads an added model into the scene's world in slot `slot`; on error nothing changes.
+  static PfxInt32 buildModel(Scene& scene, const PfxNodeModelSpec& spec, PfxUInt32 slot,
+                             std::string* message);
   // Empty when `name` may name a new cable or cloth, else why not.
   std::string checkGroupName(const Scene& scene, const std::string& name) const;
   // The body a cable end or cloth pin named `link` holds on to, and where `point` (in the

@@ -22,9 +22,14 @@ namespace pfx {
 
 class PfxNodeStatePublisher {
  public:
-  // An empty agentFramePrefix names agents' frames by the agents' names alone.
+  // An empty agentFramePrefix names agents' frames by the agents' names alone. `model` is
+  // the simulation's model slot published: the robot of robot_description (0) publishes
+  // the agents' frames too; an added model publishes its links only, under their names
+  // with its frame prefix (PfxNodeSimulation::getLinkName), and joint_states in `handle`'s
+  // namespace.
   PfxNodeStatePublisher(ros::NodeHandle& handle, const std::string& fixedFrame,
-                        const std::string& agentFramePrefix, bool publishClock);
+                        const std::string& agentFramePrefix, bool publishClock,
+                        PfxUInt32 model = 0);
 
   // Reads the link tree and joint list of the simulation's robot; call after every load
   // or reset.
@@ -35,6 +40,7 @@ class PfxNodeStatePublisher {
   std::string m_fixedFrame;
   std::string m_agentFramePrefix;  // with its slash
   bool m_publishClock;
+  PfxUInt32 m_model;
   tf2_ros::TransformBroadcaster m_broadcaster;
   ros::Publisher m_jointStates;
   ros::Publisher m_clock;
