@@ -141,6 +141,9 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
     if (spec.frame.empty()) {
       spec.frame = simulation.getLinkName(PfxUInt32(simulation.findLink(spec.link, m_model)),
                                           m_model);
+    } else if (m_model != 0) {
+      // A frame the URDF names is one of the robot's: an added model's frames carry its prefix.
+      spec.frame = simulation.getModelSpec(m_model).framePrefix + "/" + spec.frame;
     }
     if (why.empty() && !names.insert(spec.name).second) {
       why = "sensor '" + spec.name + "': another sensor has this name already";
