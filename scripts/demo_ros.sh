@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The ROS half of the main job, run inside an X display (demo.sh starts it under xvfb-run):
-# starts a rosmaster, launches launch/ragdoll.launch with rviz, waits for the ragdoll to
-# fall and come to rest, calls the node's raycast and get_contacts services with
-# rosservice, takes a screenshot of rviz into <build>/ragdoll.png, checks that the picture
-# is not blank, and shuts everything down. Usage: demo_ros.sh <build folder>
+# starts a rosmaster, launches launch/ragdoll.launch with rviz and the laser post beside the
+# ragdoll (a second model, urdf/laser_post.urdf), waits for the ragdoll to fall and come to
+# rest, calls the node's raycast and get_contacts services with rosservice, reads the post's
+# laser scan, takes a screenshot of rviz (the scan drawn in red) into <build>/ragdoll.png,
+# checks that the picture is not blank, and shuts everything down. Usage: demo_ros.sh <build folder>
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=$(cd "${1:-build}" && pwd)
@@ -46,7 +47,7 @@ roscore -p "$port" >"$ROS_LOG_DIR/roscore.out" 2>&1 &
 master_pid=$!
 wait_for 30 rosparam get /rosdistro
 
-roslaunch launch/ragdoll.launch rviz:=true >"$ROS_LOG_DIR/ragdoll_launch.out" 2>&1 &
+roslaunch launch/ragdoll.launch rviz:=true laser_post:=true >"$ROS_LOG_DIR/ragdoll_launch.out" 2>&1 &
 launch_pid=$!
 if ! wait_for 60 rosservice call /pfx_node/raycast \
   "{origin: {x: 5.0, y: 5.0, z: 1.0}, direction: {x: 0.0, y: 0.0, z: -2.0}}"; then
@@ -91,6 +92,15 @@ call /pfx_node/raycast "{origin: {x: $x, y: $y, z: 3.0}, direction: {x: 0.0, y: 
 echo
 echo "A ray straight down at (5, 5), away from the ragdoll, hits the ground at z = 0:"
 call /pfx_node/raycast "{origin: {x: 5.0, y: 5.0, z: 3.0}, direction: {x: 0.0, y: 0.0, z: -4.0}}"
+echo
+
+echo "The laser on the post beside the ragdoll (urdf/laser_post.urdf, spawned from ~models):"
+rostopic echo -n 1 /laser_post/scan/ranges | /usr/bin/python3 -c '
+import math, sys, yaml
+ranges = [float(r) for r in yaml.safe_load(sys.stdin.read().split("---")[0])]
+hits = [r for r in ranges if math.isfinite(r)]
+print("  /laser_post/scan: %d beams, %d hits from %.2f to %.2f m" % (len(ranges), len(hits), min(hits), max(hits)))
+'
 echo
 
 # rviz starts while the ragdoll falls; until it has drawn the scene the screen is blank.
