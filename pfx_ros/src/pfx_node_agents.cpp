@@ -5,6 +5,7 @@
 #include <set>
 
 #include "pfx_ros/pfx_ros_conversions.h"
+#include "pfx_ros/pfx_node_xmlrpc.h"
 
 namespace pfx {
 
@@ -22,26 +23,13 @@ bool reject(Response& res, const char* service, const std::string& why) {
   return true;  // the call itself worked; success says the request did not
 }
 
-bool readNumber(XmlRpc::XmlRpcValue& value, double& out) {
-  switch (value.getType()) {
-    case XmlRpc::XmlRpcValue::TypeDouble:
-      out = static_cast<double>(value);
-      return true;
-    case XmlRpc::XmlRpcValue::TypeInt:
-      out = static_cast<int>(value);
-      return true;
-    default:
-      return false;
-  }
-}
-
 // A list of 2 or 3 numbers (x, y and optionally z) into `out`; false otherwise.
 bool readPoint(XmlRpc::XmlRpcValue& value, PfxVector3& out) {
   if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) return false;
   if (value.size() != 2 && value.size() != 3) return false;
   double xyz[3] = {0, 0, 0};
   for (int i = 0; i < value.size(); ++i) {
-    if (!readNumber(value[i], xyz[i])) return false;
+    if (!pfxReadXmlRpcNumber(value[i], xyz[i])) return false;
   }
   out = PfxVector3(PfxFloat(xyz[0]), PfxFloat(xyz[1]), PfxFloat(xyz[2]));
   return true;
@@ -69,7 +57,7 @@ std::string readDeclared(XmlRpc::XmlRpcValue& entry, PfxNodeAgentSpec& spec) {
   for (const auto& [key, field] : numbers) {
     if (!entry.hasMember(key)) continue;
     double x = 0;
-    if (!readNumber(entry[key], x)) return std::string(key) + " is not a number";
+    if (!pfxReadXmlRpcNumber(entry[key], x)) return std::string(key) + " is not a number";
     *field = PfxFloat(x);
   }
   if (entry.hasMember("position") && !readPoint(entry["position"], spec.foot)) {

@@ -131,7 +131,10 @@ void PfxNodeMarkers::addShapes(const PfxNodeSimulation& simulation, bool fixedBo
   // Agents have a namespace of their own (addAgents).
   for (PfxUInt32 id = 0; id < numBodies; ++id) {
     const bool fixed = world.getRigidState(id).getMotionType() == kPfxMotionTypeFixed;
-    m_render.setVisible(id, fixed == fixedBodies && !agents.isAgentBody(id));
+    // A removed body (a deleted model's) draws nothing: its markers are deleted in both
+    // namespaces.
+    m_render.setVisible(id, !world.hasRigidBody(id) ||
+                                (fixed == fixedBodies && !agents.isAgentBody(id)));
   }
   m_drawing = Drawing();
   m_render.renderShapes(world);
@@ -147,6 +150,13 @@ void PfxNodeMarkers::addShapes(const PfxNodeSimulation& simulation, bool fixedBo
       marker.points.swap(drawn.points);
     }
     m_array.markers.push_back(std::move(marker));
+  }
+  // Bodies truncated away (the newest model deleted) are gone from the ids.
+  for (PfxUInt32 id = numBodies; id < m_drawnBodies; ++id) {
+    visualization_msgs::Marker gone =
+        makeMarker(ns, PfxInt32(id), visualization_msgs::Marker::TRIANGLE_LIST, stamp);
+    gone.action = visualization_msgs::Marker::DELETE;
+    m_array.markers.push_back(std::move(gone));
   }
   m_render.resetVisible(numBodies);
 }
@@ -264,14 +274,18 @@ void PfxNodeMarkers::publish(const PfxNodeSimulation& simulation, const ros::Tim
   const PfxWorld& world = simulation.getWorld();
   m_array.markers.clear();
 
+  const bool sendStatic = m_sendStatic || m_sentGeneration != simulation.getGeneration() ||
+                          m_sentModelChanges != simulation.getModelChanges();
   addShapes(simulation, false, "shapes", stamp);
   addAgents(simulation, stamp);
   addCablesAndCloths(simulation, stamp);
-  if (m_sendStatic || m_sentGeneration != simulation.getGeneration()) {
+  if (sendStatic) {
     addShapes(simulation, true, "static_shapes", stamp);
     m_sendStatic = false;
     m_sentGeneration = simulation.getGeneration();
+    m_sentModelChanges = simulation.getModelChanges();
   }
+  m_drawnBodies = world.getNumRigidBodies();
 
   m_drawing = Drawing();
   m_render.renderContact(world);

@@ -6,23 +6,11 @@
 #include <set>
 
 #include "pfx_ros/pfx_node_sensors.h"
+#include "pfx_ros/pfx_node_xmlrpc.h"
 
 namespace pfx {
 
 namespace {
-
-bool readNumber(XmlRpc::XmlRpcValue& value, double& out) {
-  switch (value.getType()) {
-    case XmlRpc::XmlRpcValue::TypeDouble:
-      out = static_cast<double>(value);
-      return true;
-    case XmlRpc::XmlRpcValue::TypeInt:
-      out = static_cast<int>(value);
-      return true;
-    default:
-      return false;
-  }
-}
 
 const std::map<std::string, PfxSensorType> kTypes = {{"ray", PfxSensorType::kRay},
                                                      {"imu", PfxSensorType::kImu},
@@ -66,7 +54,7 @@ template <typename T>
 std::string readOptional(XmlRpc::XmlRpcValue& entry, const char* key, T& out) {
   if (!entry.hasMember(key)) return "";
   double v;
-  if (!readNumber(entry[key], v)) return std::string(key) + " is not a number";
+  if (!pfxReadXmlRpcNumber(entry[key], v)) return std::string(key) + " is not a number";
   if (!std::isfinite(v)) return std::string(key) + " is not finite";
   out = T(v);
   return "";
@@ -140,7 +128,7 @@ std::string pfxReadSensorParam(XmlRpc::XmlRpcValue& entry, PfxSensorSpec& spec) 
       return "pose must be a list of six numbers: x, y, z, roll, pitch, yaw";
     }
     for (int i = 0; i < 6; ++i) {
-      if (!readNumber(pose[i], v[i]) || !std::isfinite(v[i])) {
+      if (!pfxReadXmlRpcNumber(pose[i], v[i]) || !std::isfinite(v[i])) {
         return "pose must be a list of six finite numbers: x, y, z, roll, pitch, yaw";
       }
     }

@@ -138,10 +138,11 @@ bool PfxNodeSensors::configure(const std::string& urdfXml, const std::string& ur
       }
     }
     if (spec.topic.empty()) spec.topic = spec.name;
-    if (spec.frame.empty()) {
+    // The link is known once the spec passed its check.
+    if (why.empty() && spec.frame.empty()) {
       spec.frame = simulation.getLinkName(PfxUInt32(simulation.findLink(spec.link, m_model)),
                                           m_model);
-    } else if (m_model != 0) {
+    } else if (why.empty() && m_model != 0) {
       // A frame the URDF names is one of the robot's: an added model's frames carry its prefix.
       spec.frame = simulation.getModelSpec(m_model).framePrefix + "/" + spec.frame;
     }

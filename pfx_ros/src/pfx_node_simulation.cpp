@@ -662,6 +662,7 @@ PfxInt32 PfxNodeSimulation::addModel(const PfxNodeModelSpec& spec, PfxUInt32* sl
     return err;
   }
   m_config.models.push_back(spec);
+  ++m_modelChanges;
   if (slot) *slot = newSlot;
   return PFX_OK;
 }
@@ -691,6 +692,7 @@ PfxInt32 PfxNodeSimulation::removeModel(PfxUInt32 slot, std::string* message) {
   // The world's shapes pointed into the model's meshes; its bodies are gone now.
   added.reset();
   m_config.models[slot - 1].reset();
+  ++m_modelChanges;
   return PFX_OK;
 }
 

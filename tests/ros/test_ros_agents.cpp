@@ -9,7 +9,6 @@
 // (/diagnostics), no frame appears, other agents stay put. A reset puts the agents back at
 // their starts; the world saves with agents in it, and loads once they are deleted, without
 // the saved agents' bodies.
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Twist.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
@@ -26,6 +25,7 @@
 #include "pfx/RaycastBatch.h"
 #include "pfx/SpawnAgent.h"
 #include "pfx/WorldFile.h"
+#include "pfx_ros_body_count.h"
 #include "pfx_ros_test_util.h"
 
 using pfx_test::call;
@@ -103,51 +103,11 @@ class AgentMarkers {
   std::map<int, visualization_msgs::Marker> m_kept;
 };
 
-// The number of bodies in the world, from the node's /diagnostics.
-class BodyCount {
- public:
-  explicit BodyCount(ros::NodeHandle& nh)
-      : m_sub(nh.subscribe("/diagnostics", 10, &BodyCount::onReport, this)) {}
-  // The count of a report that arrives after this call, or -1 after `wallSeconds`.
-  double next(double wallSeconds = 5) const {
-    int seen;
-    {
-      std::lock_guard<std::mutex> lock(m_mutex);
-      seen = m_reports;
-    }
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        if (m_reports > seen) return m_bodies;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return -1;
-  }
-
- private:
-  void onReport(const diagnostic_msgs::DiagnosticArray& msg) {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    for (const diagnostic_msgs::DiagnosticStatus& status : msg.status) {
-      if (status.name != "pfx_node: simulation") continue;
-      for (const diagnostic_msgs::KeyValue& kv : status.values) {
-        if (kv.key == "bodies") m_bodies = std::stod(kv.value);
-      }
-      ++m_reports;
-    }
-  }
-  ros::Subscriber m_sub;
-  mutable std::mutex m_mutex;
-  double m_bodies = -1;
-  int m_reports = 0;
-};
-
 struct Shared {
   std::unique_ptr<pfx_test::RosClient> ros;
   std::unique_ptr<pfx_test::ClockWatcher> clock;
   std::unique_ptr<AgentMarkers> markers;
-  std::unique_ptr<BodyCount> bodies;
+  std::unique_ptr<pfx_test::BodyCount> bodies;
 };
 Shared* shared = nullptr;
 
@@ -607,7 +567,7 @@ int main(int argc, char** argv) {
   state.ros = std::make_unique<pfx_test::RosClient>();
   state.clock = std::make_unique<pfx_test::ClockWatcher>(state.ros->nh);
   state.markers = std::make_unique<AgentMarkers>(state.ros->nh);
-  state.bodies = std::make_unique<BodyCount>(state.ros->nh);
+  state.bodies = std::make_unique<pfx_test::BodyCount>(state.ros->nh);
   shared = &state;
   if (!pfx_test::waitForServices({kNode + "spawn_agent", kNode + "delete_agent"}, 30.0)) {
     ROS_FATAL("the pfx_node services did not appear");

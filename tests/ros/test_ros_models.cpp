@@ -6,7 +6,6 @@
 // only; ~link_states lists every link of every model with TF's poses; every bad request is
 // refused with its reason and nothing changed; deleting alpha leaves beta as it was, and
 // ~reset builds the live models again at their spawn poses.
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -22,6 +21,7 @@
 #include "pfx/SpawnModel.h"
 #include "pfx/Step.h"
 #include "pfx/WorldFile.h"
+#include "pfx_ros_body_count.h"
 #include "pfx_ros_test_util.h"
 
 using pfx_test::call;
@@ -74,46 +74,6 @@ class Latest {
   bool m_has = false;
 };
 
-// The number of bodies in the world, from the node's /diagnostics (removed slots not counted).
-class BodyCount {
- public:
-  explicit BodyCount(ros::NodeHandle& nh)
-      : m_sub(nh.subscribe("/diagnostics", 10, &BodyCount::onReport, this)) {}
-  // The count of a report that arrives after this call, or -1.
-  double next(double wallSeconds = 5) const {
-    int seen;
-    {
-      std::lock_guard<std::mutex> lock(m_mutex);
-      seen = m_reports;
-    }
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        if (m_reports > seen) return m_bodies;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return -1;
-  }
-
- private:
-  void onReport(const diagnostic_msgs::DiagnosticArray& msg) {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    for (const diagnostic_msgs::DiagnosticStatus& status : msg.status) {
-      if (status.name != "pfx_node: simulation") continue;
-      for (const diagnostic_msgs::KeyValue& kv : status.values) {
-        if (kv.key == "bodies") m_bodies = std::stod(kv.value);
-      }
-      ++m_reports;
-    }
-  }
-  ros::Subscriber m_sub;
-  mutable std::mutex m_mutex;
-  double m_bodies = -1;
-  int m_reports = 0;
-};
-
 // One scout's topics.
 struct Scout {
   Scout(ros::NodeHandle& nh, const std::string& ns)
@@ -134,7 +94,7 @@ struct Scout {
 struct Shared {
   std::unique_ptr<pfx_test::RosClient> ros;
   std::unique_ptr<Latest<pfx::LinkStates>> linkStates;
-  std::unique_ptr<BodyCount> bodies;
+  std::unique_ptr<pfx_test::BodyCount> bodies;
   std::unique_ptr<Scout> alpha, beta;
   std::unique_ptr<Latest<sensor_msgs::JointState>> iiwaJoints;
   double time = 0;  // simulated time after the last ~step
@@ -555,7 +515,7 @@ int main(int argc, char** argv) {
   state.ros = std::make_unique<pfx_test::RosClient>();
   ros::NodeHandle& nh = state.ros->nh;
   state.linkStates = std::make_unique<Latest<pfx::LinkStates>>(nh, kNode + "link_states");
-  state.bodies = std::make_unique<BodyCount>(nh);
+  state.bodies = std::make_unique<pfx_test::BodyCount>(nh);
   state.alpha = std::make_unique<Scout>(nh, "/alpha");
   state.beta = std::make_unique<Scout>(nh, "/team/beta");
   state.iiwaJoints = std::make_unique<Latest<sensor_msgs::JointState>>(nh, "/iiwa/joint_states");

@@ -54,6 +54,8 @@ class PfxNodeMarkers {
   ros::Publisher m_publisher;
   bool m_sendStatic = true;
   PfxUInt32 m_sentGeneration = 0;
+  PfxUInt32 m_sentModelChanges = 0;  // of the simulation's added models, when last sent
+  PfxUInt32 m_drawnBodies = 0;        // bodies in the world when shapes were last drawn
   PfxDebugRender m_render;
   Drawing m_drawing;
   std::vector<visualization_msgs::Marker> m_bodyMarkers;  // by body id, while drawing shapes

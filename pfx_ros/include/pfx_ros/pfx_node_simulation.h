@@ -169,6 +169,9 @@ class PfxNodeSimulation {
   // Removes an added model's bodies and joints from the world (PfxWorld::removeRigidBody);
   // reset() does not bring it back. Refused for slot 0 and an empty slot.
   PfxInt32 removeModel(PfxUInt32 slot, std::string* message);
+  // Counts addModel and removeModel calls that changed the world: whoever draws the fixed
+  // bodies draws them again.
+  PfxUInt32 getModelChanges() const { return m_modelChanges; }
   // Slot of the model named `name`, or -1.
   PfxInt64 findModel(const std::string& name) const;
   PfxUInt32 getNumModelSlots() const { return PfxUInt32(m_config.models.size()) + 1; }
@@ -263,6 +266,7 @@ class PfxNodeSimulation {
   double m_startTime = 0;
   PfxUInt64 m_stepCount = 0;
   PfxUInt32 m_generation = 0;
+  PfxUInt32 m_modelChanges = 0;
 };
 
 }  // namespace pfx
