@@ -11,6 +11,7 @@
 #include <string>
 
 #include "pfx_ros/pfx_node_agents.h"
+#include "pfx_ros/pfx_node_autosave.h"
 #include "pfx_ros/pfx_node_cable_params.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_joint_commands.h"
@@ -82,6 +83,7 @@ class PfxNode {
   std::unique_ptr<PfxNodeAgents> m_agents;
   std::unique_ptr<PfxNodeSensors> m_sensors;
   std::unique_ptr<PfxNodeJointCommands> m_jointCommands;
+  PfxNodeAutosave m_autosave;  // ~autosave_period, ~autosave_file, ~resume
 };
 
 }  // namespace pfx
