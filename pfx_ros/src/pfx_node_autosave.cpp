@@ -43,8 +43,9 @@ bool PfxNodeAutosave::configure(const ros::NodeHandle& nh, std::string* message)
   } else if (m_resume && m_file.empty()) {
     invalid = "~resume is set but ~autosave_file is not: there is nothing to resume from";
   } else if (m_resume && (nh.hasParam("cables") || nh.hasParam("cloths"))) {
-    invalid = "~resume cannot be used with ~cables or ~cloths yet: the saved world holds them "
-              "and they would be added a second time";
+    invalid =
+        "~resume cannot be used with ~cables or ~cloths yet: the saved world holds them "
+        "and they would be added a second time";
   }
   if (invalid) {
     *message = invalid;
@@ -96,7 +97,8 @@ void PfxNodeAutosave::afterStep(const PfxNodeSimulation& simulation) {
   m_lastSaveTime = time;
   std::string why;
   if (!save(simulation, &why)) {
-    ROS_ERROR_THROTTLE(10.0, "pfx_node: autosave at t = %.3f s failed, %s keeps the save before: %s",
+    ROS_ERROR_THROTTLE(10.0,
+                       "pfx_node: autosave at t = %.3f s failed, %s keeps the save before: %s",
                        time, m_file.c_str(), why.c_str());
   }
 }

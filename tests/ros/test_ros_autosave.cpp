@@ -33,8 +33,8 @@ std::string privateParam(const std::string& ns, const std::string& name) {
 }
 
 // The node's private parameters: those of an earlier start are deleted first.
-void setAutosaveParams(const std::string& ns, double period, const std::string& file,
-                       bool resume, bool paused) {
+void setAutosaveParams(const std::string& ns, double period, const std::string& file, bool resume,
+                       bool paused) {
   ros::param::set(ns + "/robot_description",
                   pfx_test::readText(std::string(PFX_SOURCE_DIR) + "/urdf/ragdoll.urdf"));
   ros::param::del(ns + "/pfx_node");

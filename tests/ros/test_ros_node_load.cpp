@@ -9,13 +9,16 @@
 // bad request gets success false and its reason, every good one success true, and the
 // node's resident memory stays flat. Figures (calls per second, the real-time factor the
 // node reached, RSS at start and end) go to the test's output and to ~report_file.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/master.h>
 #include <ros/network.h>
 #include <sensor_msgs/JointState.h>
+#include <std_msgs/Float64.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_msgs/TFMessage.h>
-#include <diagnostic_msgs/DiagnosticArray.h>
+#include <trajectory_msgs/JointTrajectory.h>
+#include <unistd.h>
 #include <visualization_msgs/MarkerArray.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
@@ -45,10 +48,10 @@
 namespace {
 
 pfx_test::RosClient* client = nullptr;  // made in main, once: it spins the callbacks
-double loadSeconds = 10;     // ~load_seconds: the paused phase, driven by ~step
-double runningSeconds = 6;   // ~running_seconds: the running phase, real-time factor 1
-int numClients = 4;          // ~clients: threads calling the services
-std::string reportFile;      // ~report_file: where the figures go too (none: output only)
+double loadSeconds = 10;                // ~load_seconds: the paused phase, driven by ~step
+double runningSeconds = 6;              // ~running_seconds: the running phase, real-time factor 1
+int numClients = 4;                     // ~clients: threads calling the services
+std::string reportFile;  // ~report_file: where the figures go too (none: output only)
 const double kNan = std::numeric_limits<double>::quiet_NaN();
 // The RSS the node may gain between the first second of load and the end: buffers that
 // grow to the largest request have grown by then, so what comes after is a leak.
@@ -131,6 +134,21 @@ double rssMb(int pid) {
   return -1;
 }
 
+// Processor seconds (user and system) a process has used so far, from /proc.
+double cpuSeconds(int pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  // The fields after the command's name, which ends with the last ')'.
+  std::istringstream fields(text.substr(text.rfind(')') + 2));
+  std::string field;
+  double utime = 0, stime = 0;
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i == 14) utime = std::stod(field);
+    if (i == 15) stime = std::stod(field);
+  }
+  return (utime + stime) / double(::sysconf(_SC_CLK_TCK));
+}
+
 // What the load clients saw: calls answered, calls that failed (no answer), and answers
 // that were wrong (a bad request accepted, a good one refused, a refusal without its reason).
 struct Tally {
@@ -146,13 +164,29 @@ struct Tally {
 // One client: its own connections to every service, called in turn.
 class LoadClient {
  public:
-  LoadClient(const std::string& node, int index, Tally& tally)
-      : m_node(node), m_index(index), m_tally(tally) {}
+  // `node` is the node's private namespace, `robot` the namespace of its joint topics.
+  LoadClient(const std::string& node, const std::string& robot, int index, Tally& tally)
+      : m_node(node),
+        m_index(index),
+        m_tally(tally),
+        m_trajectories(
+            m_nh.advertise<trajectory_msgs::JointTrajectory>(node + "joint_trajectory", 10)),
+        m_kneeCommands(m_nh.advertise<std_msgs::Float64>(robot + "knee_l/command", 10)) {}
 
   // One request of each kind, in an order of its own; `running` says whether the node is
-  // stepping by itself (then ~step is refused as running, and ~pause is not sent).
+  // stepping by itself (then ~step is refused as running, and ~pause is not sent). Then a
+  // bad trajectory and a NaN joint command on the topics, which the node drops.
   void round(bool running) {
     for (int k = 0; k < kKinds; ++k) request((k + m_index * 5) % kKinds, running);
+    trajectory_msgs::JointTrajectory trajectory;
+    trajectory.joint_names = {"knee_l", "no_such_joint"};
+    trajectory.points.resize(1);
+    trajectory.points[0].positions = {0.5, 0.5};
+    trajectory.points[0].time_from_start = ros::Duration(0.1);
+    m_trajectories.publish(trajectory);
+    std_msgs::Float64 command;
+    command.data = kNan;
+    m_kneeCommands.publish(command);
   }
 
  private:
@@ -226,10 +260,18 @@ class LoadClient {
 
   void request(int kind, bool running) {
     switch (kind) {
-      case 0: expectAccepted("raycast", ray(0, 0, 3, 0, 0, -5)); break;
-      case 1: expectRefused("raycast", ray(kNan, 0, 3, 0, 0, -5), "origin is not finite"); break;
-      case 2: expectRefused("raycast", ray(0, 0, 3, 0, 0, 0), "zero length"); break;
-      case 3: expectAccepted("raycast_batch", batch(1000)); break;
+      case 0:
+        expectAccepted("raycast", ray(0, 0, 3, 0, 0, -5));
+        break;
+      case 1:
+        expectRefused("raycast", ray(kNan, 0, 3, 0, 0, -5), "origin is not finite");
+        break;
+      case 2:
+        expectRefused("raycast", ray(0, 0, 3, 0, 0, 0), "zero length");
+        break;
+      case 3:
+        expectAccepted("raycast_batch", batch(1000));
+        break;
       case 4: {
         // One ray beyond ~max_batch_rays: 4.8 MB that must be read and refused.
         expectRefused("raycast_batch", batch(100001), "at most 100000");
@@ -241,7 +283,9 @@ class LoadClient {
         expectRefused("raycast_batch", srv, "one of each per ray");
         break;
       }
-      case 6: expectAccepted("get_contacts", pfx::GetContacts()); break;
+      case 6:
+        expectAccepted("get_contacts", pfx::GetContacts());
+        break;
       case 7: {
         pfx::GetContacts srv;
         srv.request.link = "no_such_link";
@@ -303,15 +347,16 @@ class LoadClient {
         break;
       }
       case 16:
-        expectAccepted("save_world",
-                       worldFile("/tmp/pfx_node_load_" + std::to_string(::getpid()) + "_" +
-                                 std::to_string(m_index) + ".pfxw"));
+        expectAccepted("save_world", worldFile("/tmp/pfx_node_load_" + std::to_string(::getpid()) +
+                                               "_" + std::to_string(m_index) + ".pfxw"));
         break;
       case 17:
         expectRefused("load_world", worldFile("/nonexistent-pfx-folder/world.pfxw"),
                       "/nonexistent-pfx-folder/world.pfxw");
         break;
-      case 18: expectRefused("save_world", worldFile(""), "no path given"); break;
+      case 18:
+        expectRefused("save_world", worldFile(""), "no path given");
+        break;
       case 19: {
         pfx::SpawnAgent srv;
         srv.request.name = "9lives";  // a digit first
@@ -352,15 +397,16 @@ class LoadClient {
   Tally& m_tally;
   ros::NodeHandle m_nh;
   std::map<std::string, ros::ServiceClient> m_clients;
+  ros::Publisher m_trajectories, m_kneeCommands;
 };
 
 // Threads calling the services of `node` until stop(); `running` as LoadClient::round has it.
 class Load {
  public:
-  Load(const std::string& node, Tally& tally, bool running) {
+  Load(const std::string& node, const std::string& robot, Tally& tally, bool running) {
     for (int i = 0; i < numClients; ++i) {
-      m_threads.emplace_back([this, node, i, &tally, running] {
-        LoadClient c(node, i, tally);
+      m_threads.emplace_back([this, node, robot, i, &tally, running] {
+        LoadClient c(node, robot, i, tally);
         while (!m_stop) c.round(running);
       });
     }
@@ -430,7 +476,8 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   // Paused, driven by ~step, under load.
   Tally tally;
   const ros::WallTime start = ros::WallTime::now();
-  auto load = std::make_unique<Load>(loaded, tally, false);
+  const double cpuStart = cpuSeconds(pid);
+  auto load = std::make_unique<Load>(loaded, "/loaded/", tally, false);
   int rounds = 0;
   double loadedTime = 0, rssStart = -1;
   while ((ros::WallTime::now() - start).toSec() < loadSeconds) {
@@ -440,6 +487,8 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   load->stop();
   const double pausedWall = (ros::WallTime::now() - start).toSec();
   const long pausedCalls = tally.answered.load();
+  const double rssAfterPaused = rssMb(pid);
+  const double pausedCpu = cpuSeconds(pid) - cpuStart;
 
   // The same rounds on the quiet node.
   double quietTime = 0;
@@ -464,7 +513,8 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   // Running at real-time factor 1, under the same load.
   std_srvs::Trigger unpause;
   ASSERT_TRUE(pfx_test::call(loaded + "unpause", unpause).response.success);
-  load = std::make_unique<Load>(loaded, tally, true);
+  const double runningCpuStart = cpuSeconds(pid);
+  load = std::make_unique<Load>(loaded, "/loaded/", tally, true);
   const ros::WallTime runningStart = ros::WallTime::now();
   std::vector<double> factors;
   long lastReport = diagnostics.count();
@@ -480,6 +530,7 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   const double runningWall = (ros::WallTime::now() - runningStart).toSec();
   const long runningCalls = tally.answered.load() - pausedCalls;
   load->stop();
+  const double runningCpu = cpuSeconds(pid) - runningCpuStart;
   const double rssEnd = rssMb(pid);
 
   pfx::GetPhysics physics;
@@ -501,13 +552,16 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   figures << "clients\t" << numClients << "\n"
           << "paused_phase_wall_s\t" << pausedWall << "\n"
           << "paused_phase_calls_per_s\t" << double(pausedCalls) / pausedWall << "\n"
+          << "paused_phase_node_core_share\t" << pausedCpu / pausedWall << "\n"
           << "paused_phase_rounds\t" << rounds << "\n"
           << "paused_phase_sim_s_per_wall_s\t" << loadedTime / pausedWall << "\n"
           << "running_phase_wall_s\t" << runningWall << "\n"
           << "running_phase_calls_per_s\t" << double(runningCalls) / runningWall << "\n"
+          << "running_phase_node_core_share\t" << runningCpu / runningWall << "\n"
           << "running_real_time_factor_mean\t" << factorMean << "\n"
           << "running_real_time_factor_min\t" << factorMin << "\n"
           << "rss_start_mb\t" << rssStart << "\n"
+          << "rss_after_paused_phase_mb\t" << rssAfterPaused << "\n"
           << "rss_end_mb\t" << rssEnd << "\n";
   std::cout << figures.str();
   if (!reportFile.empty()) std::ofstream(reportFile) << figures.str();
