@@ -186,8 +186,6 @@ TEST(Autosave, ResumeWithoutASavedFileStartsAfresh) {
 
 TEST(Autosave, BadValuesAndFilesAreRefusedAtStartup) {
   // A file of the ragdoll with one byte changed, and a world of another scene.
-  pfx::PfxWorld ragdoll;
-  pfx::PfxSerializedMeshes meshes;
   const std::string source = folder + "/ragdoll.pfxw";
   ASSERT_TRUE(std::ifstream(source).good()) << "the crash test ran first and left its save";
   std::string bytes = bytesOf(source);
@@ -208,6 +206,7 @@ TEST(Autosave, BadValuesAndFilesAreRefusedAtStartup) {
     std::string file;
     bool resume;
     std::string reason;
+    bool withCable = false;
   };
   const std::vector<Bad> bads = {
       {-0.5, folder + "/a.pfxw", false, "~autosave_period must be a finite number"},
@@ -218,11 +217,18 @@ TEST(Autosave, BadValuesAndFilesAreRefusedAtStartup) {
       {0.5, notAFolder + "/a.pfxw", false, "cannot write in the folder"},
       {0.5, damaged, true, "~resume refused: " + damaged},
       {0.5, foreign, true, "was not saved from this robot and scene"},
+      {0.5, source, true, "~resume cannot be used with ~cables or ~cloths", true},
   };
   for (std::size_t i = 0; i < bads.size(); ++i) {
     const Bad& bad = bads[i];
     const std::string ns = "/bad" + std::to_string(i);
     setAutosaveParams(ns, bad.period, bad.file, bad.resume, true);
+    if (bad.withCable) {
+      XmlRpc::XmlRpcValue cables;
+      cables[0]["name"] = std::string("hose");
+      cables[0]["start_link"] = std::string("pelvis");
+      ros::param::set(privateParam(ns, "cables"), cables);
+    }
     int status = 0;
     const std::string output = runRefusedNode(ns, status);
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124)

@@ -29,9 +29,6 @@ class PfxNodeAutosave {
   // the start, or since the clock went back under ~load_world).
   void afterStep(const PfxNodeSimulation& simulation);
 
-  const std::string& getFile() const { return m_file; }
-  double getPeriod() const { return m_period; }
-
  private:
   // Writes the world to the temporary file, flushes it and renames it over the file.
   bool save(const PfxNodeSimulation& simulation, std::string* message) const;
