@@ -223,16 +223,6 @@ class LoadClient {
     }
   }
 
-  static pfx::Raycast ray(double ox, double oy, double oz, double dx, double dy, double dz) {
-    pfx::Raycast srv;
-    srv.request.origin.x = ox;
-    srv.request.origin.y = oy;
-    srv.request.origin.z = oz;
-    srv.request.direction.x = dx;
-    srv.request.direction.y = dy;
-    srv.request.direction.z = dz;
-    return srv;
-  }
   static pfx::RaycastBatch batch(std::size_t rays) {
     pfx::RaycastBatch srv;
     srv.request.origins.resize(rays);
@@ -261,13 +251,14 @@ class LoadClient {
   void request(int kind, bool running) {
     switch (kind) {
       case 0:
-        expectAccepted("raycast", ray(0, 0, 3, 0, 0, -5));
+        expectAccepted("raycast", pfx_test::rayRequest(0, 0, 3, 0, 0, -5));
         break;
       case 1:
-        expectRefused("raycast", ray(kNan, 0, 3, 0, 0, -5), "origin is not finite");
+        expectRefused("raycast", pfx_test::rayRequest(kNan, 0, 3, 0, 0, -5),
+                      "origin is not finite");
         break;
       case 2:
-        expectRefused("raycast", ray(0, 0, 3, 0, 0, 0), "zero length");
+        expectRefused("raycast", pfx_test::rayRequest(0, 0, 3, 0, 0, 0), "zero length");
         break;
       case 3:
         expectAccepted("raycast_batch", batch(1000));
