@@ -48,8 +48,8 @@
 namespace {
 
 pfx_test::RosClient* client = nullptr;  // made in main, once: it spins the callbacks
-double loadSeconds = 10;                // ~load_seconds: the paused phase, driven by ~step
-double runningSeconds = 6;              // ~running_seconds: the running phase, real-time factor 1
+double loadSeconds = 6;                 // ~load_seconds: the paused phase, driven by ~step
+double runningSeconds = 5;              // ~running_seconds: the running phase, real-time factor 1
 int numClients = 4;                     // ~clients: threads calling the services
 std::string reportFile;  // ~report_file: where the figures go too (none: output only)
 const double kNan = std::numeric_limits<double>::quiet_NaN();
