@@ -136,6 +136,14 @@ bool PfxNode::initialize() {
   for (const std::string& warning : m_simulation.getWarnings()) {
     ROS_WARN_STREAM("pfx_node: " << warning);
   }
+  // Before the agents, cables and sensors: a saved world takes the built one's place.
+  std::string notice;
+  if (!m_autosave.configure(m_privateHandle, &why) ||
+      !m_autosave.resume(m_simulation, &why, &notice)) {
+    ROS_FATAL_STREAM("pfx_node: " << why);
+    return false;
+  }
+  if (!notice.empty()) ROS_INFO_STREAM("pfx_node: " << notice);
   ros::param::param("/use_sim_time", m_useSimTime, false);
 
   m_agents = std::make_unique<PfxNodeAgents>(m_handle, m_privateHandle, m_simulation);
@@ -209,6 +217,7 @@ PfxInt32 PfxNode::stepOnce() {
   m_diagnostics->addStep(m_simulation.getWorld().getStats());
   m_sensors->update(m_simulation, stamp());
   m_models->afterStep(stamp());
+  m_autosave.afterStep(m_simulation);
   return err;
 }
 

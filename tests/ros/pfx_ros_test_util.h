@@ -43,8 +43,7 @@ Service call(const std::string& name, Service srv) {
   return srv;
 }
 
-inline pfx::Raycast::Response raycast(const std::string& service, double x, double y, double z,
-                                      double dx, double dy, double dz) {
+inline pfx::Raycast rayRequest(double x, double y, double z, double dx, double dy, double dz) {
   pfx::Raycast srv;
   srv.request.origin.x = x;
   srv.request.origin.y = y;
@@ -52,7 +51,12 @@ inline pfx::Raycast::Response raycast(const std::string& service, double x, doub
   srv.request.direction.x = dx;
   srv.request.direction.y = dy;
   srv.request.direction.z = dz;
-  return call(service, srv).response;
+  return srv;
+}
+
+inline pfx::Raycast::Response raycast(const std::string& service, double x, double y, double z,
+                                      double dx, double dy, double dz) {
+  return call(service, rayRequest(x, y, z, dx, dy, dz)).response;
 }
 
 inline bool waitForServices(const std::vector<std::string>& names, double wallSeconds) {

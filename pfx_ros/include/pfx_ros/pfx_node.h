@@ -11,6 +11,7 @@
 #include <string>
 
 #include "pfx_ros/pfx_node_agents.h"
+#include "pfx_ros/pfx_node_autosave.h"
 #include "pfx_ros/pfx_node_cable_params.h"
 #include "pfx_ros/pfx_node_diagnostics.h"
 #include "pfx_ros/pfx_node_joint_commands.h"
@@ -90,6 +91,7 @@ class PfxNode {
   std::unique_ptr<PfxNodeJointCommands> m_jointCommands;
   std::unique_ptr<PfxNodeModels> m_models;
   std::unique_ptr<PfxNodeLinkStates> m_linkStates;
+  PfxNodeAutosave m_autosave;  // ~autosave_period, ~autosave_file, ~resume
 };
 
 }  // namespace pfx
