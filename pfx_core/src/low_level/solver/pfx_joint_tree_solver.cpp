@@ -17,9 +17,21 @@ constexpr PfxInt32 kChosen = -2;
 
 constexpr PfxUInt32 kTreesPerTask = 8;
 
-bool isLockedRow(const PfxJointConstraint& c) {
-  return c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
-}
+// Room for the bounded rows' velocity changes in the work buffer, per joint pair: three
+// rows on a tree of 24 bodies each (a ragdoll's ball joints have three limit rows, a URDF
+// humanoid has about 20 links). Rows past it solve their tree at each update.
+constexpr std::size_t kBoundedRowsPerJoint = 3;
+constexpr std::size_t kBodiesPerTreeWithRoom = 24;
+constexpr std::size_t kVelocityChangesPerJoint = kBoundedRowsPerJoint * kBodiesPerTreeWithRoom * 6;
+
+// Per joint pair: a slot for each of its six axes' two rows.
+constexpr std::size_t kRowSlotsPerJoint = 12;
+
+// When the locked axes take nearly the whole impulse of a row (it is almost one of
+// theirs), scaling the impulse up to the tree's response would only amplify rounding:
+// below this fraction of the two bodies' response, the row's impulse is sized by the two
+// bodies' response and the tree takes most of it.
+constexpr double kSmallestRelativeResponse = 1e-4;
 
 }  // namespace
 
@@ -31,6 +43,17 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxUInt8 numRows;
   PfxUInt32 treeBegin;  // the nodes of this node's tree
   PfxUInt32 treeEnd;
+};
+
+// A bounded row of a joint in the forest, prepared by prepareBoundedRows().
+struct PfxJointTreeSolver::BoundedRow {
+  PfxUInt32 jointPair;
+  PfxUInt32 tree;
+  PfxUInt8 axis;
+  PfxUInt8 drive;  // m_driveRow, else m_constraintRow
+  bool hasRoom;    // its velocity changes are kept, from velocityChanges on
+  std::size_t velocityChanges;
+  PfxFloat response;  // the row's own velocity change per unit impulse
 };
 
 PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
@@ -53,6 +76,8 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   m_numNodes = 0;
   m_numTrees = 0;
   m_bodyNode = nullptr;
+  m_boundedRowSlot = nullptr;
+  m_numJointPairs = numJointPairs;
   m_numRigidBodies = numRigidBodies;
   m_joints = joints;
   m_jointPairs = jointPairs;
@@ -237,9 +262,189 @@ void PfxJointTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
 }
 void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
-void PfxJointTreeSolver::solveVelocitiesOfTree(PfxUInt32 jointPairIndex) {
-  const Node& node = m_nodes[m_jointNode[jointPairIndex]];
-  solveTree(false, node.treeBegin, node.treeEnd);
+PfxUInt32 PfxJointTreeSolver::getBoundedRowWorkBytes(PfxUInt32 numRigidBodies,
+                                                     PfxUInt32 numJointPairs) {
+  const std::size_t slots = kRowSlotsPerJoint * numJointPairs;
+  const std::size_t bytes =
+      PfxWorkCarver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) * slots) +
+      PfxWorkCarver::bytesFor(alignof(BoundedRow), sizeof(BoundedRow) * slots) +
+      PfxWorkCarver::bytesFor(alignof(double), sizeof(double) * slots) +
+      PfxWorkCarver::bytesFor(alignof(PfxUInt32),
+                              sizeof(PfxUInt32) * (3 * std::size_t(numRigidBodies) + 3)) +
+      PfxWorkCarver::bytesFor(alignof(PfxFloat),
+                              sizeof(PfxFloat) * kVelocityChangesPerJoint * numJointPairs);
+  return static_cast<PfxUInt32>(bytes);
+}
+
+bool PfxJointTreeSolver::prepareBoundedRows(void* workBuff, PfxUInt32 workBytes,
+                                            PfxTaskManager* taskManager) {
+  m_boundedRowSlot = nullptr;
+  if (m_numNodes == 0) return true;
+  PfxWorkCarver carver(workBuff, workBytes);
+  const std::size_t slots = kRowSlotsPerJoint * m_numJointPairs;
+  PfxInt32* rowSlot = carver.take<PfxInt32>(slots);
+  m_boundedRows = carver.take<BoundedRow>(slots);
+  m_rowImpulseSums = carver.take<double>(slots);
+  m_treeRowStarts = carver.take<PfxUInt32>(std::size_t(m_numTrees) + 1);
+  m_treeBodyStarts = carver.take<PfxUInt32>(std::size_t(m_numTrees) + 1);
+  m_treeBodies = carver.take<PfxUInt32>(m_numRigidBodies);
+  const std::size_t room = kVelocityChangesPerJoint * m_numJointPairs;
+  m_rowVelocityChanges = carver.take<PfxFloat>(room);
+  if (!rowSlot || !m_boundedRows || !m_rowImpulseSums || !m_treeRowStarts ||
+      !m_treeBodyStarts || !m_treeBodies || !m_rowVelocityChanges) {
+    return false;
+  }
+  for (std::size_t i = 0; i < slots; ++i) rowSlot[i] = -1;
+  PfxUInt32 numBodies = 0, numRows = 0;
+  std::size_t used = 0;
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) {
+    m_treeBodyStarts[t] = numBodies;
+    for (PfxUInt32 n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) {
+      if (m_nodes[n].body >= 0) m_treeBodies[numBodies++] = PfxUInt32(m_nodes[n].body);
+    }
+    const std::size_t changesPerRow = 6 * std::size_t(numBodies - m_treeBodyStarts[t]);
+    m_treeRowStarts[t] = numRows;
+    for (PfxUInt32 n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) {
+      const Node& node = m_nodes[n];
+      if (node.jointPair < 0) continue;
+      const PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
+      for (PfxUInt8 axis = 0; axis < 6; ++axis) {
+        const PfxJointConstraint& c = joint.m_constraints[axis];
+        for (PfxUInt8 drive = 0; drive < 2; ++drive) {
+          const bool iterated = drive ? c.m_driveRowUsed != 0
+                                      : c.m_rowType != kPfxJointRowNone && !isLockedRow(c);
+          const PfxConstraintRow& row = drive ? c.m_driveRow : c.m_constraintRow;
+          if (!iterated || row.m_jacDiagInv <= 0) continue;
+          const bool hasRoom = used + changesPerRow <= room;
+          m_boundedRows[numRows] = {PfxUInt32(node.jointPair), t, axis, drive, hasRoom, used, 0};
+          if (hasRoom) used += changesPerRow;
+          m_rowImpulseSums[numRows] = 0;
+          rowSlot[(std::size_t(node.jointPair) * 6 + axis) * 2 + drive] = PfxInt32(numRows++);
+        }
+      }
+    }
+  }
+  m_treeBodyStarts[m_numTrees] = numBodies;
+  m_treeRowStarts[m_numTrees] = numRows;
+  m_boundedRowSlot = rowSlot;
+
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) {
+      for (PfxUInt32 r = m_treeRowStarts[t]; r < m_treeRowStarts[t + 1]; ++r) {
+        const BoundedRow& boundedRow = m_boundedRows[r];
+        solveTreeForRowImpulses(t, r, r + 1, nullptr);
+        // The row's own velocity change per unit impulse.
+        const PfxJointRowJacobian j = boundedRowJacobian(boundedRow);
+        const PfxConstraintPair& pair = m_jointPairs[boundedRow.jointPair];
+        double response = 0;
+        for (const bool isA : {true, false}) {
+          const PfxInt32 n = m_bodyNode[isA ? pfxGetObjectIdA(pair) : pfxGetObjectIdB(pair)];
+          if (n < 0) continue;
+          const PfxTreeVector& change = m_nodes[n].value;
+          response += (isA ? j.linearA : j.linearB).cast<double>().dot(change.head<3>()) +
+                      (isA ? j.angularA : j.angularB).cast<double>().dot(change.tail<3>());
+        }
+        const PfxJointConstraint& c =
+            m_joints[pfxGetConstraintId(pair)].m_constraints[boundedRow.axis];
+        const PfxConstraintRow& row = boundedRow.drive ? c.m_driveRow : c.m_constraintRow;
+        const double twoBodyResponse = double(c.m_weight) / double(row.m_jacDiagInv);
+        m_boundedRows[r].response = static_cast<PfxFloat>(
+            response > kSmallestRelativeResponse * twoBodyResponse ? response
+                                                                   : twoBodyResponse);
+        if (!boundedRow.hasRoom) continue;
+        PfxFloat* changes = m_rowVelocityChanges + boundedRow.velocityChanges;
+        for (PfxUInt32 k = m_treeBodyStarts[t]; k < m_treeBodyStarts[t + 1]; ++k, changes += 6) {
+          const PfxTreeVector& change = m_nodes[m_bodyNode[m_treeBodies[k]]].value;
+          for (int i = 0; i < 6; ++i) changes[i] = static_cast<PfxFloat>(change[i]);
+        }
+      }
+    }
+  });
+  return true;
+}
+
+PfxJointRowJacobian PfxJointTreeSolver::boundedRowJacobian(const BoundedRow& row) const {
+  const PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[row.jointPair])];
+  const PfxJointConstraint& c = joint.m_constraints[row.axis];
+  return pfxJointRowJacobian(joint, row.axis,
+                             (row.drive ? c.m_driveRow : c.m_constraintRow).m_normal);
+}
+
+void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 firstRow,
+                                                 PfxUInt32 lastRow, const double* impulses) {
+  const std::size_t begin = m_treeStarts[tree], end = m_treeStarts[tree + 1];
+  for (std::size_t n = begin; n < end; ++n) m_nodes[n].value.setZero();
+  for (PfxUInt32 r = firstRow; r < lastRow; ++r) {
+    const double impulse = impulses ? impulses[r] : 1.0;
+    if (impulse == 0) continue;
+    const PfxJointRowJacobian j = boundedRowJacobian(m_boundedRows[r]);
+    const PfxConstraintPair& pair = m_jointPairs[m_boundedRows[r].jointPair];
+    // A body of a joint in the forest has a node exactly when it moves.
+    if (const PfxInt32 a = m_bodyNode[pfxGetObjectIdA(pair)]; a >= 0) {
+      m_nodes[a].value.head<3>() += impulse * j.linearA.cast<double>();
+      m_nodes[a].value.tail<3>() += impulse * j.angularA.cast<double>();
+    }
+    if (const PfxInt32 b = m_bodyNode[pfxGetObjectIdB(pair)]; b >= 0) {
+      m_nodes[b].value.head<3>() += impulse * j.linearB.cast<double>();
+      m_nodes[b].value.tail<3>() += impulse * j.angularB.cast<double>();
+    }
+  }
+  pfxSolveBlockTree(m_nodes, begin, end);
+}
+
+PfxFloat PfxJointTreeSolver::getBoundedRowResponse(PfxInt32 slot) const {
+  return m_boundedRows[slot].response;
+}
+
+void PfxJointTreeSolver::applyBoundedRowImpulse(PfxInt32 slot, PfxFloat impulse) {
+  const BoundedRow& row = m_boundedRows[slot];
+  if (!row.hasRoom) {
+    // The two bodies take the impulse, and the tree solve spreads it (and adds the locked
+    // rows' share to their impulses).
+    const PfxConstraintPair& pair = m_jointPairs[row.jointPair];
+    pfxApplyJointRowImpulse(boundedRowJacobian(row), impulse,
+                            m_solverBodies[pfxGetObjectIdA(pair)], pfxGetReceivesA(pair) ? 1 : 0,
+                            m_solverBodies[pfxGetObjectIdB(pair)], pfxGetReceivesB(pair) ? 1 : 0,
+                            &PfxSolverBody::m_deltaLinearVelocity,
+                            &PfxSolverBody::m_deltaAngularVelocity);
+    solveTree(false, m_treeStarts[row.tree], m_treeStarts[row.tree + 1]);
+    return;
+  }
+  const PfxFloat* changes = m_rowVelocityChanges + row.velocityChanges;
+  for (PfxUInt32 k = m_treeBodyStarts[row.tree]; k < m_treeBodyStarts[row.tree + 1];
+       ++k, changes += 6) {
+    PfxSolverBody& body = m_solverBodies[m_treeBodies[k]];
+    body.m_deltaLinearVelocity += impulse * PfxVector3(changes[0], changes[1], changes[2]);
+    body.m_deltaAngularVelocity += impulse * PfxVector3(changes[3], changes[4], changes[5]);
+  }
+  m_rowImpulseSums[slot] += impulse;
+}
+
+void PfxJointTreeSolver::solveVelocitiesOfBoundedTrees(PfxTaskManager* taskManager) {
+  if (!m_boundedRowSlot) return;
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) {
+      if (m_treeRowStarts[t] == m_treeRowStarts[t + 1]) continue;
+      solveTree(false, m_treeStarts[t], m_treeStarts[t + 1]);
+    }
+  });
+}
+
+void PfxJointTreeSolver::addLockedImpulsesOfBoundedRows(PfxTaskManager* taskManager) {
+  if (!m_boundedRowSlot) return;
+  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+    for (PfxUInt32 t = first; t < last; ++t) {
+      bool applied = false;
+      for (PfxUInt32 r = m_treeRowStarts[t]; r < m_treeRowStarts[t + 1]; ++r) {
+        applied = applied || m_rowImpulseSums[r] != 0;
+      }
+      if (!applied) continue;
+      solveTreeForRowImpulses(t, m_treeRowStarts[t], m_treeRowStarts[t + 1], m_rowImpulseSums);
+      for (std::size_t n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) {
+        addLockedRowImpulses(m_nodes[n], false);
+      }
+    }
+  });
 }
 
 PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
@@ -293,15 +498,20 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
       sb.*angular += node.value.tail<3>().cast<PfxFloat>();
       continue;
     }
-    PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
-    for (PfxUInt8 row = 0; row < node.numRows; ++row) {
-      PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
-      const PfxFloat impulse = static_cast<PfxFloat>(-node.value[row]);
-      if (push) {
-        c.m_pushImpulse += impulse;
-      } else {
-        c.m_constraintRow.m_accumImpulse += impulse;
-      }
+    addLockedRowImpulses(node, push);
+  }
+}
+
+void PfxJointTreeSolver::addLockedRowImpulses(const Node& node, bool push) {
+  if (node.body >= 0) return;
+  PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
+  for (PfxUInt8 row = 0; row < node.numRows; ++row) {
+    PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
+    const PfxFloat impulse = static_cast<PfxFloat>(-node.value[row]);
+    if (push) {
+      c.m_pushImpulse += impulse;
+    } else {
+      c.m_constraintRow.m_accumImpulse += impulse;
     }
   }
 }

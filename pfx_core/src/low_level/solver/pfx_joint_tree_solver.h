@@ -6,7 +6,7 @@
 // mass ratios: a 1000:1 payload on a light chain stays put, which iterating one row at a
 // time cannot do in a few iterations. Joints that close a loop are left to the iterative
 // solver; rows that are one-sided (limits) or bounded (drives, friction) are iterated, but
-// each update asks this solver how the whole tree answers it (solveVelocitiesOfTree).
+// each update moves the whole tree as the tree answers it (prepareBoundedRows).
 
 #pragma once
 
@@ -14,6 +14,7 @@
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_task_manager.h"
+#include "low_level/solver/pfx_joint_row.h"
 
 namespace pfx {
 
@@ -31,6 +32,40 @@ class PfxJointTreeSolver {
   bool contains(PfxUInt32 jointPairIndex) const {
     return m_jointNode && m_jointNode[jointPairIndex] >= 0;
   }
+  // Whether an axis is locked, and so solved here when its joint is in the forest.
+  static bool isLockedRow(const PfxJointConstraint& c) {
+    return c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
+  }
+
+  // The bounded rows (limits, drives, friction, damping) of the joints in the forest.
+  // An impulse on one moves the whole tree, as the locked axes hold it together, so its
+  // effective mass is the tree's, not that of its two bodies. That answer is linear and
+  // fixed for the solve: prepareBoundedRows() solves the tree once per row for a unit
+  // impulse and keeps the velocity change of every body of the tree, so that an update
+  // during the iterations is one scaled addition over the tree's bodies instead of a tree
+  // solve. Rows beyond the work buffer's share (trees far larger than robots) give the
+  // impulse to their two bodies and solve the tree at each update.
+  static PfxUInt32 getBoundedRowWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs);
+  // After build(), once the rows are set up.
+  bool prepareBoundedRows(void* workBuff, PfxUInt32 workBytes,
+                          PfxTaskManager* taskManager = nullptr);
+  // The row's slot for applyBoundedRowImpulse, or -1 for a row not prepared (unused, or
+  // moving no body). `drive` picks m_driveRow over m_constraintRow.
+  PfxInt32 getBoundedRow(PfxUInt32 jointPairIndex, PfxUInt32 axis, bool drive) const {
+    return m_boundedRowSlot ? m_boundedRowSlot[(jointPairIndex * 6 + axis) * 2 + (drive ? 1 : 0)]
+                            : -1;
+  }
+  // The row's velocity change per unit impulse, its tree's locked axes held.
+  PfxFloat getBoundedRowResponse(PfxInt32 slot) const;
+  // Moves the row's tree as it answers `impulse` on the row, its locked axes held.
+  void applyBoundedRowImpulse(PfxInt32 slot, PfxFloat impulse);
+  // solveVelocities() for the trees with bounded rows: a row reads its velocity where the
+  // locked axes hold, and contacts since the last solve may have upset them.
+  void solveVelocitiesOfBoundedTrees(PfxTaskManager* taskManager = nullptr);
+  // The locked axes' share of the bounded rows' impulses, which applyBoundedRowImpulse
+  // moves the bodies by but does not add to the locked rows' impulses: one tree solve for
+  // all the updates of the solve, once they are done.
+  void addLockedImpulsesOfBoundedRows(PfxTaskManager* taskManager = nullptr);
 
   // Adds to the rows' impulses and the bodies' velocity changes what makes every locked
   // axis move at its target velocity (m_rhs). Trees are solved in parallel with a task
@@ -38,18 +73,24 @@ class PfxJointTreeSolver {
   void solveVelocities(PfxTaskManager* taskManager = nullptr);
   // The same for the push velocities and the rows' position corrections (m_pushRhs).
   void solvePush(PfxTaskManager* taskManager = nullptr);
-  // solveVelocities() for the one tree that holds the i-th joint pair (contained), after
-  // an impulse on that tree: its cost is the tree's size, not the forest's.
-  void solveVelocitiesOfTree(PfxUInt32 jointPairIndex);
   // One body of the tree that holds body `rigidBodyId`, the same for every body of that
-  // tree, or -1 for a body in no tree: a joint row that asks its tree how it answers
-  // (solveVelocitiesOfTree) touches every body of the tree.
+  // tree, or -1 for a body in no tree: a joint row that moves its tree
+  // (applyBoundedRowImpulse) touches every body of the tree.
   PfxInt32 getTreeBody(PfxUInt32 rigidBodyId) const;
 
  private:
   struct Node;
+  struct BoundedRow;
   void solve(bool push, PfxTaskManager* taskManager);
   void solveTree(bool push, std::size_t begin, std::size_t end);
+  // Adds a joint node's negated multipliers to its locked rows' impulses.
+  void addLockedRowImpulses(const Node& node, bool push);
+  PfxJointRowJacobian boundedRowJacobian(const BoundedRow& row) const;
+  // Solves tree t with the generalized impulse of each row of [firstRow, lastRow), times
+  // `impulses` (1 when null), on its bodies and no velocity error: the bodies' values are
+  // the velocity change, the joints' the locked rows' negated impulses.
+  void solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 firstRow, PfxUInt32 lastRow,
+                               const double* impulses);
 
   Node* m_nodes = nullptr;  // breadth first: parents before children, tree after tree
   PfxInt32* m_jointNode = nullptr;
@@ -58,9 +99,20 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numTrees = 0;
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxUInt32 m_numRigidBodies = 0;
+  PfxUInt32 m_numJointPairs = 0;
   PfxJoint* m_joints = nullptr;
   const PfxConstraintPair* m_jointPairs = nullptr;
   PfxSolverBody* m_solverBodies = nullptr;
+
+  // prepareBoundedRows(): the rows tree by tree, each tree's bodies, and for each row with
+  // room the velocity change of those bodies per unit impulse (6 numbers a body).
+  PfxInt32* m_boundedRowSlot = nullptr;  // 12 per joint pair: (pair * 6 + axis) * 2 + drive
+  BoundedRow* m_boundedRows = nullptr;
+  PfxUInt32* m_treeRowStarts = nullptr;   // per tree, then the number of rows
+  PfxUInt32* m_treeBodyStarts = nullptr;  // per tree, into m_treeBodies
+  PfxUInt32* m_treeBodies = nullptr;
+  PfxFloat* m_rowVelocityChanges = nullptr;
+  double* m_rowImpulseSums = nullptr;  // per row: the impulses applied with its changes
 };
 
 }  // namespace pfx

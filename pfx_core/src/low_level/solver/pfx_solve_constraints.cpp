@@ -194,7 +194,8 @@ void applyRestitution(PfxContactManifold& manifold, const PairBodies& p, PfxFloa
 void warmStartJoint(PfxJoint& joint, const PairBodies& p) {
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
-    // The tree is factored anew for every solve.
+    // The tree is factored anew for every solve; a row takes its tree's response again
+    // at its first update sized by it (solveTreeJointRow).
     c.m_treeResponse[0] = c.m_treeResponse[1] = 0;
     for (const PfxConstraintRow* row : {&c.m_constraintRow, &c.m_driveRow}) {
       if (row->m_accumImpulse == 0) continue;
@@ -206,52 +207,32 @@ void warmStartJoint(PfxJoint& joint, const PairBodies& p) {
   }
 }
 
-// The smallest velocity change (m/s or rad/s) from which a tree joint row's response is
-// measured: 1 mm/s in float, scaled by the precision's epsilon, since what it guards against
-// is rounding. In double the same 1 mm/s left the rows of a resting ragdoll unmeasured
-// (moved as two-body rows), and it did not come to rest in 10 s.
-constexpr PfxFloat kMinResponseProbe =
+// The smallest change (m/s or rad/s) of a tree joint row's velocity, as its two bodies
+// alone would answer the update, for which the update is sized by the tree's response:
+// 1 mm/s in float, scaled by the precision's epsilon. Smaller updates, those of limit,
+// drive and friction rows that are nearly met, are sized by the two bodies' response, a
+// fraction of what the tree would want: a ragdoll at rest at dt 1/30, its limit rows
+// holding its limbs, twitched at 3 mm/s now and then when those rows took their full
+// updates. (In double the same 1 mm/s left too many rows of that ragdoll under-relaxed,
+// and it did not come to rest in 10 s.)
+constexpr PfxFloat kMinTreeSizedUpdate =
     PfxFloat(1e-3 * (double(std::numeric_limits<PfxFloat>::epsilon()) /
                      double(std::numeric_limits<float>::epsilon())));
 
-// The velocity change (m/s or rad/s), as the row's two bodies alone would answer it, of the
-// impulse from which a damping row of a tree joint measures its response when its own
-// update is smaller than kMinResponseProbe. The tree may answer a thousand times less than
-// the two bodies (an arm on a hinge against its ball alone), and the change must still stand
-// well above the rounding of the tree's velocities: 1 mm/s against 4e-8 m/s in float at
-// dt 1/30.
-constexpr PfxFloat kDampingProbe = PfxFloat(1);
-
-// A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest.
-// An impulse on it moves the whole tree, as the locked axes hold it together, so the row's
-// effective mass is the tree's, not that of its two bodies: a motor at an arm's shoulder
-// carries the arm. The response is linear, so it is measured once per solve: the impulse
-// the two bodies alone would want is applied and the tree answers; then the impulse is made
-// what the measured response wants, and the tree answers the difference. Later iterations
-// reuse the response (`response`, 0 until measured). Either way the update changes the
-// velocities of every body of the tree, not only the joint's two.
-// `treeHeld` says whether the tree's locked axes hold the current velocities: the response
-// is measured from such velocities, and contacts and other joints since the tree's last
-// direct solve may have upset them.
+// A bounded row (limit, drive, friction, damping) of a joint in the direct solve's forest:
+// its impulse is sized by the tree's response (the row's velocity change per unit impulse
+// with the tree's locked axes held) and moves the whole tree, so a motor at an arm's
+// shoulder carries the arm in one update. A row sized so once keeps that for the rest of
+// the solve (`response`, 0 until then). The row reads its velocity where the locked axes
+// hold (solveVelocitiesOfBoundedTrees before the sweep), and the updates of the tree's rows
+// keep them held.
 void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJointConstraint& c,
                        bool dampingOnly, const PfxJoint& joint, PfxUInt32 axis,
-                       const PairBodies& p, PfxJointTreeSolver& tree, PfxUInt32 jointPairIndex,
-                       bool& treeHeld) {
-  if (row.m_jacDiagInv <= 0) return;
+                       const PairBodies& p, PfxJointTreeSolver& tree, PfxInt32 slot) {
   const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, row.m_normal);
-  const auto velocity = [&] {
-    return pfxJointRowVelocity(j, p.a.m_deltaLinearVelocity, p.a.m_deltaAngularVelocity,
-                               p.b.m_deltaLinearVelocity, p.b.m_deltaAngularVelocity);
-  };
-  const auto apply = [&](PfxFloat impulse) {
-    pfxApplyJointRowImpulse(j, impulse, p.a, p.receivesA, p.b, p.receivesB,
-                            &PfxSolverBody::m_deltaLinearVelocity,
-                            &PfxSolverBody::m_deltaAngularVelocity);
-    tree.solveVelocitiesOfTree(jointPairIndex);
-  };
-  if (!treeHeld) tree.solveVelocitiesOfTree(jointPairIndex);
-  treeHeld = true;
-  const PfxFloat before = velocity();
+  const PfxFloat before =
+      pfxJointRowVelocity(j, p.a.m_deltaLinearVelocity, p.a.m_deltaAngularVelocity,
+                          p.b.m_deltaLinearVelocity, p.b.m_deltaAngularVelocity);
   const PfxFloat previous = row.m_accumImpulse;
   // The accumulated impulse wanted, given the row velocity per unit impulse.
   const auto wanted = [&](PfxFloat velocityPerImpulse) {
@@ -269,44 +250,22 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
     return std::clamp(previous + c.m_weight * missing / velocityPerImpulse, row.m_lowerLimit,
                       row.m_upperLimit);
   };
+  PfxFloat impulse;
   if (response > 0) {
-    const PfxFloat impulse = wanted(response);
-    if (impulse != previous) apply(impulse - previous);
-    row.m_accumImpulse = impulse;
-    return;
-  }
-  const PfxFloat twoBodyResponse = c.m_weight / row.m_jacDiagInv;
-  const PfxFloat trial = wanted(twoBodyResponse) - previous;
-  if (trial == 0) return;
-  // A trial that changes the row's velocity by less than kMinResponseProbe measures the
-  // rounding of the tree's velocities (its bodies move at g dt, 0.3 m/s at dt 1/30, within
-  // the solve) more than the response: a limit row holding a resting limb made such trials
-  // every step, now and then read a response a hundred times too small and kicked the
-  // limb at 3 cm/s, so a ragdoll at dt 1/30 twitched for ever. Such a limit, drive or
-  // friction row is nearly met, and stays unmeasured, moved like a two-body row, until a
-  // later iteration makes a larger trial.
-  // A damping row's trial is the damping fraction of the row's velocity, 1 - exp(-c h / I)
-  // for a viscous coefficient c, so at a small step h it stays small however fast the
-  // joint turns (0.5 mrad/s for an arm turning at 1 rad/s at dt 1/1000), and moved like a
-  // two-body row it lost the damping: its two bodies answer the impulse a thousand times
-  // more than the arm, so the impulse was a thousandth of the damping's. It measures the
-  // response from a probe of kDampingProbe instead, taken back with its update.
-  PfxFloat probe = trial;
-  if (std::abs(trial) * twoBodyResponse < kMinResponseProbe) {
-    if (!dampingOnly) {
-      apply(trial);
-      row.m_accumImpulse = previous + trial;
-      return;
+    impulse = wanted(response);
+  } else {
+    // A damping row's update is its damping fraction of the row's velocity, 1 - exp(-c h /
+    // I) for a viscous coefficient c, small at small steps however fast the joint turns
+    // (0.5 mrad/s for an arm turning at 1 rad/s at dt 1/1000): sized by the two bodies, it
+    // would lose nearly all the damping, as they answer a thousand times more than the arm.
+    const PfxFloat twoBodyResponse = c.m_weight / row.m_jacDiagInv;
+    impulse = wanted(twoBodyResponse);
+    if (dampingOnly || std::abs(impulse - previous) * twoBodyResponse >= kMinTreeSizedUpdate) {
+      response = tree.getBoundedRowResponse(slot);
+      impulse = wanted(response);
     }
-    probe = std::copysign(kDampingProbe / twoBodyResponse, trial);
   }
-  apply(probe);
-  const PfxFloat measured = (velocity() - before) / probe;
-  // When the locked axes take nearly the whole impulse (the row is almost one of theirs),
-  // scaling it up would only amplify rounding: the row stays a two-body row.
-  response = measured > PfxFloat(1e-4) * twoBodyResponse ? measured : twoBodyResponse;
-  const PfxFloat impulse = wanted(response);
-  if (impulse != previous + probe) apply(impulse - (previous + probe));
+  if (impulse != previous) tree.applyBoundedRowImpulse(slot, impulse - previous);
   row.m_accumImpulse = impulse;
 }
 
@@ -316,20 +275,22 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
 void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
                 PfxUInt32 jointPairIndex) {
   const bool inTree = tree.contains(jointPairIndex);
-  bool treeHeld = false;
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
-    const bool direct = inTree && c.m_rowType == kPfxJointRowEquality && c.m_weight == 1;
+    const bool direct = inTree && PfxJointTreeSolver::isLockedRow(c);
     for (int which = 0; which < 2; ++which) {
       const bool drive = which == 1;
       PfxConstraintRow& row = drive ? c.m_driveRow : c.m_constraintRow;
       const bool used = drive ? c.m_driveRowUsed != 0 : c.m_rowType != kPfxJointRowNone && !direct;
       if (!used) continue;
       if (inTree) {
+        // Rows that move neither body have no slot.
+        const PfxInt32 slot = tree.getBoundedRow(jointPairIndex, axis, drive);
+        if (slot < 0) continue;
         const bool dampingOnly = drive && !pfxDriveHasTarget(c.m_drive) &&
                                  c.m_friction <= 0 && c.m_damping > 0;
         solveTreeJointRow(row, c.m_treeResponse[which], c, dampingOnly, joint, axis, p, tree,
-                          jointPairIndex, treeHeld);
+                          slot);
       } else {
         pfxSolveJointRow(row, joint, axis, p.a, p.receivesA, p.b, p.receivesB);
       }
@@ -339,10 +300,11 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
 
 constexpr PfxUInt32 kBodiesPerTask = 512;
 
-// The work buffer: the joints' forest, the contacts' forest, the bodies' batch words, then
+// The work buffer: the joints' forest and its bounded rows, the contacts' forest, the bodies' batch words, then
 // the batches of contacts and of joints.
 struct SolverWorkLayout {
   PfxUInt32 jointTreeBytes = 0;
+  PfxUInt32 boundedRowBytes = 0;
   PfxUInt32 contactTreeBytes = 0;
   std::size_t bodyBatchBytes = 0;
   std::size_t contactBatchBytes = 0;
@@ -351,6 +313,7 @@ struct SolverWorkLayout {
   SolverWorkLayout(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs, PfxUInt32 numJointPairs) {
     if (numJointPairs > 0) {
       jointTreeBytes = PfxJointTreeSolver::getWorkBytes(numRigidBodies, numJointPairs);
+      boundedRowBytes = PfxJointTreeSolver::getBoundedRowWorkBytes(numRigidBodies, numJointPairs);
     }
     if (numContactPairs > 0) {
       contactTreeBytes = PfxContactTreeSolver::getWorkBytes(numRigidBodies, numContactPairs);
@@ -362,8 +325,8 @@ struct SolverWorkLayout {
     jointBatchBytes = PfxConstraintBatches::getWorkBytes(numJointPairs);
   }
   std::size_t total() const {
-    return std::size_t(jointTreeBytes) + contactTreeBytes + bodyBatchBytes + contactBatchBytes +
-           jointBatchBytes;
+    return std::size_t(jointTreeBytes) + boundedRowBytes + contactTreeBytes + bodyBatchBytes +
+           contactBatchBytes + jointBatchBytes;
   }
 };
 
@@ -440,6 +403,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies, taskManager);
   }
   cursor += layout.jointTreeBytes;
+  unsigned char* const boundedRowWork = cursor;
+  cursor += layout.boundedRowBytes;
   PfxContactTreeSolver contactTree;
   contactTree.build(cursor, layout.contactTreeBytes, param.contactPairs, param.numContactPairs,
                     param.jointPairs, param.numJointPairs, param.offsetContactManifolds,
@@ -523,6 +488,9 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
   } else {
     sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
     sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
+    if (param.numJointPairs > 0) {
+      tree.prepareBoundedRows(boundedRowWork, layout.boundedRowBytes, taskManager);
+    }
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
       pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
@@ -536,6 +504,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
         solveContacts(m, p);
       });
+      tree.solveVelocitiesOfBoundedTrees(taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
       });
@@ -546,6 +515,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       tree.solveVelocities(taskManager);
       if (iteration == 0) solveContactTrees();
     }
+    tree.addLockedImpulsesOfBoundedRows(taskManager);
     sweepContacts(1, [&](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
       restitution(m, p);
     });
