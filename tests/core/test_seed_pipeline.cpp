@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -312,15 +313,20 @@ TEST(SeedPipeline, WarmStartingCarriesTheImpulsesOverAndKeepsTheTowerUp) {
   const PfxFloat towerWeightOverStep = kNumBoxes * 9.80665f * kTimeStep;
   EXPECT_NEAR(groundImpulse, towerWeightOverStep, 0.02f * towerWeightOverStep);
 
-  // Without what is carried over, five iterations a frame cannot hold the tower upright:
+  // Without what is carried over, five iterations a frame hold the tower far worse:
   // neither with the impulses zeroed before the solve nor with the points' impulses not
   // handed on to this frame's points (matchDistanceSq 0, the default that once hid this).
+  // (Before the direct solve of the stack's faces held their friction too, the tower fell;
+  // now it sways by millimetres where, warm started, it stands to micrometres.)
+  const PfxFloat warmDrift = driftAfterTenSeconds({});
   const PfxFloat coldDrift = driftAfterTenSeconds({/*warmStart=*/false, /*matchContacts=*/true});
   const PfxFloat unmatchedDrift =
       driftAfterTenSeconds({/*warmStart=*/true, /*matchContacts=*/false});
   ASSERT_FALSE(HasFatalFailure());
-  EXPECT_GT(coldDrift, 20 * kStandingDrift) << "the tower without warm starting";
-  EXPECT_GT(unmatchedDrift, 20 * kStandingDrift) << "the tower without matched points";
+  std::printf("ten-box tower after 10 s: drift %.2e m warm started, %.2e m cold, %.2e m with "
+              "points unmatched\n", warmDrift, coldDrift, unmatchedDrift);
+  EXPECT_GT(coldDrift, 20 * warmDrift) << "the tower without warm starting";
+  EXPECT_GT(unmatchedDrift, 20 * warmDrift) << "the tower without matched points";
 }
 
 // A rejected call: the code, a detail that names the parameter set and the field, and not

@@ -42,6 +42,9 @@ bool touches(const PfxContactPoint& cp) {
   return cp.m_distance <= 0 || cp.m_constraintRow[0].m_accumImpulse > 0;
 }
 
+// Whether a body takes the pair's impulses and moves with them.
+bool movesWith(const PfxSolverBody& body, bool receives) { return receives && body.m_massInv > 0; }
+
 bool hasTouchingPoint(const PfxContactManifold& manifold) {
   for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
     if (touches(manifold.getContactPoint(i))) return true;
@@ -51,13 +54,23 @@ bool hasTouchingPoint(const PfxContactManifold& manifold) {
 
 }  // namespace
 
-// A body node, or a face node: up to three rows, each a weighted sum of the manifold's
-// touching points' normal rows.
+// A body node, or a face node: up to three pressure rows, each a weighted sum of the
+// manifold's touching points' normal rows, and, in the velocity solve, up to three friction
+// rows: the face's slip along its two tangents and its twist about its normal.
 struct PfxContactTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 body;       // rigid body id, or -1 for a face
   PfxInt32 pairIndex;  // contact pair index, or -1 for a body
-  PfxUInt8 numRows;
+  PfxUInt8 numRows;    // the pressure rows, then the friction rows if the solve holds them
+  PfxUInt8 numPressureRows;
+  PfxUInt8 numFrictionRows;  // 0 without friction, 2 for one point, else 3
   PfxFloat weights[3][kMaxPoints];  // row k's weight of each point (0: point left out)
+  // The face's plane, its touching points' centre (from body B's position), and the weights
+  // of the slip rows (each point's share) and of the twist row (per metre of lever).
+  PfxVector3 normal;
+  PfxVector3 tangents[2];
+  PfxVector3 centre;
+  PfxFloat slipWeight;
+  PfxFloat twistWeight;
 };
 
 PfxUInt32 PfxContactTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies,
@@ -79,9 +92,33 @@ PfxUInt32 PfxContactTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies,
 
 namespace {
 
+// A face whose touching points slip faster than this at the start of the step (m/s) is
+// sliding: its friction is Coulomb's, which the iterations give it, and solving it as if
+// it stuck, then cutting it to the points' circles, upsets the face's pressures (a box
+// sliding down a slope took 3 % less friction than Coulomb's).
+constexpr PfxFloat kSlidingSpeed = PfxFloat(0.01);
+
+bool slides(const PfxContactManifold& manifold) {
+  for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    if (!touches(cp)) continue;
+    PfxFloat slipSq = 0;
+    for (int k = 1; k < 3; ++k) {
+      const PfxConstraintRow& row = cp.m_constraintRow[k];
+      const PfxFloat slip = row.m_jacDiagInv > 0 ? row.m_rhs / row.m_jacDiagInv : 0;
+      slipSq += slip * slip;
+    }
+    if (slipSq > kSlidingSpeed * kSlidingSpeed) return true;
+  }
+  return false;
+}
+
 // The rows of a face: the total push of its touching points and their first moments along
-// the principal axes of the points in the contact plane, each of unit length.
-PfxUInt8 faceRowWeights(const PfxContactManifold& manifold, PfxFloat weights[3][kMaxPoints]) {
+// the principal axes of the points in the contact plane, each of unit length; then, with
+// friction, their total slip along the plane's two tangents and their twist about its normal.
+template <typename Node>
+void setFaceRows(const PfxContactManifold& manifold, Node& node) {
+  PfxFloat (*weights)[kMaxPoints] = node.weights;
   const PfxUInt32 n = manifold.getNumContacts();
   PfxVector3 normal = PfxVector3::Zero();
   PfxVector3 centre = PfxVector3::Zero();
@@ -137,23 +174,65 @@ PfxUInt8 faceRowWeights(const PfxContactManifold& manifold, PfxFloat weights[3][
     addRow(major, majorSpread);
     if (minorSpread > kMinSpreadRatio * majorSpread) addRow(minor, minorSpread);
   }
-  return rows;
+  node.numPressureRows = rows;
+  node.normal = normal;
+  node.tangents[0] = t1;
+  node.tangents[1] = t2;
+  node.centre = centre;
+  node.slipWeight = PfxFloat(1) / std::sqrt(count);
+  // A single point, or points that all coincide, hold no twist.
+  const PfxFloat spread = majorSpread + minorSpread;
+  node.twistWeight = spread > kMinSpread ? PfxFloat(1) / std::sqrt(spread) : 0;
+  node.numFrictionRows = manifold.getCompositeFriction() <= 0 || slides(manifold)
+                             ? 0
+                             : node.twistWeight > 0 ? 3 : 2;
+}
+
+// The impulse at point i of a face per unit of its row k: along the point's normal for a
+// pressure row, along a tangent of the face for a slip row, across the lever from the
+// face's centre for the twist row. Zero for a point that does not touch.
+template <typename Node>
+PfxVector3 rowDirection(const Node& node, const PfxContactPoint& cp, PfxUInt32 i, PfxUInt8 k) {
+  if (node.weights[0][i] == 0) return PfxVector3::Zero();
+  if (k < node.numPressureRows) return node.weights[k][i] * cp.getNormal();
+  const PfxUInt8 friction = k - node.numPressureRows;
+  if (friction < 2) return node.slipWeight * node.tangents[friction];
+  return node.twistWeight * node.normal.cross(cp.m_armB - node.centre);
+}
+
+// What a point's velocities lack, as a vector: its normal row's target minus its normal
+// velocity along the normal, and, for the velocity solve, the same for its friction rows
+// along their tangents.
+PfxVector3 pointDeficit(const PfxContactPoint& cp, const PfxSolverBody& a, const PfxSolverBody& b,
+                        bool push) {
+  PfxVector3 linear = PfxVector3::Zero();
+  const PfxVector3 relative =
+      push ? PfxVector3(b.m_pushLinearVelocity + b.m_pushAngularVelocity.cross(cp.m_armB) -
+                        a.m_pushLinearVelocity - a.m_pushAngularVelocity.cross(cp.m_armA))
+           : pfxRelativeDeltaVelocity(a, cp.m_armA, b, cp.m_armB);
+  for (int r = 0; r < (push ? 1 : 3); ++r) {
+    const PfxConstraintRow& row = cp.m_constraintRow[r];
+    const PfxFloat rhs = push && r == 0 ? cp.m_pushRhs : row.m_rhs;
+    const PfxFloat target = row.m_jacDiagInv > 0 ? rhs / row.m_jacDiagInv : 0;
+    linear += (target - row.m_normal.dot(relative)) * row.m_normal;
+  }
+  return linear;
 }
 
 // The face's rows against one of its bodies' velocities (linear, then angular), as the
 // points push that body: along the normal for B, against it for A.
-PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const PfxFloat (*weights)[kMaxPoints],
-                          PfxUInt8 numRows, bool bodyB) {
+template <typename Node>
+PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const Node& node, bool bodyB) {
   PfxTreeBlock rows = PfxTreeBlock::Zero();
   for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
     const PfxContactPoint& cp = manifold.getContactPoint(i);
-    const PfxVector3 linear = bodyB ? cp.getNormal() : PfxVector3(-cp.getNormal());
-    const PfxVector3 angular = (bodyB ? cp.m_armB : cp.m_armA).cross(linear);
-    for (PfxUInt8 k = 0; k < numRows; ++k) {
-      const double w = weights[k][i];
-      if (w == 0) continue;
-      rows.block<1, 3>(k, 0) += w * linear.cast<double>().transpose();
-      rows.block<1, 3>(k, 3) += w * angular.cast<double>().transpose();
+    if (node.weights[0][i] == 0) continue;
+    const PfxVector3& arm = bodyB ? cp.m_armB : cp.m_armA;
+    for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+      const PfxVector3 direction = rowDirection(node, cp, i, k);
+      const PfxVector3 linear = bodyB ? direction : PfxVector3(-direction);
+      rows.block<1, 3>(k, 0) += linear.cast<double>().transpose();
+      rows.block<1, 3>(k, 3) += arm.cross(linear).cast<double>().transpose();
     }
   }
   return rows;
@@ -189,9 +268,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     return false;
   }
 
-  auto movable = [&](PfxUInt32 id, bool receives) {
-    return receives && solverBodies[id].m_massInv > 0;
-  };
+  auto movable = [&](PfxUInt32 id, bool receives) { return movesWith(solverBodies[id], receives); };
   // Faces that touch and act on a body that moves. A body that moves but takes nothing
   // from the pair (one-way) cannot be both inside and outside the system: such a pair
   // stays iterative. Found for every pair at once, in parallel, since it reads each
@@ -356,26 +433,37 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     grow(head);
   }
 
+  for (std::size_t n = 0; n < m_numNodes; ++n) {
+    Node& node = m_nodes[n];
+    if (node.body < 0) setFaceRows(manifolds[pfxGetContactId(contactPairs[node.pairIndex])], node);
+  }
+  m_treeStarts[m_numTrees] = m_numNodes;
+  factor(true, taskManager);
+  return true;
+}
+
+void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager) {
+  m_factoredWithFriction = withFriction;
   // Diagonal blocks and couplings to the parent. Nodes come parents first, so a face
   // parent already has its rows.
   for (std::size_t n = 0; n < m_numNodes; ++n) {
     Node& node = m_nodes[n];
     node.coupling.setZero();
     if (node.body >= 0) {
-      node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
+      node.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
     } else {
-      const PfxConstraintPair& pair = contactPairs[node.pairIndex];
-      const PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
-      node.numRows = faceRowWeights(manifold, node.weights);
+      const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+      const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
+      node.numRows = node.numPressureRows + (withFriction ? node.numFrictionRows : 0);
       node.diagonalInverse = -PfxTreeBlock::Identity();
-      const PfxSolverBody* bodies[2] = {&solverBodies[pfxGetObjectIdA(pair)],
-                                        &solverBodies[pfxGetObjectIdB(pair)]};
-      const bool receives[2] = {movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)),
-                                movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))};
+      const PfxSolverBody* bodies[2] = {&m_solverBodies[pfxGetObjectIdA(pair)],
+                                        &m_solverBodies[pfxGetObjectIdB(pair)]};
+      const bool receives[2] = {movesWith(*bodies[0], pfxGetReceivesA(pair)),
+                                movesWith(*bodies[1], pfxGetReceivesB(pair))};
       Eigen::Matrix<double, 6, 1> effectiveMass = Eigen::Matrix<double, 6, 1>::Zero();
       for (int side = 0; side < 2; ++side) {
         if (!receives[side]) continue;
-        const PfxTreeBlock rows = faceJacobian(manifold, node.weights, node.numRows, side == 1);
+        const PfxTreeBlock rows = faceJacobian(manifold, node, side == 1);
         const Eigen::Matrix3d inertiaInv = bodies[side]->m_inertiaInv.cast<double>();
         for (PfxUInt8 k = 0; k < node.numRows; ++k) {
           const Eigen::Vector3d linear = rows.block<1, 3>(k, 0).transpose();
@@ -392,25 +480,33 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const Node& parent = m_nodes[node.parent];
     const Node& face = node.body >= 0 ? parent : node;
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
-    const PfxConstraintPair& pair = contactPairs[face.pairIndex];
-    const PfxTreeBlock rows =
-        faceJacobian(manifolds[pfxGetContactId(pair)], face.weights, face.numRows,
-                     PfxUInt32(body) == pfxGetObjectIdB(pair));
+    const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
+    const PfxTreeBlock rows = faceJacobian(m_manifolds[pfxGetContactId(pair)], face,
+                                           PfxUInt32(body) == pfxGetObjectIdB(pair));
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  m_treeStarts[m_numTrees] = m_numNodes;
   pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
     }
   });
-  return true;
 }
 
 void PfxContactTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
+  // With the faces' friction, then over their pressures alone: a face that slides keeps
+  // the friction it had, and its pressures, solved with the friction it would have needed
+  // to stick (and that friction's moment), are set right for the friction it has.
+  if (!m_factoredWithFriction) factor(true, taskManager);
+  solve(false, taskManager);
+  factor(false, taskManager);
   solve(false, taskManager);
 }
-void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
+
+void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) {
+  // The split impulses have no friction.
+  if (m_factoredWithFriction) factor(false, taskManager);
+  solve(true, taskManager);
+}
 
 void PfxContactTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
@@ -425,8 +521,8 @@ void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) 
   PfxVector3 PfxSolverBody::*angular =
       push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
 
-  // Right-hand side: zero for bodies; for each face row, the weighted sum of its points'
-  // target velocities minus their velocities.
+  // Right-hand side: zero for bodies; for each face row, what its points' velocities lack
+  // along the row's impulse at each point.
   bool anyResidual = false;
   for (std::size_t n = begin; n < end; ++n) {
     Node& node = m_nodes[n];
@@ -439,40 +535,67 @@ void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) 
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
       if (node.weights[0][i] == 0) continue;
       const PfxContactPoint& cp = manifold.getContactPoint(i);
-      const PfxConstraintRow& row = cp.m_constraintRow[0];
-      const PfxFloat target =
-          row.m_jacDiagInv > 0 ? (push ? cp.m_pushRhs : row.m_rhs) / row.m_jacDiagInv : 0;
-      const double residual = target - pfxContactNormalVelocity(cp, a, b, linear, angular);
-      for (PfxUInt8 k = 0; k < node.numRows; ++k) node.value[k] += node.weights[k][i] * residual;
+      const PfxVector3 deficit = pointDeficit(cp, a, b, push);
+      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+        node.value[k] += double(rowDirection(node, cp, i, k).dot(deficit));
+      }
     }
     anyResidual = anyResidual || !node.value.isZero(0);
   }
   if (!anyResidual) return;
   pfxSolveBlockTree(m_nodes, begin, end);
 
-  // Each face takes its impulses point by point, clamped to pushing only; the bodies take
-  // what the points apply, so that velocities and impulses stay consistent after a clamp.
+  // Each face takes its pressure point by point, clamped to pushing only, and its friction
+  // if every point keeps within its friction circle; the bodies take what the points apply,
+  // so that velocities and impulses stay consistent after a clamp. A face that would slip
+  // leaves its friction to the iterations (see kSlidingSpeed), and its pressures are
+  // solved again without it (solveVelocities).
   for (std::size_t n = begin; n < end; ++n) {
     const Node& node = m_nodes[n];
     if (node.body >= 0) continue;
     const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
     PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
+    PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
+    PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
+    const PfxFloat receivesA = pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0);
+    const PfxFloat receivesB = pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0);
     PfxFloat delta[kMaxPoints] = {};
+    PfxFloat friction[kMaxPoints][2] = {};
+    bool sticks = node.numRows > node.numPressureRows;
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
       if (node.weights[0][i] == 0) continue;
-      double change = 0;  // the impulse is the negated multiplier
-      for (PfxUInt8 k = 0; k < node.numRows; ++k) change -= node.weights[k][i] * node.value[k];
       PfxContactPoint& cp = manifold.getContactPoint(i);
+      PfxVector3 change = PfxVector3::Zero();  // the impulse is the negated multiplier
+      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+        change -= PfxFloat(node.value[k]) * rowDirection(node, cp, i, k);
+      }
       PfxFloat& impulse = push ? cp.m_pushImpulse : cp.m_constraintRow[0].m_accumImpulse;
-      const PfxFloat updated = std::max(impulse + static_cast<PfxFloat>(change), PfxFloat(0));
+      const PfxFloat updated = std::max(impulse + cp.getNormal().dot(change), PfxFloat(0));
       delta[i] = updated - impulse;
       impulse = updated;
-      if (!push) cp.m_maxImpulse = std::max(cp.m_maxImpulse, updated);
+      if (push) continue;
+      cp.m_maxImpulse = std::max(cp.m_maxImpulse, updated);
+      for (int k = 0; k < 2; ++k) {
+        const PfxConstraintRow& slip = cp.m_constraintRow[1 + k];
+        friction[i][k] = slip.m_accumImpulse + slip.m_normal.dot(change);
+      }
+      const PfxFloat limit = manifold.getCompositeFriction() * updated;
+      sticks = sticks && friction[i][0] * friction[i][0] + friction[i][1] * friction[i][1] <=
+                             limit * limit;
     }
-    pfxApplyNormalImpulses(manifold, delta, m_solverBodies[pfxGetObjectIdA(pair)],
-                           pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
-                           m_solverBodies[pfxGetObjectIdB(pair)],
-                           pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0), linear, angular);
+    pfxApplyNormalImpulses(manifold, delta, a, receivesA, b, receivesB, linear, angular);
+    if (!sticks) continue;
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      if (node.weights[0][i] == 0) continue;
+      PfxContactPoint& cp = manifold.getContactPoint(i);
+      PfxConstraintRow& slip1 = cp.m_constraintRow[1];
+      PfxConstraintRow& slip2 = cp.m_constraintRow[2];
+      pfxApplyRowImpulse(slip1.m_normal * (friction[i][0] - slip1.m_accumImpulse) +
+                             slip2.m_normal * (friction[i][1] - slip2.m_accumImpulse),
+                         1, a, cp.m_armA, receivesA, b, cp.m_armB, receivesB);
+      slip1.m_accumImpulse = friction[i][0];
+      slip2.m_accumImpulse = friction[i][1];
+    }
   }
 }
 

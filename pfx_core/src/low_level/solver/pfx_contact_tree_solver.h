@@ -13,7 +13,13 @@
 // A face is not given its points' rows, which are redundant (four coplanar points hold
 // three degrees of freedom), but up to three combinations of them: the total push and
 // its first moments along the principal axes of the points. The impulse that comes back
-// is an affine pressure over the face, which is what a rigid face carries.
+// is an affine pressure over the face, which is what a rigid face carries. In the velocity
+// solve a face also holds its slip along its two tangents and its twist about its normal,
+// each point's share then clamped to its friction circle: iterated alone, friction passes
+// a sideways disturbance between a 1 kg box and the 10 kg box on it by a tenth per sweep,
+// and a 1, 10, 100, 1000 kg stack (lightest at the bottom) slid apart after 5 s when one
+// contact point was replaced. The split impulses, which carry no friction, are solved
+// over the pressure rows alone, from a second factorization.
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
@@ -36,9 +42,10 @@ class PfxContactTreeSolver {
              PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies,
              PfxTaskManager* taskManager = nullptr);
 
-  // Adds to the points' normal impulses, and to the bodies' velocity changes, what makes
-  // every face of the forest move at its points' target velocities (m_rhs), each point's
-  // accumulated impulse kept at zero or above. Trees are solved in parallel with a task
+  // Adds to the points' normal and friction impulses, and to the bodies' velocity changes,
+  // what makes every face of the forest move at its points' target velocities (m_rhs of
+  // the normal and friction rows), each point's normal impulse kept at zero or above and
+  // its friction within its circle. Trees are solved in parallel with a task
   // manager; they share no moving body, so the result is the same.
   void solveVelocities(PfxTaskManager* taskManager = nullptr);
   // The same for the split impulses and the push velocities (m_pushRhs).
@@ -46,6 +53,9 @@ class PfxContactTreeSolver {
 
  private:
   struct Node;
+  // Sets the blocks of every node and factors the trees, with the faces' friction rows
+  // (the velocity solve) or without (the split impulses').
+  void factor(bool withFriction, PfxTaskManager* taskManager);
   void solve(bool push, PfxTaskManager* taskManager);
   void solveTree(bool push, PfxUInt32 begin, PfxUInt32 end);
 
@@ -53,6 +63,7 @@ class PfxContactTreeSolver {
   PfxUInt32 m_numNodes = 0;
   PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
   PfxUInt32 m_numTrees = 0;
+  bool m_factoredWithFriction = false;
   const PfxConstraintPair* m_contactPairs = nullptr;
   PfxContactManifold* m_manifolds = nullptr;
   PfxSolverBody* m_solverBodies = nullptr;
