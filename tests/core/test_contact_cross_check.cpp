@@ -1,5 +1,5 @@
 // The narrow phase against a brute-force reference, for every ordered pair of convex shape
-// types, over thousands of random poses per pair.
+// types, over a thousand random poses per pair.
 //
 // The reference knows nothing of pfx's routines: it has its own support functions (in
 // double, from the shapes' sizes and, for meshes, the vertex lists they were built from).
@@ -35,10 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "pfx/base_level/collision/pfx_collidable.h"
-#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx_contact_test_util.h"
-#include "pfx_large_mesh_test_util.h"
 
 namespace pfx_test {
 namespace {
@@ -62,8 +59,8 @@ constexpr PfxFloat kThreshold = PfxFloat(0.05);
 
 #ifdef PFX_TEST_SANITIZED
 // The sanitizers make each query about ten times slower; a tenth of the poses still meets
-// every pair in every regime (deep, shallow, speculative, apart) hundreds of times.
-constexpr int kPosesPerPair = 200;
+// every pair in every regime (deep, shallow, speculative, apart) tens of times.
+constexpr int kPosesPerPair = 100;
 #else
 constexpr int kPosesPerPair = 1000;
 #endif
@@ -330,8 +327,7 @@ class ContactCrossCheck : public ::testing::Test {
 };
 
 const char* typeName(int type) {
-  static const char* names[] = {"sphere", "box", "capsule", "cylinder", "convex mesh",
-                                "large mesh"};
+  static const char* names[] = {"sphere", "box", "capsule", "cylinder", "convex mesh"};
   return names[type];
 }
 
@@ -420,7 +416,8 @@ Errors measure(const Contacts& r, const Reference& ref, double sepAlongPfxNormal
 
 // The largest error each pair may show: kDepthTolerance and kNormalTolerance, except for the
 // pairs below, open defects listed in README.md ("Contact cross-check") with what they show
-// today (release, float: the largest over both orders, times 1.5 for other builds' rounding),
+// today (the largest over both orders and both precisions, times 1.5 for the rounding of
+// other builds),
 // so that they cannot grow unseen and a fix tightens them. Depth, normal, phantom overlap and
 // too large a gap in metres; missed contacts in poses.
 struct KnownDefect {
@@ -438,12 +435,12 @@ const KnownDefect kKnownDefects[] = {
     {kSphere, kCylinder, 0, 0, 0.018, 0, 0, 0, 0},
     {kBox, kBox, 0, 5e-4, 0, 0, 0.007, 0, 2},
     {kBox, kCylinder, 0.0054, 0.0054, 0.01, 0, 0, 0, 0},
-    {kBox, kMesh, 0, 0, 0, 0, 0.016, 0, 2},
+    {kBox, kMesh, 0, 0, 0, 0.08, 0.027, 0, 9},
     {kCapsule, kCylinder, 0.004, 0.004, 0.004, 0, 0, 0, 0},
     {kCapsule, kMesh, 0.0054, 0.0054, 0.013, 0, 4e-4, 0, 0},
     {kCylinder, kCylinder, 0.0025, 0.0025, 0.0021, 0, 0, 0, 0},
-    {kCylinder, kMesh, 0.0053, 0.0053, 0.0068, 0.02, 4.2e-4, 0.0009, 0},
-    {kMesh, kMesh, 0, 0, 0, 0.01, 0.0077, 0, 6},
+    {kCylinder, kMesh, 0.0053, 0.0053, 0.0141, 0.02, 4.2e-4, 0.0009, 0},
+    {kMesh, kMesh, 0, 3.4e-4, 0, 0.022, 0.017, 0, 6},
 };
 
 Errors allowedErrors(int typeA, int typeB) {
@@ -507,6 +504,7 @@ TEST_F(ContactCrossCheck, EveryPairOfConvexTypesAgreesWithTheReference) {
         const Errors e = measure(r, ref, sepAlongPfxNormal);
         worst.takeMax(e);
         if (std::getenv("PFX_CROSS_CHECK_SHOW")) {
+          // Every pose with both answers, to pick a reproducer from when a bound is exceeded.
           std::printf("POSE %s|%s d %.9g sepN %.9g L %.9g U %.9g n %u\n  A %s\n  B %s\n",
                       typeName(typeA), typeName(typeB), r.n ? double(r.deepest().m_distance) : 0.0,
                       sepAlongPfxNormal, ref.lower.separation, ref.upperGap, r.n,
