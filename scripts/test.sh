@@ -2,6 +2,7 @@
 # The test command: installs what is missing, builds everything (core, loaders, the ROS node
 # and its rostests), runs every test (labels core, loaders, ros, ...), then builds the core
 # again under AddressSanitizer + UndefinedBehaviorSanitizer and runs its tests there too,
+# builds the programs that step on several threads under ThreadSanitizer and runs them,
 # and once more in double precision (PFX_DOUBLE) for its core and loader tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,6 +37,23 @@ cmake --build build-asan -j"$jobs" --target $core_targets
 stage "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -L core -j"$jobs"
+
+# The programs that step on several threads, built under ThreadSanitizer: a data race
+# between the task manager's workers is a wrong answer that no other test is sure to see.
+# Only these programs (and the core under them) are built, at -O1 -g1 as above.
+stage "thread sanitizer build"
+cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPFX_SANITIZE=thread \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF >/dev/null
+# (The threaded sorts and pair search of test_sort and test_broadphase run inside every
+# world step here as well; building them too would cost more than the stage may.)
+threaded_targets="test_world_threads test_task_manager test_world_particles test_serialize
+  test_world_removal test_particle_queries"
+cmake --build build-tsan -j"$jobs" --target $threaded_targets
+stage "thread sanitizer tests"
+TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp" \
+  ctest --test-dir build-tsan --output-on-failure -j"$jobs" \
+  -R "^($(echo $threaded_targets | tr ' ' '|'))\$"
 
 # The core in double precision, a build of its own. Only the programs that the core and
 # loader tests run are built (no samples, benchmark or extreme suite): about 4 CPU minutes,
