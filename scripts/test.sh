@@ -49,11 +49,11 @@ cmake --build build-double -j"$jobs" --target $double_targets pfx_sim_check
 stage "double tests"
 ctest --test-dir build-double --output-on-failure -L "core|loaders" -j"$jobs"
 # The fuzz targets (tests/fuzz/): clang with libFuzzer, ASan and UBSan, a build of the core
-# and loaders alone; each target runs 50 s from its seed corpus, two at a time. Any crash,
+# and loaders alone; each target runs 45 s from its seed corpus, two at a time. Any crash,
 # leak, hang or sanitizer report fails the run (scripts/fuzz.sh prints the input it saved).
 stage "fuzz build"
 bash scripts/fuzz.sh build
 stage "fuzz runs"
-bash scripts/fuzz.sh all 50
+bash scripts/fuzz.sh all 45
 stage "done"
 echo "all tests passed in $SECONDS s"

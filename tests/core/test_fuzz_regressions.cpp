@@ -61,3 +61,24 @@ TEST(FuzzRegressions, VelocityWhoseSquareOverflowsIsRefusedWithNothingChanged) {
   EXPECT_TRUE(pfxIsFinite(world.getRigidState(kept).getPosition()));
   EXPECT_TRUE(pfxIsFinite(world.getRigidState(kept).getOrientation()));
 }
+
+// fuzz_world_api: a world initialized with a time step of 3.4e38 s (finite, so it was
+// accepted) made its bodies' positions and velocities infinite in the first step. A time
+// step and gravity whose one-step velocity has an overflowing square are refused now, by
+// initialize and setStepParam alike.
+TEST(FuzzRegressions, TimeStepThatMakesGravityInfiniteIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  PfxWorldParam param;
+  param.timeStep = kLargestFloat;
+  EXPECT_EQ(world.initialize(param), PFX_ERR_INVALID_VALUE);
+  param.gravity = PfxVector3::Zero();
+  EXPECT_EQ(world.initialize(param), PFX_OK);  // without gravity the step adds nothing
+
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  const PfxUInt32 id = addSphere(world, PfxVector3(0, 2, 0));
+  EXPECT_EQ(world.setStepParam(kLargestFloat, 1, 10, PfxVector3(0, PfxFloat(-9.8), 0)),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getParam().timeStep, PfxWorldParam().timeStep);
+  ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_TRUE(world.getRigidState(id).isValid());
+}
