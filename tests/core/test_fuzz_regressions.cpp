@@ -82,3 +82,36 @@ TEST(FuzzRegressions, TimeStepThatMakesGravityInfiniteIsRefusedWithNothingChange
   ASSERT_EQ(world.step(), PFX_OK);
   EXPECT_TRUE(world.getRigidState(id).isValid());
 }
+
+// fuzz_world_file: a saved world whose box had the principal moments 0.0017, 0.031 and
+// 1.4e-38 kg m^2 (positive, so it was read) gave the solver an inverse inertia of 7e37 and
+// every body it touched turned NaN in the first step. A moment below the largest times the
+// precision's epsilon, lost in rounding once the tensor turns, is refused now, by
+// addRigidBody, setRigidBody and the file reader (which apply the same check).
+TEST(FuzzRegressions, InertiaWithAMomentLostInRoundingIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  const PfxUInt32 kept = addSphere(world, PfxVector3(0, 2, 0));
+
+  PfxRigidBody body;
+  body.reset();
+  body.setMass(1);
+  PfxMatrix3 inertia = PfxMatrix3::Zero();
+  inertia.diagonal() = PfxVector3(0.00166667f, 0.0308333f, 1.41047e-38f);
+  body.setInertia(inertia);
+  EXPECT_FALSE(body.isValid());
+  PfxRigidState state;
+  state.reset();
+  const PfxShape shape = pfxMakeShape(PfxBox(0.5f, 0.1f, 0.1f));
+  EXPECT_EQ(world.addRigidBody(state, body, &shape, 1), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 1u);
+  const PfxMatrix3 before = world.getRigidBody(kept).getInertia();
+  EXPECT_EQ(world.setRigidBody(kept, body), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getRigidBody(kept).getInertia(), before);
+
+  // A thin rod, its smallest moment a millionth of the largest, is still a body.
+  inertia.diagonal() = PfxVector3(1e-6f, 1, 1);
+  body.setInertia(inertia);
+  EXPECT_TRUE(body.isValid());
+  EXPECT_EQ(world.addRigidBody(state, body, &shape, 1), PFX_OK);
+}
