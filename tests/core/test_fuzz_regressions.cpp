@@ -2,7 +2,7 @@
 // sequence of calls that showed it, asserting the refusal or the behaviour that holds now.
 #include <gtest/gtest.h>
 
-#include <cstring>
+#include <cmath>
 #include <limits>
 
 #include "pfx/high_level/pfx_body_init.h"
@@ -42,7 +42,8 @@ TEST(FuzzRegressions, VelocityWhoseSquareOverflowsIsRefusedWithNothingChanged) {
   EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.1f, 0.1f, 0.1f)), spinning),
             PFX_ERR_INVALID_VALUE);
   PfxBodyInit fast;
-  fast.linearVelocity = PfxVector3(0, -1e20f, 0);
+  // A speed whose square overflows in either precision.
+  fast.linearVelocity = PfxVector3(0, -2 * std::sqrt(kLargestFloat), 0);
   EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.1f, 0.1f, 0.1f)), fast),
             PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(world.getNumRigidBodies(), 1u);
@@ -114,4 +115,21 @@ TEST(FuzzRegressions, InertiaWithAMomentLostInRoundingIsRefusedWithNothingChange
   body.setInertia(inertia);
   EXPECT_TRUE(body.isValid());
   EXPECT_EQ(world.addRigidBody(state, body, &shape, 1), PFX_OK);
+}
+
+// fuzz_world_file: a saved world whose shape sat at an offset of -3.4e38 m (finite, so it
+// was read) had a bounding box that overflowed to infinity, and the loaded world's first
+// step failed in the broad phase. A shape whose bounds are not finite is refused now by
+// PfxShape::validate, which addRigidBody and the file reader apply.
+TEST(FuzzRegressions, ShapeWhoseBoundsOverflowIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxShape shape = pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f));
+  shape.setOffsetPosition(PfxVector3(-kLargestFloat, 0, 0));
+  EXPECT_EQ(shape.validate(), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(pfxAddBody(world, shape, PfxBodyInit()), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 0u);
+
+  shape.setOffsetPosition(PfxVector3(-1e6f, 0, 0));
+  EXPECT_EQ(shape.validate(), PFX_OK);
 }
