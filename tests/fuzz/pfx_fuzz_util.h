@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "pfx/pfx.h"
 
@@ -21,12 +23,18 @@ namespace pfx_fuzz {
 
 // A folder of this process's own, made once: the loaders that take a path read the input
 // from a file in it (assimp and liboctomap pick a reader by the name and the first bytes).
+// It goes when the process exits.
 inline const std::string& scratchFolder() {
   static const std::string folder = [] {
     char pattern[] = "/tmp/pfx_fuzz_XXXXXX";
     if (!mkdtemp(pattern)) fail("mkdtemp");
     return std::string(pattern);
   }();
+  static const int removeAtExit = std::atexit([] {
+    std::error_code ignored;
+    std::filesystem::remove_all(folder, ignored);
+  });
+  (void)removeAtExit;
   return folder;
 }
 
