@@ -4,7 +4,7 @@
 #         physics core and its tests), pybind11, numpy and pytest (the Python module and its
 #         tests)
 #   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo, tinyxml2 and
-#         libsdformat for scene files), the ROS node
+#         libsdformat for scene files), clang with libFuzzer (the fuzz targets), the ROS node
 #         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
 #         peers (Bullet, ODE, MuJoCo, Embree, gnuplot)
 set -euo pipefail
@@ -18,6 +18,9 @@ if [ "$set_name" = all ]; then
   packages+=(liburdfdom-dev libtinyxml-dev libassimp-dev libqhull-dev liboctomap-dev libcairo2-dev)
   # Scene files: pfx scene XML through tinyxml2, SDFormat worlds through libsdformat 12.
   packages+=(libtinyxml2-dev libsdformat-dev)
+  # The fuzz targets (scripts/fuzz.sh): clang, its runtime libraries (libFuzzer and the
+  # sanitizers), and llvm-symbolizer for the stack traces of what a run finds.
+  packages+=(clang libclang-rt-14-dev llvm-14)
   # ROS1 from Debian: the message packages come twice, as C++ headers (lib*-dev) and as
   # the .msg definitions that message generation reads (ros-*).
   packages+=(catkin libroscpp-dev libtf2-ros-dev liburdf-dev ros-message-generation

@@ -3,7 +3,8 @@
 # and its rostests), runs every test (labels core, loaders, ros, ...), then builds the core
 # again under AddressSanitizer + UndefinedBehaviorSanitizer and runs its tests there too,
 # builds the programs that step on several threads under ThreadSanitizer and runs them,
-# and once more in double precision (PFX_DOUBLE) for its core and loader tests.
+# once more in double precision (PFX_DOUBLE) for its core and loader tests, and last runs
+# each fuzz target for a bounded time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -65,5 +66,12 @@ double_targets=$(ls tests/core/test_*.cpp tests/loaders/test_*.cpp | xargs -n1 b
 cmake --build build-double -j"$jobs" --target $double_targets pfx_sim_check
 stage "double tests"
 ctest --test-dir build-double --output-on-failure -L "core|loaders" -j"$jobs"
+# The fuzz targets (tests/fuzz/): clang with libFuzzer, ASan and UBSan, a build of the core
+# and loaders alone; each target runs 45 s from its seed corpus, two at a time. Any crash,
+# leak, hang or sanitizer report fails the run (scripts/fuzz.sh prints the input it saved).
+stage "fuzz build"
+bash scripts/fuzz.sh build
+stage "fuzz runs"
+bash scripts/fuzz.sh all 45
 stage "done"
 echo "all tests passed in $SECONDS s"

@@ -56,7 +56,10 @@ PfxInt32 PfxWorld::checkParam(const PfxWorldParam& param) {
   const bool valid =
       pfxIsFinite(param.worldCenter) && pfxIsFinite(param.worldExtent) &&
       param.worldExtent.minCoeff() > 0 && pfxIsFinite(param.gravity) && param.timeStep > 0 &&
-      pfxIsFinite(param.timeStep) && param.iteration > 0 && param.subStep > 0 && param.separateBias >= 0 &&
+      pfxIsFinite(param.timeStep) &&
+      // The velocity gravity adds in one step, held to the rule of body velocities
+      // (PfxRigidState::isValid): a time step of 3.4e38 s made every body infinite at once.
+      pfxIsFinite(PfxVector3(param.gravity * param.timeStep).squaredNorm()) && param.iteration > 0 && param.subStep > 0 && param.separateBias >= 0 &&
       param.separateBias <= 1 && param.contactSlop >= 0 && pfxIsFinite(param.contactSlop) &&
       param.contactMargin >= 0 && pfxIsFinite(param.contactMargin) &&
       param.restitutionThreshold >= 0 && pfxIsFinite(param.restitutionThreshold) &&

@@ -73,6 +73,15 @@ PfxInt32 PfxShape::validate() const {
   for (int i = 0; i < numSizes; ++i) {
     if (!pfxIsFinite(m_vecData[i]) || m_vecData[i] < 0) return PFX_ERR_INVALID_VALUE;
   }
+  // The bounds the collidable takes from the shape, as PfxCollidable::finish sums them, must
+  // be finite too: a convex mesh at an offset of -3.4e38 passed the checks above, the sum of
+  // its box's corners overflowed to infinity, and the step of the world holding it failed.
+  PfxVector3 center, half;
+  getAabb(center, half);
+  const PfxVector3 lo = center - half, hi = center + half;
+  if (!pfxIsFinite(PfxVector3(lo + hi)) || !pfxIsFinite(PfxVector3(hi - lo))) {
+    return PFX_ERR_INVALID_VALUE;
+  }
   return PFX_OK;
 }
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cstring>
+#include <limits>
 
 namespace pfx {
 
@@ -35,7 +36,13 @@ bool PfxRigidBody::isValid() const {
     return false;
   }
   const Eigen::SelfAdjointEigenSolver<PfxMatrix3> eig(m_inertia, Eigen::EigenvaluesOnly);
-  if (!(eig.eigenvalues().minCoeff() > 0)) return false;
+  // A principal moment below the largest times the precision's epsilon is lost in rounding
+  // when the tensor is turned into the world frame; its inverse (7e37 for the 1.4e-38 of a
+  // fuzzed saved file) sent the solver's impulses to infinity.
+  if (!(eig.eigenvalues().minCoeff() >
+        eig.eigenvalues().maxCoeff() * std::numeric_limits<PfxFloat>::epsilon())) {
+    return false;
+  }
   return m_friction >= 0 && pfxIsFinite(m_friction) && m_restitution >= 0 &&
          m_restitution <= 1;
 }

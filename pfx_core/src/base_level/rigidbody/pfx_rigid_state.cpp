@@ -17,9 +17,12 @@ void PfxRigidState::reset() {
 }
 
 bool PfxRigidState::isValid() const {
+  // A velocity whose squared length overflows (above about 1.8e19 in float) is finite but
+  // unusable: the integrator, the solver and the energy square it, and a body given one
+  // turned NaN in its first step.
   return pfxIsFinite(m_position) && pfxIsUnitQuat(m_orientation) &&
-         pfxIsFinite(m_linearVelocity) && pfxIsFinite(m_angularVelocity) &&
-         m_motionType < kPfxMotionTypeCount;
+         pfxIsFinite(m_linearVelocity.squaredNorm()) &&
+         pfxIsFinite(m_angularVelocity.squaredNorm()) && m_motionType < kPfxMotionTypeCount;
 }
 
 PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,

@@ -97,7 +97,10 @@ void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeS
   // changed from step to step as the spin moves between axes would break the symmetry of
   // the scheme, and the energy would drift (by 15 % in 100 s, measured).
   const PfxFloat turn = momentum.norm() / principalInertia.minCoeff() * timeStep;
-  const int parts = std::min(kMaxSplitParts, std::max(1, int(std::ceil(turn / kMaxSplitAngle))));
+  // Compared before the conversion to int, which is undefined for a turn beyond int's range.
+  const int parts = turn < kMaxSplitParts * kMaxSplitAngle
+                        ? std::max(1, int(std::ceil(turn / kMaxSplitAngle)))
+                        : kMaxSplitParts;
   for (int part = 0; part < parts; ++part) {
     advanceFreeRotation(frame, momentum, principalInertia, timeStep / PfxFloat(parts));
   }
