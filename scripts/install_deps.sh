@@ -11,7 +11,7 @@ set -euo pipefail
 
 set_name=${1:-core}
 core=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libgtest-dev libgmock-dev
-  libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest)
+  libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed)
 packages=("${core[@]}")
 if [ "$set_name" = all ]; then
   # The URDF loader reads what urdfdom cannot (capsules) with urdfdom's TinyXML itself.

@@ -3,6 +3,7 @@
 // bad input is refused with nothing changed.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -153,4 +154,17 @@ TEST(WorldBatch, BytesWithAnythingPastTheWorldAreRefused) {
   EXPECT_TRUE(sameBits(gatherOneByOne({&target}), before));
   ASSERT_EQ(pfxLoadWorldFromBytes(target, bytes.data(), bytes.size(), meshes), PFX_OK);
   EXPECT_TRUE(sameBits(gatherOneByOne({&target}), gatherOneByOne({&source})));
+}
+
+TEST(WorldBatch, StateHashFollowsEveryBit) {
+  PfxWorld a, b;
+  buildRagdollWorld(a, 0.3f);
+  buildRagdollWorld(b, 0.3f);
+  EXPECT_EQ(pfxHashRigidStates(a), pfxHashRigidStates(b));
+  PfxRigidState state = b.getRigidState(4);
+  PfxVector3 velocity = state.getLinearVelocity();
+  velocity.x() = std::nextafter(velocity.x(), PfxFloat(1));  // one bit of one value
+  state.setLinearVelocity(velocity);
+  ASSERT_EQ(b.setRigidState(4, state), PFX_OK);
+  EXPECT_NE(pfxHashRigidStates(a), pfxHashRigidStates(b));
 }

@@ -6,9 +6,37 @@
 #include <cassert>
 #include <string>
 
+#include "high_level/pfx_serialize_format.h"
 #include "low_level/pfx_param_checks.h"
 
 namespace pfx {
+
+namespace {
+
+// One body's row of gatherStates.
+void copyStateRow(const PfxRigidState& state, PfxFloat* row) {
+  std::copy_n(state.getPosition().data(), 3, row);
+  std::copy_n(state.getOrientation().coeffs().data(), 4, row + 3);
+  std::copy_n(state.getLinearVelocity().data(), 3, row + 7);
+  std::copy_n(state.getAngularVelocity().data(), 3, row + 10);
+}
+
+}  // namespace
+
+PfxUInt64 pfxHashRigidStates(const PfxWorld& world) {
+  PfxUInt64 hash = 0xcbf29ce484222325ull;
+  PfxFloat row[PFX_BATCH_STATE_FLOATS];
+  for (PfxUInt32 b = 0; b < world.getNumRigidBodies(); ++b) {
+    copyStateRow(world.getRigidState(b), row);
+    for (const PfxFloat value : row) {
+      // Little-endian whatever the machine's, so that hashes compare across machines.
+      PfxUInt8 bytes[sizeof(PfxFloat)];
+      pfxStoreLittle(bytes, value);
+      for (const PfxUInt8 byte : bytes) hash = (hash ^ byte) * 0x100000001b3ull;
+    }
+  }
+  return hash;
+}
 
 PfxWorldBatch::PfxWorldBatch() = default;
 PfxWorldBatch::~PfxWorldBatch() = default;
@@ -120,11 +148,7 @@ PfxInt32 PfxWorldBatch::gatherStates(PfxFloat* out, PfxUInt64 capacity) {
       const PfxWorld& world = *m_worlds[i];
       PfxFloat* row = out + PfxUInt64(firstBodies[i]) * PFX_BATCH_STATE_FLOATS;
       for (PfxUInt32 b = 0; b < world.getNumRigidBodies(); ++b, row += PFX_BATCH_STATE_FLOATS) {
-        const PfxRigidState& state = world.getRigidState(b);
-        std::copy_n(state.getPosition().data(), 3, row);
-        std::copy_n(state.getOrientation().coeffs().data(), 4, row + 3);
-        std::copy_n(state.getLinearVelocity().data(), 3, row + 7);
-        std::copy_n(state.getAngularVelocity().data(), 3, row + 10);
+        copyStateRow(world.getRigidState(b), row);
       }
     }
   });

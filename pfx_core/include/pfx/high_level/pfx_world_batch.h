@@ -20,6 +20,11 @@ namespace pfx {
 // (4), linear velocity (3), angular velocity (3).
 constexpr PfxUInt32 PFX_BATCH_STATE_FLOATS = 13;
 
+// FNV-1a (64 bits) over every body's state as gatherStates lays it out, the bytes of each
+// PfxFloat in little-endian order: equal hashes say two runs ended in the same bits (a job
+// run on another machine, in a batch or alone). Float and double builds hash differently.
+PfxUInt64 pfxHashRigidStates(const PfxWorld& world);
+
 class PfxWorldBatch {
  public:
   PfxWorldBatch();  // one thread
