@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "pfx/pfx.h"
@@ -21,7 +22,7 @@ using namespace pfx;
 constexpr double kTimeStep = 1.0 / 240;
 constexpr int kSettleSteps = 120;
 constexpr PfxUInt32 kCopies[] = {1, 4, 16, 64, 256, 1024};
-constexpr PfxUInt32 kWorldStepsPerRun = 4096;
+constexpr PfxUInt32 kWorldStepsPerRun = 1024;
 
 bool startWorld(PfxWorld& world) {
   PfxWorldParam param;
@@ -35,7 +36,10 @@ bool startWorld(PfxWorld& world) {
   return pfxAddBody(world, pfxMakeShape(PfxBox(5, 5, PfxFloat(0.5))), ground) == PFX_OK;
 }
 
-bool buildRagdoll(PfxWorld& world, std::string& error) {
+// What a source world's shapes point into (a URDF's meshes), kept while it is copied.
+using KeepAlive = std::shared_ptr<void>;
+
+bool buildRagdoll(PfxWorld& world, KeepAlive&, std::string& error) {
   PfxRagdoll ragdoll;
   if (!startWorld(world) ||
       pfxAddRagdoll(world, PfxVector3(0, 0, 1.1f), PfxQuat::Identity(), &ragdoll) != PFX_OK) {
@@ -46,11 +50,13 @@ bool buildRagdoll(PfxWorld& world, std::string& error) {
 }
 
 #ifdef PFX_BENCH_HAVE_LOADERS
-bool buildArm(PfxWorld& world, std::string& error) {
+bool buildArm(PfxWorld& world, KeepAlive& keepAlive, std::string& error) {
   if (!startWorld(world)) return false;
   PfxUrdfLoadParam load;
   load.fixedBase = true;
-  PfxUrdfModel model;
+  auto owned = std::make_shared<PfxUrdfModel>();
+  PfxUrdfModel& model = *owned;
+  keepAlive = owned;
   if (pfxLoadUrdfFile(world, std::string(PFX_SOURCE_DIR) + "/urdf/arm.urdf", load, model,
                       &error) != PFX_OK) {
     return false;
@@ -66,7 +72,7 @@ bool buildArm(PfxWorld& world, std::string& error) {
 
 struct Robot {
   const char* name;
-  std::function<bool(PfxWorld&, std::string&)> build;
+  std::function<bool(PfxWorld&, KeepAlive&, std::string&)> build;
 };
 
 }  // namespace
@@ -79,9 +85,10 @@ int runBatchScene(const Options& options, std::vector<ResultRow>& rows) {
   robots.push_back({"ragdoll", buildRagdoll});
   int failures = 0;
   for (const Robot& robot : robots) {
+    KeepAlive sourceMeshes;  // declared first: the world points into it
     PfxWorld source;
     std::string error;
-    bool built = robot.build(source, error);
+    bool built = robot.build(source, sourceMeshes, error);
     for (int s = 0; built && s < kSettleSteps; ++s) built = source.step() == PFX_OK;
     if (!built) {
       std::fprintf(stderr, "batch %s: FAILED: %s\n", robot.name, error.c_str());

@@ -6,7 +6,7 @@
 // their contacts, and the batch steps once before the timing (each copy's buffers grow on
 // its first step).
 //
-// Each run steps max(4, 4096 / copies) times, so that a run takes about as long whatever
+// Each run steps max(4, 1024 / copies) times, so that a run takes about as long whatever
 // the copies; wall time, since the point is how the threads share the worlds out.
 //
 // TSV rows: scene `batch`, variant `<robot>/<copies>`, engine pfx, dt 1/240, the run's

@@ -18,14 +18,17 @@ PfxInt32 fail(const char* function, const PfxSerializeError& error, std::string*
   return pfxRejectParam(error.code, "%s: %s", function, error.describe().c_str());
 }
 
+// A null file, path or buffer: `what` names it.
+PfxInt32 failNull(const char* function, const char* what, std::string* message) {
+  PfxSerializeError error;
+  error.code = PFX_ERR_NULL_POINTER;
+  error.reason = std::string(what) + " is null";
+  return fail(function, error, message);
+}
+
 // The message leaves the path to the caller, who named it; the error detail names it.
 PfxInt32 failOpen(const char* function, const char* path, const char* mode, std::string* message) {
-  if (!path) {
-    PfxSerializeError error;
-    error.code = PFX_ERR_NULL_POINTER;
-    error.reason = "the path is null";
-    return fail(function, error, message);
-  }
+  if (!path) return failNull(function, "the path", message);
   const std::string reason =
       std::string("cannot be opened for ") + mode + ": " + std::strerror(errno);
   if (message) *message = reason;
@@ -189,12 +192,8 @@ PfxInt32 pfxSaveWorldToBytes(const PfxWorld& world, std::vector<PfxUInt8>& bytes
 
 PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
   constexpr const char* kFunction = "pfxSaveWorld";
+  if (!file) return failNull(kFunction, "the file", error);
   PfxSerializeError failure;
-  if (!file) {
-    failure.code = PFX_ERR_NULL_POINTER;
-    failure.reason = "the file is null";
-    return fail(kFunction, failure, error);
-  }
   std::vector<PfxUInt8> bytes;
   const PfxInt32 err = pfxSaveWorldToBytes(world, bytes, error);
   if (err != PFX_OK) return err;
@@ -244,12 +243,8 @@ PfxInt32 loadDecoded(const char* function, PfxWorld& world, const std::vector<Pf
 PfxInt32 pfxLoadWorld(PfxWorld& world, FILE* file, PfxSerializedMeshes& meshes, std::string* error,
                       const PfxLoadWorldOptions& options) {
   constexpr const char* kFunction = "pfxLoadWorld";
+  if (!file) return failNull(kFunction, "the file", error);
   PfxSerializeError failure;
-  if (!file) {
-    failure.code = PFX_ERR_NULL_POINTER;
-    failure.reason = "the file is null";
-    return fail(kFunction, failure, error);
-  }
   if (rejectThreadCount(options, failure)) return fail(kFunction, failure, error);
   std::vector<PfxUInt8> bytes;
   if (pfxReadSerializedBytes(file, bytes, failure) != PFX_OK)
@@ -261,12 +256,8 @@ PfxInt32 pfxLoadWorldFromBytes(PfxWorld& world, const PfxUInt8* data, std::size_
                                PfxSerializedMeshes& meshes, std::string* error,
                                const PfxLoadWorldOptions& options) {
   constexpr const char* kFunction = "pfxLoadWorldFromBytes";
+  if (!data && size > 0) return failNull(kFunction, "the bytes", error);
   PfxSerializeError failure;
-  if (!data && size > 0) {
-    failure.code = PFX_ERR_NULL_POINTER;
-    failure.reason = "the bytes are null";
-    return fail(kFunction, failure, error);
-  }
   if (rejectThreadCount(options, failure)) return fail(kFunction, failure, error);
   // Bytes past the length the header announces would be ignored; a short buffer is the
   // reader's to report, as for a file cut short.
