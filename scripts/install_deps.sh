@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, what the build needs. Usage: install_deps.sh [core|all]
 #   core: compiler, CMake, Eigen, oneTBB (the task manager), GoogleTest, Google Benchmark (the
-#         physics core and its tests), pybind11, numpy and pytest (the Python module and its
-#         tests)
+#         physics core and its tests), pybind11, numpy, pytest and Dask's distributed (the
+#         Python module, its sweep over a cluster, and their tests)
 #   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo, tinyxml2 and
 #         libsdformat for scene files), the ROS node
 #         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
