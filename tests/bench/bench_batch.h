@@ -11,7 +11,7 @@
 //
 // TSV rows: scene `batch`, variant `<robot>/<copies>`, engine pfx, dt 1/240, the run's
 // thread count; metric world_steps_per_s (wall_s_per_sim_s: wall seconds per simulated
-// second of one world).
+// second, summed over the copies).
 #pragma once
 
 #include <vector>
