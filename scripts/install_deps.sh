@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs, from Debian's packages, what the build needs. Usage: install_deps.sh [core|all]
 #   core: compiler, CMake, Eigen, oneTBB (the task manager), GoogleTest, Google Benchmark (the
-#         physics core and its tests), pybind11, numpy and pytest (the Python module and its
-#         tests)
+#         physics core and its tests), pybind11, numpy, pytest and Dask's distributed (the
+#         Python module, its sweep over a cluster, and their tests)
 #   all:  core plus the loaders (urdfdom, assimp, qhull, OctoMap, cairo, tinyxml2 and
 #         libsdformat for scene files), clang with libFuzzer (the fuzz targets), the ROS node
 #         (catkin, roscpp, tf2_ros, messages, rostest, rviz under Xvfb) and the benchmark
@@ -11,7 +11,7 @@ set -euo pipefail
 
 set_name=${1:-core}
 core=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libgtest-dev libgmock-dev
-  libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest)
+  libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed)
 packages=("${core[@]}")
 if [ "$set_name" = all ]; then
   # The URDF loader reads what urdfdom cannot (capsules) with urdfdom's TinyXML itself.

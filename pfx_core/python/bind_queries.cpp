@@ -12,17 +12,23 @@ namespace {
 struct RayColumns {
   explicit RayColumns(py::ssize_t n)
       : hit(n), fraction(n), point(newArray<PfxFloat>(n, 3)), normal(newArray<PfxFloat>(n, 3)), body(n),
-        shape(n), triangle(n) {}
+        shape(n), triangle(n), particleGroup(n), particle(n) {}
 
   void set(py::ssize_t i, const PfxRayOutput& out) {
     hit.mutable_at(i) = out.m_contactFlag;
     fraction.mutable_at(i) = out.m_variable;
     std::copy(out.m_contactPoint.data(), out.m_contactPoint.data() + 3, point.mutable_data(i, 0));
     std::copy(out.m_contactNormal.data(), out.m_contactNormal.data() + 3, normal.mutable_data(i, 0));
-    body.mutable_at(i) = out.m_contactFlag ? PfxInt64(out.m_objectId) : -1;
-    shape.mutable_at(i) = out.m_contactFlag ? PfxInt32(out.m_shapeId) : -1;
+    // A particle's hit names no body: its group and particle instead.
+    const bool bodyHit = out.m_contactFlag && out.m_objectId != PFX_RAY_NO_OBJECT;
+    body.mutable_at(i) = bodyHit ? PfxInt64(out.m_objectId) : -1;
+    shape.mutable_at(i) = bodyHit ? PfxInt32(out.m_shapeId) : -1;
     triangle.mutable_at(i) =
         out.m_triangleIndex == PFX_RAY_NO_TRIANGLE ? -1 : PfxInt64(out.m_triangleIndex);
+    particleGroup.mutable_at(i) =
+        out.m_particleGroupId == PFX_RAY_NO_OBJECT ? -1 : PfxInt64(out.m_particleGroupId);
+    particle.mutable_at(i) =
+        out.m_particleIndex == PFX_RAY_NO_OBJECT ? -1 : PfxInt64(out.m_particleIndex);
   }
 
   py::dict toDict() const {
@@ -34,6 +40,8 @@ struct RayColumns {
     d["body"] = body;
     d["shape"] = shape;
     d["triangle"] = triangle;
+    d["particle_group"] = particleGroup;
+    d["particle"] = particle;
     return d;
   }
 
@@ -41,13 +49,14 @@ struct RayColumns {
   py::array_t<PfxFloat> fraction, point, normal;
   py::array_t<PfxInt64> body;
   py::array_t<PfxInt32> shape;
-  py::array_t<PfxInt64> triangle;
+  py::array_t<PfxInt64> triangle, particleGroup, particle;
 };
 
 const char* const kRayResultDoc =
     "Returns a dict of numpy arrays, one row per ray: hit (bool), fraction (of the ray's\n"
-    "length, 1 on a miss), point and normal (n, 3), body (-1 on a miss), shape (index in the\n"
-    "body, -1 on a miss) and triangle (of a large mesh, else -1).";
+    "length, 1 on a miss), point and normal (n, 3), body (-1 on a miss or a particle's hit),\n"
+    "shape (index in the body, else -1), triangle (of a large mesh or a cloth, else -1),\n"
+    "particle_group and particle (a particle group's hit, else -1).";
 
 PfxRayInput makeRay(const PfxFloat* start, const PfxFloat* direction, PfxUInt32 filterSelf,
                     PfxUInt32 filterTarget) {

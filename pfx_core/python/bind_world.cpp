@@ -38,16 +38,9 @@ const StateLayout kStateLayout = measureStateLayout();
 // A read-only (n, columns) array over one field of every body's state, without a copy.
 py::array stateView(const py::object& self, std::size_t offset, py::ssize_t columns) {
   PyWorld& w = self.cast<PyWorld&>();
-  const py::ssize_t n = w.world.getNumRigidBodies();
-  if (n == 0) return newArray<PfxFloat>(0, columns);
-  py::object lease = py::cast(new StateViewLease(self), py::return_value_policy::take_ownership);
   const char* data = reinterpret_cast<const char*>(w.world.getRigidStates()) + offset;
-  py::array array(py::dtype::of<PfxFloat>(), {n, columns},
-                  {py::ssize_t(sizeof(PfxRigidState)), py::ssize_t(sizeof(PfxFloat))}, data,
-                  lease);
-  // Writing through the view would bypass the checks and the waking of setRigidState.
-  py::detail::array_proxy(array.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return array;
+  return worldMemoryView(self, data, w.world.getNumRigidBodies(), columns,
+                         sizeof(PfxRigidState));
 }
 
 const char* const kViewDoc =
@@ -138,6 +131,19 @@ void bindStats(py::module_& m) {
 }
 
 }  // namespace
+
+py::array worldMemoryView(const py::object& worldObject, const void* data, py::ssize_t rows,
+                          py::ssize_t columns, std::size_t rowBytes) {
+  if (rows == 0) return newArray<PfxFloat>(0, columns);
+  py::object lease =
+      py::cast(new StateViewLease(worldObject), py::return_value_policy::take_ownership);
+  py::array array(py::dtype::of<PfxFloat>(), {rows, columns},
+                  {py::ssize_t(rowBytes), py::ssize_t(sizeof(PfxFloat))},
+                  static_cast<const PfxFloat*>(data), lease);
+  // Writing through the view would bypass the world's checks and the waking of its setters.
+  py::detail::array_proxy(array.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return array;
+}
 
 void bindWorld(py::module_& m) {
   bindWorldParam(m);

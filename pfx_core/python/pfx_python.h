@@ -55,6 +55,12 @@ struct PyLoaded {
   const Model& current() const;
 };
 
+// A read-only (rows, columns) array of PfxFloat over the world's own memory (rows
+// rowBytes apart), without a copy: it keeps the world alive and counts as a live state
+// view, so that calls that would move or free that memory raise while it lives.
+py::array worldMemoryView(const py::object& worldObject, const void* data, py::ssize_t rows,
+                          py::ssize_t columns, std::size_t rowBytes);
+
 // Raises pfx.Error (pfx.InvalidValueError for bad values) for an error code, with
 // pfxErrorString and the caller's message. PFX_OK returns.
 void raiseIfError(PfxInt32 code, const std::string& message = std::string());
@@ -125,6 +131,8 @@ void bindBodies(py::module_& m);
 void bindJoints(py::module_& m);
 void bindQueries(py::module_& m);
 void bindSerialization(py::module_& m);
+void bindBatch(py::module_& m);
+void bindParticles(py::module_& m);
 #ifdef PFX_PYTHON_HAVE_LOADERS
 void bindLoaders(py::module_& m);
 #endif

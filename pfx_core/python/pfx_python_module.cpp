@@ -1,8 +1,8 @@
-// The `pfx` Python module: pfx's public C++ API for scripts, states and query results as
-// numpy arrays. See the README's "Python" section.
+// The extension `pfx._core`, which the package `pfx` re-exports: pfx's public C++ API for
+// scripts, states and query results as numpy arrays. See the README's "Python" section.
 #include "pfx_python.h"
 
-PYBIND11_MODULE(pfx, m) {
+PYBIND11_MODULE(_core, m) {
   using namespace pfx::python;
   m.doc() =
       "pfx: real-time rigid-body physics (after Sony's Physics Effects).\n\n"
@@ -17,6 +17,8 @@ PYBIND11_MODULE(pfx, m) {
   bindJoints(m);
   bindQueries(m);
   bindSerialization(m);
+  bindBatch(m);
+  bindParticles(m);
 #ifdef PFX_PYTHON_HAVE_LOADERS
   bindLoaders(m);
 #endif

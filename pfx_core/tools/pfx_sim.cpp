@@ -7,11 +7,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/high_level/pfx_serialize.h"
+#include "pfx/high_level/pfx_world_batch.h"
 #include "pfx/loaders/pfx_octomap_loader.h"
 #include "pfx/loaders/pfx_scene_loader.h"
 #include "pfx/loaders/pfx_urdf_loader.h"
@@ -63,7 +67,19 @@ const char* const kUsage =
     "  --png-size WxH     size of the picture in pixels (default 1280x960)\n"
     "  --every N          print every N-th step only (default 1)\n"
     "  --quiet            print no statistics\n"
+    "  --result FILE      after the run, write one JSON line: steps, simulated time, bodies,\n"
+    "                     the last step's statistics and state_hash (FNV-1a of every body's\n"
+    "                     state bits, as pfx.World.state_hash; equal hashes, equal bits)\n"
     "  -h, --help         this text\n"
+    "\n"
+    "One job of a list, for job arrays (Slurm, Kubernetes indexed Jobs, any scheduler):\n"
+    "  pfx_sim --jobs LIST [--task-index N] [--result-dir DIR]\n"
+    "  LIST holds one job per line, the options above separated by spaces (no quoting;\n"
+    "  blank lines and lines starting with # are not jobs). Job N (from 0) runs as if its\n"
+    "  line were the command line, and its result goes to DIR/task-N.json (default: the\n"
+    "  current folder). N is --task-index, else the first set of PFX_TASK_INDEX,\n"
+    "  SLURM_ARRAY_TASK_ID and JOB_COMPLETION_INDEX; one that is not a whole number in\n"
+    "  range is refused before anything runs.\n"
     "\n"
     "Exit status: 0 on success, 1 when loading, stepping or writing fails, 2 on bad\n"
     "arguments.\n";
@@ -94,7 +110,13 @@ struct Options {
   long pngHeight = 960;
   long every = 1;
   bool quiet = false;
+  std::string result;  // --result FILE
 };
+
+// Where a job list's task index comes from when --task-index is not given, in this order:
+// pfx's own variable, then what Slurm job arrays and Kubernetes indexed Jobs set.
+const char* const kTaskIndexVariables[] = {"PFX_TASK_INDEX", "SLURM_ARRAY_TASK_ID",
+                                           "JOB_COMPLETION_INDEX"};
 
 int usageError(const std::string& what) {
   std::fprintf(stderr, "pfx_sim: %s\n(pfx_sim --help lists the options)\n", what.c_str());
@@ -168,14 +190,18 @@ int parseArguments(int argc, char** argv, Options& options) {
       if (arg == "--substeps") options.substepsGiven = true;
       if (arg == "--iterations") options.iterationsGiven = true;
     } else if (arg == "--octomap" || arg == "--png" || arg == "--world" || arg == "--load" ||
-               arg == "--save") {
+               arg == "--save" || arg == "--result") {
       if (!value(text)) return usageError(arg + " needs a file name");
       if (*text == '\0') return usageError(arg + " needs a file name");
       (arg == "--octomap" ? options.octomap
        : arg == "--png"   ? options.png
        : arg == "--world" ? options.world
        : arg == "--load"  ? options.load
-                          : options.save) = text;
+       : arg == "--save"  ? options.save
+                          : options.result) = text;
+    } else if (arg == "--jobs" || arg == "--task-index" || arg == "--result-dir") {
+      return usageError(arg + " selects a job from a list: give it before anything else, "
+                        "not inside a job");
     } else if (arg == "--png-size") {
       if (!value(text)) return usageError("--png-size needs WxH");
       const char* x = std::strchr(text, 'x');
@@ -255,11 +281,149 @@ PfxInt32 loadScene(PfxWorld& world, const Options& options, PfxSceneModel& scene
   return pfxLoadSceneFile(world, options.world, load, scene, &message);
 }
 
+// FNV-1a's state hash as 16 hex digits, as pfx.sweep reports it.
+std::string hexHash(PfxUInt64 hash) {
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+int writeResult(const std::string& path, const PfxWorld& world, long steps, long taskIndex,
+                const std::string& job) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) {
+    std::fprintf(stderr, "pfx_sim: %s: cannot be opened for writing: %s\n", path.c_str(),
+                 std::strerror(errno));
+    return 1;
+  }
+  const PfxWorldStats& stats = world.getStats();
+  std::fprintf(file, "{");
+  if (taskIndex >= 0) {
+    // The job's arguments are plain words (no quotes: the list has none), escaped for JSON.
+    std::string escaped;
+    for (const char c : job) {
+      if (c == '"' || c == '\\') escaped += '\\';
+      escaped += c;
+    }
+    std::fprintf(file, "\"task\": %ld, \"job\": \"%s\", ", taskIndex, escaped.c_str());
+  }
+  std::fprintf(file,
+               "\"steps\": %ld, \"simulated_time\": %.17g, \"num_bodies\": %u, "
+               "\"pairs\": %u, \"contacts\": %u, \"max_penetration\": %.9g, "
+               "\"max_joint_gap\": %.9g, \"state_hash\": \"%s\"}\n",
+               steps, world.getSimulatedTime(), world.getNumRigidBodies(), stats.numPairs,
+               stats.numContactPoints, double(stats.maxPenetration), double(stats.maxJointGap),
+               hexHash(pfxHashRigidStates(world)).c_str());
+  if (std::fclose(file) != 0) {
+    std::fprintf(stderr, "pfx_sim: %s: writing failed\n", path.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+// A job list's task: which line to run, and where its result goes.
+struct Task {
+  long index = -1;  // -1: not a job of a list
+  std::string job;  // the line's text
+  std::vector<std::string> words;
+  std::string resultDir = ".";
+};
+
+// The task index from --task-index or the environment, checked against the list's length.
+// Returns -1 when fine, else the exit status, having said why.
+int resolveTaskIndex(const char* given, std::size_t numJobs, const std::string& list,
+                     long& index) {
+  std::string source = "--task-index";
+  const char* text = given;
+  if (!text) {
+    for (const char* variable : kTaskIndexVariables) {
+      const char* value = std::getenv(variable);
+      if (value && *value) {
+        source = variable;
+        text = value;
+        break;
+      }
+    }
+  }
+  if (!text) {
+    return usageError("--jobs: no task index: give --task-index or set PFX_TASK_INDEX, "
+                      "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX");
+  }
+  if (!parseLong(text, index)) {
+    return usageError(std::string("task index '") + text + "' (from " + source +
+                      ") is not a whole number");
+  }
+  if (index < 0) {
+    return usageError("task index " + std::to_string(index) + " (from " + source + ") is negative");
+  }
+  if (std::size_t(index) >= numJobs) {
+    return usageError("task index " + std::to_string(index) + " (from " + source +
+                      ") is out of range: " + list + " holds " + std::to_string(numJobs) +
+                      " jobs" + (numJobs ? ", 0 to " + std::to_string(numJobs - 1) : std::string()));
+  }
+  return -1;
+}
+
+// pfx_sim --jobs LIST [--task-index N] [--result-dir DIR]: picks the job's line. Returns -1
+// when the command line is not a job list's or the task is ready, else the exit status.
+int selectTask(int argc, char** argv, Task& task) {
+  if (argc < 2 || std::string(argv[1]) != "--jobs") return -1;
+  std::string list;
+  const char* given = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg != "--jobs" && arg != "--task-index" && arg != "--result-dir") {
+      return usageError("--jobs takes only --task-index N and --result-dir DIR besides the "
+                        "list (the job's options go in its line): " + arg);
+    }
+    if (i + 1 >= argc) return usageError(arg + " needs a value");
+    const char* value = argv[++i];
+    if (arg == "--jobs") list = value;
+    if (arg == "--task-index") given = value;
+    if (arg == "--result-dir") task.resultDir = value;
+  }
+  std::ifstream file(list);
+  if (!file) {
+    std::fprintf(stderr, "pfx_sim: %s: cannot be opened for reading\n", list.c_str());
+    return 1;
+  }
+  std::vector<std::string> jobs;
+  for (std::string line; std::getline(file, line);) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    jobs.push_back(line.substr(first, last - first + 1));
+  }
+  if (const int status = resolveTaskIndex(given, jobs.size(), list, task.index); status >= 0) {
+    return status;
+  }
+  task.job = jobs[task.index];
+  std::istringstream words(task.job);
+  for (std::string word; words >> word;) task.words.push_back(word);
+  return -1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  Task task;
+  if (const int status = selectTask(argc, argv, task); status >= 0) return status;
+  std::vector<char*> jobArgs;
+  if (task.index >= 0) {
+    jobArgs.push_back(argv[0]);
+    for (std::string& word : task.words) jobArgs.push_back(word.data());
+    argc = int(jobArgs.size());
+    argv = jobArgs.data();
+  }
   Options options;
   if (const int status = parseArguments(argc, argv, options); status >= 0) return status;
+  if (task.index >= 0) {
+    if (!options.result.empty()) {
+      return usageError("job " + std::to_string(task.index) +
+                        ": --result is given by --result-dir for a job of a list");
+    }
+    options.result = task.resultDir + "/task-" + std::to_string(task.index) + ".json";
+  }
 
   // Declared before the world, which points into their meshes, so that it goes first.
   PfxSerializedMeshes savedMeshes;
@@ -375,6 +539,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "pfx_sim: %s: %s\n", options.save.c_str(),
                    message.empty() ? pfxErrorString(err) : message.c_str());
       return 1;
+    }
+  }
+
+  if (!options.result.empty()) {
+    if (const int status = writeResult(options.result, world, steps, task.index, task.job)) {
+      return status;
     }
   }
 

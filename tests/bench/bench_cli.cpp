@@ -88,7 +88,9 @@ const char* usage() {
          "  rope (a rope between two pins against its catenary, and one carrying 1,000\n"
          "  times its mass) and cloth (64 x 64 and 128 x 128 onto a sphere) step pfx's\n"
          "  particles and bullet's soft bodies over their own solver settings, at dt 1/60\n"
-         "  unless --dt is given, see bench_particles.h.\n";
+         "  unless --dt is given, see bench_particles.h. The scene batch steps 1 to 1,024\n"
+         "  copies of the arm and of a ragdoll together (PfxWorldBatch) on each --threads\n"
+         "  count and reports world-steps per second, see bench_batch.h.\n";
 }
 
 bool parseOptions(int argc, const char* const* argv, Options& options, std::string& error) {

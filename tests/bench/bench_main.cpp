@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_batch.h"
 #include "bench_characters.h"
 #include "bench_cli.h"
 #include "bench_engine.h"
@@ -33,7 +34,8 @@ namespace {
 // Scenes that measure something other than stepping (load times, a world written and read
 // back), that step pfx alone, that drive each engine through its own character controller,
 // or that step particles, which the rigid-body engine adapters do not hold: bench_octomap.h,
-// bench_mesh_floor.h, bench_serialize.h, bench_characters.h, bench_particles.h.
+// bench_mesh_floor.h, bench_serialize.h, bench_characters.h, bench_particles.h,
+// bench_batch.h.
 struct ApartScene {
   const char* name;
   // Appends its rows, returns its failures.
@@ -47,6 +49,7 @@ const ApartScene kApartScenes[] = {
     {kSerializeSceneName,
      [](const Options&, std::vector<ResultRow>& rows) { return runSerializeScene(rows); }},
     {kCharactersSceneName, runCharactersScene},
+    {kBatchSceneName, runBatchScene},
     {kRopeSceneName, runRopeScene},
     {kClothSceneName, runClothScene},
 };

@@ -82,6 +82,7 @@
 #include "pfx/high_level/pfx_range_sensor.h"
 #include "pfx/high_level/pfx_serialize.h"
 #include "pfx/high_level/pfx_world.h"
+#include "pfx/high_level/pfx_world_batch.h"
 
 // The seed's names.
 #include "pfx/pfx_seed_names.h"

@@ -18,14 +18,17 @@ PfxInt32 fail(const char* function, const PfxSerializeError& error, std::string*
   return pfxRejectParam(error.code, "%s: %s", function, error.describe().c_str());
 }
 
+// A null file, path or buffer: `what` names it.
+PfxInt32 failNull(const char* function, const char* what, std::string* message) {
+  PfxSerializeError error;
+  error.code = PFX_ERR_NULL_POINTER;
+  error.reason = std::string(what) + " is null";
+  return fail(function, error, message);
+}
+
 // The message leaves the path to the caller, who named it; the error detail names it.
 PfxInt32 failOpen(const char* function, const char* path, const char* mode, std::string* message) {
-  if (!path) {
-    PfxSerializeError error;
-    error.code = PFX_ERR_NULL_POINTER;
-    error.reason = "the path is null";
-    return fail(function, error, message);
-  }
+  if (!path) return failNull(function, "the path", message);
   const std::string reason =
       std::string("cannot be opened for ") + mode + ": " + std::strerror(errno);
   if (message) *message = reason;
@@ -163,30 +166,37 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   meshes.m_largeMeshes.swap(image.largeMeshes);
 }
 
-PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
-  constexpr const char* kFunction = "pfxSaveWorld";
+PfxInt32 pfxSaveWorldToBytes(const PfxWorld& world, std::vector<PfxUInt8>& bytes,
+                             std::string* error) {
+  constexpr const char* kFunction = "pfxSaveWorldToBytes";
   PfxSerializeError failure;
-  if (!file) {
-    failure.code = PFX_ERR_NULL_POINTER;
-    failure.reason = "the file is null";
-    return fail(kFunction, failure, error);
-  }
   PfxSerializeCapacity counts;
   PfxSerializeBuffer buffer;
   PfxWorldParam param;
   double time = 0;
   PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
   const PfxSerializeRemovals removals = PfxSerializeAccess::removals(world);
-  std::vector<PfxUInt8> bytes;
-  if (pfxEncodeSerialized(counts, buffer, bytes, failure, &PfxSerializeAccess::particleGroups(world), &removals) != PFX_OK) {
+  std::vector<PfxUInt8> encoded;
+  if (pfxEncodeSerialized(counts, buffer, encoded, failure, &PfxSerializeAccess::particleGroups(world), &removals) != PFX_OK) {
     return fail(kFunction, failure, error);
   }
   {
     PfxSerializeImage check;
-    if (pfxDecodeSerialized(bytes, check, failure, nullptr, nullptr) != PFX_OK) {
+    if (pfxDecodeSerialized(encoded, check, failure, nullptr, nullptr) != PFX_OK) {
       return fail(kFunction, failure, error);
     }
   }
+  bytes.swap(encoded);
+  return PFX_OK;
+}
+
+PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error) {
+  constexpr const char* kFunction = "pfxSaveWorld";
+  if (!file) return failNull(kFunction, "the file", error);
+  PfxSerializeError failure;
+  std::vector<PfxUInt8> bytes;
+  const PfxInt32 err = pfxSaveWorldToBytes(world, bytes, error);
+  if (err != PFX_OK) return err;
   if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size() || std::fflush(file) != 0) {
     failure.code = PFX_ERR_OUT_OF_BUFFER;
     failure.reason = "the stream refused the bytes";
@@ -205,30 +215,65 @@ PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* erro
   return PFX_OK;
 }
 
-PfxInt32 pfxLoadWorld(PfxWorld& world, FILE* file, PfxSerializedMeshes& meshes, std::string* error,
-                      const PfxLoadWorldOptions& options) {
-  constexpr const char* kFunction = "pfxLoadWorld";
+namespace {
+
+bool rejectThreadCount(const PfxLoadWorldOptions& options, PfxSerializeError& failure) {
+  if (options.keepSavedNumThreads || options.numThreads <= PFX_MAX_THREADS) return false;
+  failure.code = PFX_ERR_OUT_OF_RANGE;
+  failure.reason = "PfxLoadWorldOptions::numThreads is " + std::to_string(options.numThreads) +
+                   ", more than PFX_MAX_THREADS";
+  return true;
+}
+
+// Decodes a whole file's bytes and, only when every check passed, replaces the world.
+PfxInt32 loadDecoded(const char* function, PfxWorld& world, const std::vector<PfxUInt8>& bytes,
+                     PfxSerializedMeshes& meshes, std::string* error,
+                     const PfxLoadWorldOptions& options) {
   PfxSerializeError failure;
-  if (!file) {
-    failure.code = PFX_ERR_NULL_POINTER;
-    failure.reason = "the file is null";
-    return fail(kFunction, failure, error);
-  }
-  if (!options.keepSavedNumThreads && options.numThreads > PFX_MAX_THREADS) {
-    failure.code = PFX_ERR_OUT_OF_RANGE;
-    failure.reason = "PfxLoadWorldOptions::numThreads is " + std::to_string(options.numThreads) +
-                     ", more than PFX_MAX_THREADS";
-    return fail(kFunction, failure, error);
-  }
-  std::vector<PfxUInt8> bytes;
-  if (pfxReadSerializedBytes(file, bytes, failure) != PFX_OK)
-    return fail(kFunction, failure, error);
   PfxSerializeImage image;
   if (pfxDecodeSerialized(bytes, image, failure, nullptr, nullptr) != PFX_OK) {
-    return fail(kFunction, failure, error);
+    return fail(function, failure, error);
   }
   PfxSerializeAccess::restoreWorld(world, image, options, meshes);
   return PFX_OK;
+}
+
+}  // namespace
+
+PfxInt32 pfxLoadWorld(PfxWorld& world, FILE* file, PfxSerializedMeshes& meshes, std::string* error,
+                      const PfxLoadWorldOptions& options) {
+  constexpr const char* kFunction = "pfxLoadWorld";
+  if (!file) return failNull(kFunction, "the file", error);
+  PfxSerializeError failure;
+  if (rejectThreadCount(options, failure)) return fail(kFunction, failure, error);
+  std::vector<PfxUInt8> bytes;
+  if (pfxReadSerializedBytes(file, bytes, failure) != PFX_OK)
+    return fail(kFunction, failure, error);
+  return loadDecoded(kFunction, world, bytes, meshes, error, options);
+}
+
+PfxInt32 pfxLoadWorldFromBytes(PfxWorld& world, const PfxUInt8* data, std::size_t size,
+                               PfxSerializedMeshes& meshes, std::string* error,
+                               const PfxLoadWorldOptions& options) {
+  constexpr const char* kFunction = "pfxLoadWorldFromBytes";
+  if (!data && size > 0) return failNull(kFunction, "the bytes", error);
+  PfxSerializeError failure;
+  if (rejectThreadCount(options, failure)) return fail(kFunction, failure, error);
+  // Bytes past the length the header announces would be ignored; a short buffer is the
+  // reader's to report, as for a file cut short.
+  if (size >= kPfxSerializeHeaderBytes) {
+    const PfxUInt64 bodyBytes = pfxLoadLittle<PfxUInt64>(data + 16);
+    if (bodyBytes < size - kPfxSerializeHeaderBytes &&
+        std::memcmp(data, kPfxSerializeMagic, sizeof(kPfxSerializeMagic)) == 0) {
+      failure.code = PFX_ERR_OUT_OF_BUFFER;
+      failure.tags = {"body"};
+      failure.reason = std::to_string(size - kPfxSerializeHeaderBytes) +
+                       " bytes follow the header, which announces " + std::to_string(bodyBytes);
+      return fail(kFunction, failure, error);
+    }
+  }
+  const std::vector<PfxUInt8> bytes(data, data + size);
+  return loadDecoded(kFunction, world, bytes, meshes, error, options);
 }
 
 PfxInt32 pfxLoadWorld(PfxWorld& world, const char* path, PfxSerializedMeshes& meshes,

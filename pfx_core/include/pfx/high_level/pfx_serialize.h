@@ -162,6 +162,10 @@ class PfxSerializedMeshes {
 // has no buffers for particle groups, refuses a file holding them (PFX_ERR_OUT_OF_BUFFER).
 PfxInt32 pfxSaveWorld(const PfxWorld& world, FILE* file, std::string* error = nullptr);
 PfxInt32 pfxSaveWorld(const PfxWorld& world, const char* path, std::string* error = nullptr);
+// The same bytes as pfxSaveWorld writes, in memory (to copy a world, or send it to another
+// process). On failure `bytes` is unchanged.
+PfxInt32 pfxSaveWorldToBytes(const PfxWorld& world, std::vector<PfxUInt8>& bytes,
+                             std::string* error = nullptr);
 
 struct PfxLoadWorldOptions {
   // The saved PfxWorldParam::numThreads is the saving machine's choice; a thread count
@@ -181,5 +185,10 @@ PfxInt32 pfxLoadWorld(PfxWorld& world, FILE* file, PfxSerializedMeshes& meshes,
 PfxInt32 pfxLoadWorld(PfxWorld& world, const char* path, PfxSerializedMeshes& meshes,
                       std::string* error = nullptr,
                       const PfxLoadWorldOptions& options = PfxLoadWorldOptions());
+// As pfxLoadWorld, from the `size` bytes at `data` (pfxSaveWorldToBytes' or a file's), which
+// must hold exactly one world: bytes past its end are refused, not ignored.
+PfxInt32 pfxLoadWorldFromBytes(PfxWorld& world, const PfxUInt8* data, std::size_t size,
+                               PfxSerializedMeshes& meshes, std::string* error = nullptr,
+                               const PfxLoadWorldOptions& options = PfxLoadWorldOptions());
 
 }  // namespace pfx
