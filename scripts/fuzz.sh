@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # The fuzz targets of tests/fuzz/ (README.md, "Fuzzing"), built by clang with libFuzzer,
-# AddressSanitizer and UndefinedBehaviorSanitizer in build-fuzz/ (the core, the loaders and
-# their tests: no samples, benchmark, Python or ROS).
-#   fuzz.sh build [PROGRAMS]         configure and build every target, and the test PROGRAMS
-#                                    named (scripts/test.sh runs the core tests there)
+# AddressSanitizer and UndefinedBehaviorSanitizer in build-fuzz/ (the core and the loaders
+# only: no tests, samples, benchmark, Python or ROS).
+#   fuzz.sh build                    configure and build every target
 #   fuzz.sh TARGET SECONDS [OPTS]    run one target (fuzz_urdf, ...; built if missing) for
 #                                    SECONDS, with any further libFuzzer options
 #   fuzz.sh all SECONDS              every target for SECONDS, two at a time (the CI stage)
@@ -30,7 +29,7 @@ configure_and_build() {
   # compile time (the sanitizer stage of scripts/test.sh measured it).
   CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
-    -DPFX_SANITIZE=address,undefined -DPFX_BUILD_FUZZ=ON \
+    -DPFX_SANITIZE=address,undefined -DPFX_BUILD_FUZZ=ON -DPFX_BUILD_TESTS=OFF \
     -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF -DPFX_BUILD_PYTHON=OFF \
     >/dev/null
   cmake --build "$build" -j"$(nproc)" --target "$@"
@@ -62,8 +61,7 @@ run_target() {
 
 case ${1:-} in
   build)
-    shift
-    configure_and_build "${targets[@]}" "$@"
+    configure_and_build "${targets[@]}"
     ;;
   all)
     seconds=${2:?usage: fuzz.sh all SECONDS}
@@ -87,7 +85,7 @@ case ${1:-} in
     run_target "$target" "$seconds" "$@"
     ;;
   *)
-    echo "usage: fuzz.sh build [PROGRAMS] | fuzz.sh all SECONDS | fuzz.sh fuzz_<target> SECONDS [libFuzzer options]" >&2
+    echo "usage: fuzz.sh build | fuzz.sh all SECONDS | fuzz.sh fuzz_<target> SECONDS [libFuzzer options]" >&2
     echo "targets: ${targets[*]}" >&2
     exit 2
     ;;
