@@ -23,7 +23,9 @@ class PfxRigidBody {
   void setFriction(PfxFloat friction) { m_friction = friction; }
   void setRestitution(PfxFloat restitution) { m_restitution = restitution; }
 
-  // Positive finite mass, symmetric positive-definite inertia, friction >= 0, 0 <= restitution <= 1.
+  // Positive finite mass, symmetric positive-definite inertia whose smallest principal moment
+  // is not lost in rounding beside the largest (at least the largest times epsilon),
+  // friction >= 0, 0 <= restitution <= 1.
   bool isValid() const;
 
  private:

@@ -37,8 +37,9 @@ class PfxRigidState {
 
   PfxTransform3 getTransform() const { return pfxMakeTransform(m_orientation, m_position); }
 
-  // A body whose every value is finite and whose orientation is a unit quaternion;
-  // anything else would spread NaN through the solver.
+  // A body whose position is finite, whose orientation is a unit quaternion and whose
+  // velocities have finite squared lengths (the stages square them); anything else would
+  // spread NaN through the solver.
   bool isValid() const;
 
  private:
