@@ -3,7 +3,6 @@
 // so that mutations reach the sections instead of stopping at the checksum. A refused file
 // leaves the world as it was; a loaded one saves again, loads again to the same bytes, and
 // steps with finite states.
-#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -45,12 +44,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   pfx_fuzz::checkSaveLoadRoundTrip(world);
   // A file may ask for billions of sub-steps or iterations, which the world honours: its
   // step then takes as long as it asked for (one such input ran past a minute), which is not
-  // a hang. The step that checks the loaded bodies runs at most 8 sub-steps of 32 iterations.
+  // a hang. Such a world is loaded and saved again above but not stepped here.
   const PfxWorldParam& param = world.getParam();
-  if (world.setStepParam(param.timeStep, std::min<PfxUInt32>(param.subStep, 8),
-                         std::min<PfxUInt32>(param.iteration, 32), param.gravity) != PFX_OK) {
-    pfx_fuzz::fail("a loaded world refused its own step parameters, bounded");
-  }
+  if (std::uint64_t(param.subStep) * param.iteration > 256) return 0;
   pfx_fuzz::stepAndCheck(world, 1, "world file step");
   return 0;
 }
