@@ -119,12 +119,8 @@ void bindBatch(py::module_& m) {
       .def(
           "step",
           [](PyWorldBatch& b, long count) {
-            if (count < 0) raiseIfError(PFX_ERR_INVALID_VALUE, "step count is negative");
-            PfxInt32 err = PFX_OK;
-            {
-              py::gil_scoped_release release;
-              err = b.batch.step(static_cast<PfxUInt32>(count));
-            }
+            const PfxInt32 err = stepWithoutGil(
+                count, [&](long n) { return b.batch.step(static_cast<PfxUInt32>(n)); });
             raiseIfError(err, pfxGetLastErrorDetail());
           },
           py::arg("count") = 1,

@@ -184,12 +184,11 @@ void bindWorld(py::module_& m) {
       .def(
           "step",
           [](PyWorld& w, long count) {
-            if (count < 0) raiseIfError(PFX_ERR_INVALID_VALUE, "step count is negative");
-            PfxInt32 err = PFX_OK;
-            {
-              py::gil_scoped_release release;
-              for (long i = 0; i < count && err == PFX_OK; ++i) err = w.world.step();
-            }
+            const PfxInt32 err = stepWithoutGil(count, [&](long n) {
+              PfxInt32 stepErr = PFX_OK;
+              for (long i = 0; i < n && stepErr == PFX_OK; ++i) stepErr = w.world.step();
+              return stepErr;
+            });
             raiseIfError(err, "step");
           },
           py::arg("count") = 1, "Steps count times by param.time_step (the GIL is released).")

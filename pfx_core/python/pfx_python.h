@@ -74,6 +74,15 @@ class ErrorDetailWatch {
   std::string m_before;
 };
 
+// Refuses a negative count, then runs stepping(count) with the GIL released, so that other
+// Python threads run while worlds and batches step alike; returns its error code.
+template <typename Stepping>
+PfxInt32 stepWithoutGil(long count, const Stepping& stepping) {
+  if (count < 0) raiseIfError(PFX_ERR_INVALID_VALUE, "step count is negative");
+  py::gil_scoped_release release;
+  return stepping(count);
+}
+
 // numpy and sequences to pfx's types: a vector is 3 numbers, a quaternion 4 as (x, y, z, w).
 PfxVector3 toVector3(py::handle value, const char* name);
 PfxQuat toQuat(py::handle value, const char* name);
