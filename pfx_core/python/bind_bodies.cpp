@@ -62,13 +62,15 @@ void bindBodies(py::module_& m) {
       .def(
           "remove_body",
           [](PyWorld& w, PfxUInt32 id) {
+            w.requireNotCharacterBody(id);
             raiseIfError(w.world.removeRigidBody(id), "remove_body " + std::to_string(id));
           },
           py::arg("body"),
           "Removes the body with its joints, couplings and contacts. Its id is not given out\n"
           "again and every other id keeps its body; the state views stay valid (the slot\n"
-          "stays, inert). Raises pfx.Error for an unknown or removed id, or a body particles\n"
-          "are pinned to; the world is unchanged then.")
+          "stays, inert). Raises pfx.Error for an unknown or removed id, a body particles\n"
+          "are pinned to, or a character's (CharacterController.remove removes those); the\n"
+          "world is unchanged then.")
       .def(
           "has_body", [](const PyWorld& w, PfxUInt32 id) { return w.world.hasRigidBody(id); },
           py::arg("body"), "False for a removed id and for one never given.");

@@ -50,6 +50,7 @@ void PyWorld::requireNoStateViews(const char* what) const {
 
 void PyWorld::startGeneration(bool dropResources) {
   ++generation;
+  characterControllers.clear();
   if (dropResources) resources.clear();
 }
 

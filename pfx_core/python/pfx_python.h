@@ -28,9 +28,14 @@ class PyWorld {
   // Counts initialize, load and truncate: models loaded before a change of generation name
   // bodies that may be gone.
   PfxUInt64 generation = 0;
+  // The character controllers of this generation: their characters' bodies are theirs to
+  // remove (remove_body refuses them), as the controller would go on driving a gone body.
+  std::vector<const PfxCharacterController*> characterControllers;
 
   // Raises pfx.Error when a state view is alive, as `what` would leave it dangling.
   void requireNoStateViews(const char* what) const;
+  // Raises pfx.Error when `body` is a character's of one of characterControllers.
+  void requireNotCharacterBody(PfxUInt32 body) const;
   // Marks bodies gone: every earlier model goes stale, and the resources they used go too
   // when `dropResources` (the world was emptied).
   void startGeneration(bool dropResources);
@@ -142,6 +147,7 @@ void bindQueries(py::module_& m);
 void bindSerialization(py::module_& m);
 void bindBatch(py::module_& m);
 void bindParticles(py::module_& m);
+void bindCharacters(py::module_& m);
 #ifdef PFX_PYTHON_HAVE_LOADERS
 void bindLoaders(py::module_& m);
 #endif

@@ -19,6 +19,7 @@ PYBIND11_MODULE(_core, m) {
   bindSerialization(m);
   bindBatch(m);
   bindParticles(m);
+  bindCharacters(m);
 #ifdef PFX_PYTHON_HAVE_LOADERS
   bindLoaders(m);
 #endif

@@ -16,7 +16,16 @@ A job is a dict:
   measure      names from MEASURES (default ["state_hash"]);
   name         any label, copied into the result.
 
-A result is a dict: "name" (when the job has one), "steps", and one entry per measure.
+Or a job runs pfx_bench, the benchmark, once (pfx.bench_sweep builds such jobs from a
+sweep over scenes, time steps and iterations):
+
+  bench        pfx_bench's arguments (a list of strings), instead of world, urdf, steps
+               and measure;
+  program      the pfx_bench to run (default: bench_program());
+  name         as above.
+
+A result is a dict: "name" (when the job has one), "steps", and one entry per measure; for a
+pfx_bench job, "name" and "tsv": the table pfx_bench printed, its header line first.
 run() checks every job before any runs: a bad job raises ValueError naming the job and the
 field, and nothing runs. Paths are read where the job runs: on a cluster, every worker must
 see them (a shared folder), or send bytes instead.
@@ -45,6 +54,7 @@ MEASURES = {
 _MODEL_MEASURES = {"joint_positions"}
 _JOB_FIELDS = {"world", "urdf", "world_param", "urdf_param", "ground", "joint_targets", "steps",
                "measure", "name"}
+_BENCH_JOB_FIELDS = {"bench", "program", "name"}
 _URDF_ONLY_FIELDS = ("world_param", "urdf_param", "ground", "joint_targets")
 
 # Where a task's index comes from when --task-index is not given, in this order: pfx's own,
@@ -59,6 +69,9 @@ def check_job(job, index=0):
 
     if not isinstance(job, dict):
         bad(f"is a {type(job).__name__}, not a dict")
+    if "bench" in job:
+        _check_bench_job(job, bad)
+        return
     unknown = sorted(set(job) - _JOB_FIELDS)
     if unknown:
         bad(f"unknown field {unknown[0]!r} (fields: {', '.join(sorted(_JOB_FIELDS))})")
@@ -88,6 +101,47 @@ def check_job(job, index=0):
             bad(f"measure {name!r} needs a job with 'urdf'")
 
 
+def _check_bench_job(job, bad):
+    unknown = sorted(set(job) - _BENCH_JOB_FIELDS)
+    if unknown:
+        bad(f"unknown field {unknown[0]!r} for a pfx_bench job (fields: "
+            f"{', '.join(sorted(_BENCH_JOB_FIELDS))})")
+    arguments = job["bench"]
+    if isinstance(arguments, str) or not isinstance(arguments, (list, tuple)) or \
+            not all(isinstance(argument, str) for argument in arguments):
+        bad(f"'bench' must be a list of pfx_bench's arguments (strings), not {arguments!r}")
+    if "program" in job and not isinstance(job["program"], (str, os.PathLike)):
+        bad(f"'program' is a {type(job['program']).__name__}, not a path")
+
+
+def bench_program():
+    """The pfx_bench a job runs when it names none: $PFX_BENCH, else bin/pfx_bench of the
+    build tree this module was built in, else pfx_bench on the PATH (None without one)."""
+    import shutil
+
+    if os.environ.get("PFX_BENCH"):
+        return os.environ["PFX_BENCH"]
+    build = os.path.dirname(os.path.dirname(os.path.realpath(pfx._core.__file__)))
+    beside = os.path.join(os.path.dirname(build), "bin", "pfx_bench")
+    return beside if os.access(beside, os.X_OK) else shutil.which("pfx_bench")
+
+
+def _run_bench_job(job):
+    import subprocess
+
+    program = job.get("program") or bench_program()
+    if not program:
+        raise RuntimeError("no pfx_bench: set PFX_BENCH or give the job a 'program'")
+    done = subprocess.run([os.fspath(program), *job["bench"]], capture_output=True, text=True)
+    if done.returncode != 0:
+        said = done.stderr.strip().splitlines()
+        raise RuntimeError(f"pfx_bench {' '.join(job['bench'])}: exit status {done.returncode}"
+                           + (f": {said[-1]}" if said else ""))
+    result = {"name": job["name"]} if "name" in job else {}
+    result["tsv"] = done.stdout
+    return result
+
+
 def _build(job):
     """The job's world, and its URDF model or None."""
     if "world" in job:
@@ -111,6 +165,8 @@ def _build(job):
 def run_job(job):
     """Builds, steps and measures one job (checked first); returns its result dict."""
     check_job(job)
+    if "bench" in job:
+        return _run_bench_job(job)
     world, model = _build(job)
     world.step(int(job["steps"]))
     result = {"name": job["name"]} if "name" in job else {}
