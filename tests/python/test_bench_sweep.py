@@ -1,7 +1,8 @@
 """pfx.bench_sweep: pfx_bench's sweep over scenes, time steps and iterations split into
 pfx.sweep jobs gives the table one pfx_bench run writes, here and on a LocalCluster of two
-worker processes (all but the wall-time column, which no two runs share); bad sweeps raise
-before anything runs."""
+worker processes (all but the wall-time column, which no two runs share), and one of its
+jobs runs as a job array's task; bad sweeps raise before anything runs."""
+import json
 import os
 import subprocess
 import sys
@@ -93,6 +94,20 @@ def test_the_command_line_writes_the_table_and_refuses_a_bad_sweep(tmp_path):
                           capture_output=True, text=True, env=env)
     assert done.returncode == 1 and "unknown scene 'nosuchscene'" in done.stderr, done.stderr
     assert not bad.exists()
+
+
+def test_a_bench_job_runs_as_an_indexed_task(tmp_path):
+    jobs = pfx.bench_sweep.jobs(["spinner"], ["1/60", "1/120"], [4], engines=["pfx"],
+                                seconds=SECONDS, program=bench_program())
+    listed = tmp_path / "jobs.json"
+    listed.write_text(json.dumps(jobs))
+    done = subprocess.run([sys.executable, "-m", "pfx.sweep", str(listed)], capture_output=True,
+                          text=True, env=dict(os.environ, SLURM_ARRAY_TASK_ID="1"))
+    assert done.returncode == 0, done.stderr
+    task = json.loads(done.stdout)
+    assert task["task"] == 1 and task["job"] == jobs[1]
+    assert without_wall_time(task["tsv"]) == without_wall_time(pfx.sweep.run_job(jobs[1])["tsv"])
+    assert without_wall_time(task["tsv"]) != without_wall_time(pfx.sweep.run_job(jobs[0])["tsv"])
 
 
 def test_bad_sweeps_and_bench_jobs_raise_before_anything_runs():

@@ -4,8 +4,10 @@ Build a World, add bodies (add_body, load_urdf, load_scene, load_octomap), step 
 read its states as numpy arrays. Vectors are 3 numbers, quaternions 4 as (x, y, z, w).
 A call that pfx rejects raises pfx.Error with pfx's message and changes nothing.
 
-Many worlds in one process: WorldBatch. Many jobs across processes or machines (a Dask
-cluster, or one job per task of a Slurm array or Kubernetes indexed Job): pfx.sweep.
+Characters that walk, climb steps and jump: CharacterController. Many worlds in one
+process: WorldBatch. Many jobs across processes or machines (a Dask cluster, or one job per
+task of a Slurm array or Kubernetes indexed Job): pfx.sweep; pfx_bench's sweeps run that
+way through pfx.bench_sweep.
 """
 import os as _os
 import sys as _sys

@@ -248,7 +248,7 @@ def main(argv=None):
         index = resolve_task_index(options.task_index, len(jobs))
         check_job(jobs[index], index)
         result = {"task": index, "job": jobs[index], **run_job(jobs[index])}
-    except (OSError, ValueError, pfx.Error) as error:
+    except (OSError, ValueError, RuntimeError) as error:  # pfx.Error, a failed pfx_bench run
         print(f"pfx.sweep: {error}", file=sys.stderr)
         return 2 if isinstance(error, ValueError) and not isinstance(error, pfx.Error) else 1
     text = json.dumps({key: _json_ready(value) for key, value in result.items()})
