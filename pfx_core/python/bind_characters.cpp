@@ -223,7 +223,8 @@ void bindCharacters(py::module_& m) {
             }
             c.world().requireNoStateViews("CharacterController.add");
             PfxUInt32 id = 0;
-            raiseIfError(controller.addCharacter(param, foot, &id), "foot_position");
+            raiseIfError(controller.addCharacter(param, foot, &id),
+                         std::string("foot_position ") + py::repr(footPosition).cast<std::string>());
             return id;
           },
           py::arg("foot_position"), py::arg("param") = PfxCharacterParam(),
