@@ -205,7 +205,7 @@ TEST(TwoRobots, ASpawnedModelIsDrawnAndReachedByItsQualifiedName) {
   lift.request.link = "box::crate";
   lift.request.pose.position.x = kCrateX;
   lift.request.pose.position.y = kCrateY;
-  lift.request.pose.position.z = 1.5;
+  lift.request.pose.position.z = 3;
   lift.request.pose.orientation.w = 1;
   const pfx::SetBodyState::Response lifted = call(kNode + "set_body_state", lift).response;
   EXPECT_TRUE(lifted.success) << lifted.message;
