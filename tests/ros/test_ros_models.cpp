@@ -4,8 +4,10 @@
 // frames beta/...) and the KUKA iiwa of ../shared/realworld each get their frames at their
 // spawn poses, their own joint_states, command topics and sensors, which act on their robot
 // only; ~link_states lists every link of every model with TF's poses; every bad request is
-// refused with its reason and nothing changed; deleting alpha leaves beta as it was, and
-// ~reset builds the live models again at their spawn poses.
+// refused with its reason and nothing changed; the services reach every model's links and
+// joints by frame or model-qualified name (alpha::pan, box/crate); deleting alpha leaves beta
+// as it was, ~reset builds the live models again at their spawn poses, and the robot of
+// robot_description is deleted and spawned again under its name like any model.
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
