@@ -169,7 +169,8 @@ bool PfxNode::initialize() {
   }
   // After the robot's own sensors and topics: a model's namespace is checked against them.
   m_models = std::make_unique<PfxNodeModels>(m_handle, m_privateHandle, m_simulation,
-                                             m_param.fixedFrame, m_useSimTime);
+                                             m_param.fixedFrame, m_useSimTime,
+                                             [this] { return removeRobot(); });
   if (!m_models->addDeclared(&why)) {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
@@ -184,8 +185,12 @@ bool PfxNode::initialize() {
   m_services = std::make_unique<PfxNodeServices>(
       m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused,
       m_param.realTimeFactor, [this](PfxInt32 steps) { return stepPaused(steps); },
-      [this](const std::vector<PfxUInt32>& joints) {
-        m_jointCommands->releaseFromTrajectories(joints);
+      [this](PfxUInt32 model, const std::vector<PfxUInt32>& joints) {
+        if (model != 0) {
+          m_models->releaseFromTrajectories(model, joints);
+        } else if (m_jointCommands) {
+          m_jointCommands->releaseFromTrajectories(joints);
+        }
       });
 
   const PfxUrdfModel& model = m_simulation.getModel();
@@ -207,7 +212,7 @@ ros::Time PfxNode::stamp() const {
 }
 
 PfxInt32 PfxNode::stepOnce() {
-  m_jointCommands->update();
+  if (m_jointCommands) m_jointCommands->update();
   m_models->beforeStep();
   const PfxInt32 err = m_simulation.step();
   if (err != PFX_OK) {
@@ -215,7 +220,7 @@ PfxInt32 PfxNode::stepOnce() {
                        pfxErrorString(err));
   }
   m_diagnostics->addStep(m_simulation.getWorld().getStats());
-  m_sensors->update(m_simulation, stamp());
+  if (m_sensors) m_sensors->update(m_simulation, stamp());
   m_models->afterStep(stamp());
   m_autosave.afterStep(m_simulation);
   return err;
@@ -225,9 +230,18 @@ bool PfxNode::rebindIfRebuilt() {
   if (m_simulation.getGeneration() == m_boundGeneration) return false;
   m_statePublisher->bind(m_simulation);
   m_boundGeneration = m_simulation.getGeneration();
-  m_sensors->restart();
+  if (m_sensors) m_sensors->restart();
   m_models->rebind();
   return true;
+}
+
+std::string PfxNode::removeRobot() {
+  std::string why;
+  if (m_simulation.removeModel(0, &why) != PFX_OK) return why;
+  m_jointCommands.reset();
+  m_sensors.reset();
+  m_statePublisher->bind(m_simulation);
+  return "";
 }
 
 PfxInt32 PfxNode::stepPaused(PfxInt32 steps) {
@@ -245,6 +259,11 @@ PfxInt32 PfxNode::stepPaused(PfxInt32 steps) {
 
 void PfxNode::publishState() {
   const ros::Time now = stamp();
+  // A reset leaves the simulated clock where it was: its state under the stamp already sent
+  // would be dropped by every TF listener as repeated data (TF_REPEATED_DATA), so it goes
+  // out with the next step.
+  if (now == m_lastStateStamp) return;
+  m_lastStateStamp = now;
   m_statePublisher->publish(m_simulation, now);
   m_models->publishState(now);
 }

@@ -31,6 +31,10 @@ void PfxNodeModel::afterStep(const ros::Time& stamp) { m_sensors->update(m_simul
 
 void PfxNodeModel::publishState(const ros::Time& stamp) { m_state->publish(m_simulation, stamp); }
 
+void PfxNodeModel::releaseFromTrajectories(const std::vector<PfxUInt32>& joints) {
+  m_jointCommands->releaseFromTrajectories(joints);
+}
+
 void PfxNodeModel::rebind() {
   m_state->bind(m_simulation);
   m_sensors->restart();

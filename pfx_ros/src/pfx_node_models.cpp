@@ -17,12 +17,13 @@ bool reject(SpawnModel::Response& res, const std::string& why) {
 
 PfxNodeModels::PfxNodeModels(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
                              PfxNodeSimulation& simulation, const std::string& fixedFrame,
-                             bool useSimTime)
+                             bool useSimTime, RobotRemover robotRemover)
     : m_handle(handle),
       m_privateHandle(privateHandle),
       m_simulation(simulation),
       m_fixedFrame(fixedFrame),
-      m_useSimTime(useSimTime) {
+      m_useSimTime(useSimTime),
+      m_robotRemover(std::move(robotRemover)) {
   m_servers.push_back(privateHandle.advertiseService("spawn_model", &PfxNodeModels::spawn, this));
   m_servers.push_back(privateHandle.advertiseService("delete_model", &PfxNodeModels::remove, this));
 }
@@ -128,9 +129,13 @@ bool PfxNodeModels::remove(DeleteModel::Request& req, DeleteModel::Response& res
     if (req.name.empty()) {
       res.message = "no name given";
     } else if (m_simulation.findModel(req.name) == 0) {
-      res.message = "'" + req.name +
-                    "' is the robot of robot_description, which cannot be deleted (only models "
-                    "added by spawn_model or ~models can)";
+      res.message = m_robotRemover();
+      res.success = res.message.empty();
+      if (res.success) {
+        res.message = "model '" + req.name + "' (the robot of robot_description) deleted";
+        return true;
+      }
+      res.message = "model '" + req.name + "': " + res.message;
     } else {
       res.message = "no model named '" + req.name + "'";
     }
@@ -156,6 +161,12 @@ void PfxNodeModels::afterStep(const ros::Time& stamp) {
 
 void PfxNodeModels::publishState(const ros::Time& stamp) {
   for (auto& entry : m_models) entry.second->publishState(stamp);
+}
+
+void PfxNodeModels::releaseFromTrajectories(PfxUInt32 slot, const std::vector<PfxUInt32>& joints) {
+  for (auto& entry : m_models) {
+    if (entry.second->getSlot() == slot) entry.second->releaseFromTrajectories(joints);
+  }
 }
 
 void PfxNodeModels::rebind() {

@@ -43,10 +43,6 @@ std::string makeRay(const geometry_msgs::Point& origin, const geometry_msgs::Vec
   }
 }
 
-std::string unknownLink(const std::string& name) {
-  return name.empty() ? "no link named" : "unknown link '" + name + "'";
-}
-
 bool isFinite(const geometry_msgs::Vector3& v) { return pfxIsFinite(pfxFromMsg(v)); }
 
 }  // namespace
@@ -152,9 +148,15 @@ bool PfxNodeServices::raycastBatch(RaycastBatch::Request& req, RaycastBatch::Res
 }
 
 bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Response& res) {
-  if (!req.link.empty() && m_simulation.findBody(req.link) < 0 &&
-      m_simulation.findParticleGroup(req.link) < 0) {
-    return reject(res, "get_contacts", unknownLink(req.link));
+  // Contacts name links by their frames: a model-qualified name becomes its link's frame.
+  std::string asked = req.link;
+  if (!asked.empty() && m_simulation.findBody(asked) < 0 &&
+      m_simulation.findParticleGroup(asked) < 0) {
+    PfxNodeModelPart link;
+    if (const std::string why = m_simulation.findModelLink(asked, link); !why.empty()) {
+      return reject(res, "get_contacts", why);
+    }
+    asked = m_simulation.getLinkName(link.index, link.model);
   }
   m_simulation.getContacts(m_contacts);
   for (const PfxNodeContact& c : m_contacts) {
@@ -162,9 +164,9 @@ bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Respon
     const std::string& nameB = c.particleGroup != PFX_RAY_NO_OBJECT
                                    ? m_simulation.getParticleGroupName(c.particleGroup)
                                    : m_simulation.getShapeName(c.bodyB, c.shapeB);
-    if (!req.link.empty() && nameA != req.link && nameB != req.link) continue;
+    if (!asked.empty() && nameA != asked && nameB != asked) continue;
     // The link asked about comes first, the normal pointing away from it.
-    const bool swap = !req.link.empty() && nameA != req.link;
+    const bool swap = !asked.empty() && nameA != asked;
     Contact msg;
     msg.link_a = swap ? nameB : nameA;
     msg.link_b = swap ? nameA : nameB;
@@ -179,8 +181,10 @@ bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Respon
 
 bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
                                       ApplyBodyWrench::Response& res) {
-  const PfxInt32 link = m_simulation.findLink(req.link);
-  if (link < 0) return reject(res, "apply_body_wrench", unknownLink(req.link));
+  PfxNodeModelPart link;
+  if (const std::string why = m_simulation.findModelLink(req.link, link); !why.empty()) {
+    return reject(res, "apply_body_wrench", why);
+  }
   if (!isFinite(req.force)) return reject(res, "apply_body_wrench", "force is not finite");
   if (!isFinite(req.torque)) return reject(res, "apply_body_wrench", "torque is not finite");
   if (!std::isfinite(req.duration) || req.duration < 0) {
@@ -188,7 +192,7 @@ bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
     why << "duration " << req.duration << " s: must be finite and >= 0 (0: one step)";
     return reject(res, "apply_body_wrench", why.str());
   }
-  if (const PfxInt32 err = m_simulation.applyLinkWrench(PfxUInt32(link), pfxFromMsg(req.force),
+  if (const PfxInt32 err = m_simulation.applyLinkWrench(link, pfxFromMsg(req.force),
                                                         pfxFromMsg(req.torque), req.duration);
       err != PFX_OK) {
     return reject(res, "apply_body_wrench", pfxErrorString(err));
@@ -197,8 +201,10 @@ bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
 }
 
 bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Response& res) {
-  const PfxInt32 link = m_simulation.findLink(req.link);
-  if (link < 0) return reject(res, "set_body_state", unknownLink(req.link));
+  PfxNodeModelPart link;
+  if (const std::string why = m_simulation.findModelLink(req.link, link); !why.empty()) {
+    return reject(res, "set_body_state", why);
+  }
   const PfxVector3 position = pfxFromMsg(req.pose.position);
   if (!pfxIsFinite(position)) return reject(res, "set_body_state", "position is not finite");
   const PfxQuat orientation = pfxFromMsg(req.pose.orientation);
@@ -216,7 +222,7 @@ bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Res
   }
   const PfxTransform3 pose = pfxMakeTransform(orientation.normalized(), position);
   if (const PfxInt32 err = m_simulation.setLinkState(
-          PfxUInt32(link), pose, pfxFromMsg(req.twist.linear), pfxFromMsg(req.twist.angular));
+          link, pose, pfxFromMsg(req.twist.linear), pfxFromMsg(req.twist.angular));
       err != PFX_OK) {
     return reject(res, "set_body_state", pfxErrorString(err));
   }
@@ -258,16 +264,30 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
                   std::to_string(n) + " joints but " + std::to_string(req.max_forces.size()) +
                       " max_forces (empty, or one per joint)");
   }
-  const PfxUrdfModel& model = m_simulation.getModel();
+  // One model per request: its joints are set all or none.
+  std::vector<PfxNodeModelPart> found(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (const std::string why = m_simulation.findModelJoint(req.names[i], found[i]);
+        !why.empty()) {
+      return reject(res, service, why);
+    }
+    if (found[i].model != found[0].model) {
+      return reject(res, service,
+                    "joints of models '" + m_simulation.getModelName(found[0].model) + "' and '" +
+                        m_simulation.getModelName(found[i].model) +
+                        "' in one request: command one model per request");
+    }
+  }
+  const PfxUInt32 modelSlot = found[0].model;
+  const PfxUrdfModel& model = m_simulation.getModel(modelSlot);
   std::vector<PfxUInt32> joints(n);
   std::vector<PfxFloat> targets(n, 0);
   std::vector<PfxFloat> maxForces(n, 0);
-  std::set<std::string> seen;
+  std::set<PfxUInt32> seen;
   for (std::size_t i = 0; i < n; ++i) {
     const std::string& name = req.names[i];
-    const PfxInt32 index = m_simulation.findJoint(name);
-    if (index < 0) return reject(res, service, "unknown joint '" + name + "'");
-    if (!seen.insert(name).second) return reject(res, service, "joint '" + name + "' named twice");
+    const PfxUInt32 index = found[i].index;
+    if (!seen.insert(index).second) return reject(res, service, "joint '" + name + "' named twice");
     const PfxUrdfJoint& joint = model.joints[index];
     if (joint.jointId == kPfxUrdfNoJoint) {
       return reject(res, service, "joint '" + name + "' has no coordinate to drive");
@@ -289,13 +309,14 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
         return reject(res, service, "max_force of joint '" + name + "' must be finite and >= 0");
       }
     }
-    joints[i] = PfxUInt32(index);
+    joints[i] = index;
   }
-  if (const PfxInt32 err = m_simulation.setJointCommands(joints, drive, targets, maxForces);
+  if (const PfxInt32 err =
+          m_simulation.setJointCommands(joints, drive, targets, maxForces, modelSlot);
       err != PFX_OK) {
     return reject(res, service, pfxErrorString(err));
   }
-  m_jointCommandListener(joints);
+  m_jointCommandListener(modelSlot, joints);
   // The targets were cut to the joints' limits where they lay beyond; say which.
   std::string cut;
   for (std::size_t i = 0; needTargets && i < n; ++i) {

@@ -171,19 +171,22 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
                            built->worldFile.warnings.end());
   }
 
-  PfxUrdfLoadParam urdfParam;
-  urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
-  urdfParam.fixedBase = config.fixedBase;
-  urdfParam.placeAboveGround = config.placeAboveGround;
-  urdfParam.disableSelfCollision = !config.selfCollision;
-  urdfParam.allowMissingMeshes = config.allowMissingMeshes;
-  std::string why;
-  if (const PfxInt32 err = pfxLoadUrdfString(
-          world, config.urdfXml, config.urdfPath.empty() ? "." : folderOf(config.urdfPath),
-          urdfParam, built->model, &why);
-      err != PFX_OK) {
-    if (message) *message = why;
-    return err;
+  // A deleted robot is not built again: its model stays empty.
+  if (!config.robotRemoved) {
+    PfxUrdfLoadParam urdfParam;
+    urdfParam.rootPosition = PfxVector3(0, 0, config.initialHeight);
+    urdfParam.fixedBase = config.fixedBase;
+    urdfParam.placeAboveGround = config.placeAboveGround;
+    urdfParam.disableSelfCollision = !config.selfCollision;
+    urdfParam.allowMissingMeshes = config.allowMissingMeshes;
+    std::string why;
+    if (const PfxInt32 err = pfxLoadUrdfString(
+            world, config.urdfXml, config.urdfPath.empty() ? "." : folderOf(config.urdfPath),
+            urdfParam, built->model, &why);
+        err != PFX_OK) {
+      if (message) *message = why;
+      return err;
+    }
   }
 
   built->warnings.insert(built->warnings.end(), built->model.warnings.begin(),
@@ -194,8 +197,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   for (const PfxSceneBody& body : built->worldFile.bodies) {
     built->bodyNames[body.bodyId] = body.name;
   }
-  std::vector<std::string> linkNames;
-  for (const PfxUrdfLink& link : built->model.links) linkNames.push_back(link.name);
+  const std::vector<std::string> linkNames = robotLinkNames(built->model);
   nameRobotBodies(built->model, linkNames, built->bodyNames);
   for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
     if (built->bodyNames[id].empty()) built->bodyNames[id] = "body_" + std::to_string(id);
@@ -244,7 +246,9 @@ bool PfxNodeSimulation::findAnchor(const Scene& scene, const std::string& link,
     return true;
   }
   PfxTransform3 linkPose;
-  if (const PfxInt32 index = pfxFindUrdfLink(scene.model, link); index >= 0) {
+  // A removed robot's links are no longer among the scene's names.
+  if (const PfxInt32 index = pfxFindUrdfLink(scene.model, link);
+      index >= 0 && scene.bodyByName.count(link) != 0) {
     const PfxUrdfLink& urdfLink = scene.model.links[index];
     body.bodyId = urdfLink.bodyId;
     linkPose = pfxGetUrdfLinkPose(w, urdfLink);
@@ -385,6 +389,13 @@ PfxInt32 PfxNodeSimulation::reset(std::string* message) {
     }
     nameAgentBody(*scene, spec.name, scene->agents->getAgentBody(i));
   }
+  // The rebuilt world continues the clock rather than the node keeping an offset to it:
+  // the world's time is what a save writes and a load resumes from, so a world saved after
+  // a reset holds the node's time, and no reader of a file needs to know about resets.
+  if (const PfxInt32 err = scene->world->setSimulatedTime(getTime()); err != PFX_OK) {
+    if (message) *message = std::string("the clock cannot go on: ") + pfxErrorString(err);
+    return err;
+  }
   m_scene = std::move(scene);
   m_wrenches.clear();
   ++m_generation;
@@ -394,8 +405,8 @@ PfxInt32 PfxNodeSimulation::reset(std::string* message) {
 PfxInt32 PfxNodeSimulation::step() {
   PfxWorld& world = *m_scene->world;
   for (Wrench& wrench : m_wrenches) {
-    const PfxUrdfLink& link = m_scene->model.links[wrench.linkIndex];
-    const PfxVector3 arm = getLinkPose(wrench.linkIndex).translation() -
+    const PfxUrdfLink& link = getModel(wrench.link.model).links[wrench.link.index];
+    const PfxVector3 arm = getLinkPose(wrench.link.index, wrench.link.model).translation() -
                            world.getRigidState(link.bodyId).getPosition();
     world.applyForce(link.bodyId, wrench.force, wrench.torque + arm.cross(wrench.force));
     wrench.remainingSteps -= 1;
@@ -502,6 +513,11 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
     }
     return PFX_ERR_INVALID_VALUE;
   }
+  if (m_config.robotRemoved) {
+    return refuse("the robot of robot_description was deleted, and a world file is checked "
+                  "against it: restart the node to load one",
+                  message);
+  }
   const auto live = std::count_if(m_config.models.begin(), m_config.models.end(),
                                   [](const auto& model) { return model.has_value(); });
   if (live > 0) {
@@ -545,7 +561,9 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
 }
 
 const std::string& PfxNodeSimulation::getShapeName(PfxUInt32 bodyId, PfxUInt32 shapeIndex) const {
-  if (const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex); link >= 0) {
+  // A removed robot's body ids may have gone to bodies added since.
+  if (const PfxInt32 link = pfxFindUrdfShapeLink(m_scene->model, bodyId, shapeIndex);
+      link >= 0 && hasModel(0)) {
     return m_scene->model.links[link].name;
   }
   for (const auto& added : m_scene->addedModels) {
@@ -566,7 +584,8 @@ const PfxUrdfModel& PfxNodeSimulation::getModel(PfxUInt32 model) const {
 }
 
 bool PfxNodeSimulation::hasModel(PfxUInt32 slot) const {
-  return slot == 0 || (slot <= m_config.models.size() && m_config.models[slot - 1].has_value());
+  if (slot == 0) return !m_config.robotRemoved;
+  return (slot <= m_config.models.size() && m_config.models[slot - 1].has_value());
 }
 
 const std::string& PfxNodeSimulation::getModelName(PfxUInt32 slot) const {
@@ -667,31 +686,58 @@ PfxInt32 PfxNodeSimulation::addModel(const PfxNodeModelSpec& spec, PfxUInt32* sl
   return PFX_OK;
 }
 
-PfxInt32 PfxNodeSimulation::removeModel(PfxUInt32 slot, std::string* message) {
-  if (slot == 0) {
-    return refuse("the robot of robot_description cannot be deleted, only added models",
-                  message);
-  }
-  if (!hasModel(slot)) return refuse("no model in slot " + std::to_string(slot), message);
-  std::unique_ptr<PfxNodeAddedModel>& added = m_scene->addedModels[slot - 1];
-  const PfxUrdfModel& urdf = added->urdf;
-  PfxWorld& world = *m_scene->world;
+std::vector<std::string> PfxNodeSimulation::robotLinkNames(const PfxUrdfModel& robot) {
+  std::vector<std::string> names;
+  for (const PfxUrdfLink& link : robot.links) names.push_back(link.name);
+  return names;
+}
+
+void PfxNodeSimulation::removeModelBodies(Scene& scene, const PfxUrdfModel& urdf,
+                                          const std::vector<std::string>& linkNames) {
+  PfxWorld& world = *scene.world;
   const bool addedLast = urdf.firstBodyId + urdf.numBodies == world.getNumRigidBodies() &&
                          urdf.firstJointId + urdf.numJoints == world.getNumJoints() &&
                          urdf.firstCouplingId + urdf.numCouplings == world.getNumJointCouplings();
   if (addedLast) {
     // Nothing came after it: its slots go too, as if it had never been added.
     world.truncate(urdf.firstBodyId, urdf.firstJointId, urdf.firstCouplingId);
-    m_scene->bodyNames.resize(std::min<std::size_t>(m_scene->bodyNames.size(), urdf.firstBodyId));
+    scene.bodyNames.resize(std::min<std::size_t>(scene.bodyNames.size(), urdf.firstBodyId));
   } else {
     for (PfxUInt32 id = urdf.firstBodyId; id < urdf.firstBodyId + urdf.numBodies; ++id) {
       if (world.hasRigidBody(id)) world.removeRigidBody(id);
     }
   }
-  for (const std::string& name : added->linkNames) m_scene->bodyByName.erase(name);
-  // The world's shapes pointed into the model's meshes; its bodies are gone now.
-  added.reset();
-  m_config.models[slot - 1].reset();
+  for (const std::string& name : linkNames) scene.bodyByName.erase(name);
+}
+
+PfxInt32 PfxNodeSimulation::removeModel(PfxUInt32 slot, std::string* message) {
+  if (!hasModel(slot)) return refuse("no model in slot " + std::to_string(slot), message);
+  if (slot == 0) {
+    // Its bodies would leave the particles tied to nothing.
+    const std::vector<std::string> links = robotLinkNames(m_scene->model);
+    auto holds = [&](const std::string& link) {
+      return std::find(links.begin(), links.end(), link) != links.end();
+    };
+    for (const PfxNodeCableSpec& cable : m_config.cables) {
+      if (holds(cable.startLink) || holds(cable.endLink)) {
+        return refuse("cable '" + cable.name + "' holds on to it", message);
+      }
+    }
+    for (const PfxNodeClothSpec& cloth : m_config.cloths) {
+      if (holds(cloth.pinLink)) return refuse("cloth '" + cloth.name + "' holds on to it", message);
+    }
+    removeModelBodies(*m_scene, m_scene->model, links);
+    m_config.robotRemoved = true;
+  } else {
+    std::unique_ptr<PfxNodeAddedModel>& added = m_scene->addedModels[slot - 1];
+    removeModelBodies(*m_scene, added->urdf, added->linkNames);
+    // The world's shapes pointed into the model's meshes; its bodies are gone now.
+    added.reset();
+    m_config.models[slot - 1].reset();
+  }
+  m_wrenches.erase(std::remove_if(m_wrenches.begin(), m_wrenches.end(),
+                                  [slot](const Wrench& w) { return w.link.model == slot; }),
+                   m_wrenches.end());
   ++m_modelChanges;
   return PFX_OK;
 }
@@ -706,6 +752,58 @@ PfxInt32 PfxNodeSimulation::findLink(const std::string& name, PfxUInt32 model) c
 
 PfxInt32 PfxNodeSimulation::findJoint(const std::string& name, PfxUInt32 model) const {
   return pfxFindUrdfJoint(getModel(model), name);
+}
+
+std::string PfxNodeSimulation::findQualifiedPart(const std::string& name, bool isLink,
+                                                 PfxNodeModelPart& part) const {
+  const std::string kind = isLink ? "link" : "joint";
+  if (name.empty()) return "no " + kind + " named";
+  std::string modelAsked;
+  for (const std::string separator : {"::", "/"}) {
+    const std::size_t at = name.find(separator);
+    if (at == std::string::npos) continue;
+    if (modelAsked.empty()) modelAsked = name.substr(0, at);
+    const PfxInt64 slot = findModel(name.substr(0, at));
+    if (slot < 0) continue;
+    const std::string partName = name.substr(at + separator.size());
+    const PfxInt32 index =
+        isLink ? findLink(partName, PfxUInt32(slot)) : findJoint(partName, PfxUInt32(slot));
+    if (index < 0) {
+      return "unknown " + kind + " '" + name + "': model '" + getModelName(PfxUInt32(slot)) +
+             "' has no " + kind + " '" + partName + "'";
+    }
+    part = {PfxUInt32(slot), PfxUInt32(index)};
+    return "";
+  }
+  if (modelAsked.empty()) return "unknown " + kind + " '" + name + "'";
+  return "unknown " + kind + " '" + name + "': " +
+         (isLink ? "no link has that frame, and " : "") + "no model is named '" + modelAsked +
+         "'";
+}
+
+std::string PfxNodeSimulation::findModelLink(const std::string& name,
+                                             PfxNodeModelPart& link) const {
+  for (PfxUInt32 slot = 0; slot < getNumModelSlots(); ++slot) {
+    if (!hasModel(slot)) continue;
+    for (std::size_t i = 0; i < getModel(slot).links.size(); ++i) {
+      if (getLinkName(PfxUInt32(i), slot) == name) {
+        link = {slot, PfxUInt32(i)};
+        return "";
+      }
+    }
+  }
+  return findQualifiedPart(name, true, link);
+}
+
+std::string PfxNodeSimulation::findModelJoint(const std::string& name,
+                                              PfxNodeModelPart& joint) const {
+  if (hasModel(0)) {
+    if (const PfxInt32 index = findJoint(name, 0); index >= 0) {
+      joint = {0, PfxUInt32(index)};
+      return "";
+    }
+  }
+  return findQualifiedPart(name, false, joint);
 }
 
 PfxInt64 PfxNodeSimulation::findBody(const std::string& name) const {
@@ -828,24 +926,28 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
   }
 }
 
-PfxInt32 PfxNodeSimulation::applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force,
+PfxInt32 PfxNodeSimulation::applyLinkWrench(const PfxNodeModelPart& link, const PfxVector3& force,
                                             const PfxVector3& torque, double duration) {
-  if (linkIndex >= m_scene->model.links.size()) return PFX_ERR_OUT_OF_RANGE;
+  if (!hasModel(link.model) || link.index >= getModel(link.model).links.size()) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
   if (!pfxIsFinite(force) || !pfxIsFinite(torque) || !std::isfinite(duration) || duration < 0) {
     return PFX_ERR_INVALID_VALUE;
   }
   // Steps whose start lies within the duration; a tolerance keeps 0.1 s at dt 0.004 from
   // rounding to 26 steps.
   const double steps = std::ceil(duration / m_config.timeStep - 1e-6);
-  m_wrenches.push_back({linkIndex, force, torque, std::max(1.0, steps)});
+  m_wrenches.push_back({link, force, torque, std::max(1.0, steps)});
   return PFX_OK;
 }
 
-PfxInt32 PfxNodeSimulation::setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,
+PfxInt32 PfxNodeSimulation::setLinkState(const PfxNodeModelPart& part, const PfxTransform3& pose,
                                          const PfxVector3& linearVelocity,
                                          const PfxVector3& angularVelocity) {
-  if (linkIndex >= m_scene->model.links.size()) return PFX_ERR_OUT_OF_RANGE;
-  const PfxUrdfLink& link = m_scene->model.links[linkIndex];
+  if (!hasModel(part.model) || part.index >= getModel(part.model).links.size()) {
+    return PFX_ERR_OUT_OF_RANGE;
+  }
+  const PfxUrdfLink& link = getModel(part.model).links[part.index];
   const PfxTransform3 bodyPose = pose * link.linkInBody.inverse();
   PfxRigidState state = m_scene->world->getRigidState(link.bodyId);
   state.setPosition(bodyPose.translation());

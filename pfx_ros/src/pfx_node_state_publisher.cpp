@@ -20,6 +20,14 @@ PfxNodeStatePublisher::PfxNodeStatePublisher(ros::NodeHandle& handle, const std:
 }
 
 void PfxNodeStatePublisher::bind(const PfxNodeSimulation& simulation) {
+  if (!simulation.hasModel(m_model)) {
+    m_parentLink.clear();
+    m_transforms.clear();
+    m_linkPoses.clear();
+    m_publishedJoints.clear();
+    m_jointStates.shutdown();
+    return;
+  }
   const PfxUrdfModel& model = simulation.getModel(m_model);
   std::unordered_map<std::string, PfxInt32> linkIndex;
   for (std::size_t i = 0; i < model.links.size(); ++i) {
@@ -81,15 +89,18 @@ void PfxNodeStatePublisher::publish(const PfxNodeSimulation& simulation, const r
     agent.transform = pfxToTransformMsg(pfxMakeTransform(
         PfxQuat(Eigen::AngleAxis<PfxFloat>(state.yaw, PfxVector3::UnitZ())), state.foot));
   }
-  m_broadcaster.sendTransform(m_transforms);
+  if (!m_transforms.empty()) m_broadcaster.sendTransform(m_transforms);
 
-  pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(m_model), m_positions, m_velocities);
-  for (std::size_t k = 0; k < m_publishedJoints.size(); ++k) {
-    m_jointState.position[k] = m_positions[m_publishedJoints[k]];
-    m_jointState.velocity[k] = m_velocities[m_publishedJoints[k]];
+  if (simulation.hasModel(m_model)) {
+    pfxGetUrdfJointStates(simulation.getWorld(), simulation.getModel(m_model), m_positions,
+                          m_velocities);
+    for (std::size_t k = 0; k < m_publishedJoints.size(); ++k) {
+      m_jointState.position[k] = m_positions[m_publishedJoints[k]];
+      m_jointState.velocity[k] = m_velocities[m_publishedJoints[k]];
+    }
+    m_jointState.header.stamp = stamp;
+    m_jointStates.publish(m_jointState);
   }
-  m_jointState.header.stamp = stamp;
-  m_jointStates.publish(m_jointState);
 
   if (m_publishClock) {
     rosgraph_msgs::Clock clock;

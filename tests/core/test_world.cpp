@@ -232,6 +232,21 @@ TEST(World, SetStepParamKeepsTheBodiesAndRejectsBadValues) {
   EXPECT_NEAR(world.getSimulatedTime() - time, 0.01, 1e-6);
 }
 
+TEST(World, SetSimulatedTimeContinuesTheClockAndRefusesBadTimes) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineStable);
+  ASSERT_EQ(world.step(), PFX_OK);
+  const double stepped = world.getSimulatedTime();
+  for (double bad : {-0.5, double(kNaN), double(kInf)}) {
+    EXPECT_EQ(world.setSimulatedTime(bad), PFX_ERR_INVALID_VALUE) << bad;
+    EXPECT_EQ(world.getSimulatedTime(), stepped) << bad;
+  }
+  ASSERT_EQ(world.setSimulatedTime(12.5), PFX_OK);
+  EXPECT_EQ(world.getSimulatedTime(), 12.5);
+  ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_NEAR(world.getSimulatedTime(), 12.5 + world.getParam().timeStep, 1e-9);
+}
+
 TEST(World, StepAllocatesNothingAfterWarmUp) {
   for (PfxPipelineType pipeline : {kPfxPipelineSimple, kPfxPipelineStable}) {
     PfxWorld world;

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -87,6 +88,41 @@ class ClockWatcher {
   void onClock(const rosgraph_msgs::Clock& msg) { m_seconds.store(msg.clock.toSec()); }
   ros::Subscriber m_sub;
   std::atomic<double> m_seconds{-1.0};
+};
+
+// The latest message of a topic whose header carries a stamp.
+template <typename Msg>
+class Latest {
+ public:
+  Latest(ros::NodeHandle& nh, const std::string& topic)
+      : m_sub(nh.subscribe(topic, 20, &Latest::onMessage, this)) {}
+  bool connected() const { return m_sub.getNumPublishers() > 0; }
+  // A message stamped `seconds` or later, within `wallSeconds`.
+  bool waitFor(double seconds, Msg& out, double wallSeconds = 5) const {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
+    for (;;) {
+      {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (m_has && m_latest.header.stamp.toSec() >= seconds - 1e-9) {
+          out = m_latest;
+          return true;
+        }
+      }
+      if (ros::WallTime::now() > deadline) return false;
+      ros::WallDuration(0.01).sleep();
+    }
+  }
+
+ private:
+  void onMessage(const Msg& msg) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_latest = msg;
+    m_has = true;
+  }
+  ros::Subscriber m_sub;
+  mutable std::mutex m_mutex;
+  Msg m_latest;
+  bool m_has = false;
 };
 
 // The newest transform of `frame` in `fixedFrame`, waiting up to `wallSeconds` for one.

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <mutex>
 
+#include "pfx/DeleteModel.h"
 #include "pfx/GetContacts.h"
 #include "pfx/RaycastBatch.h"
 #include "pfx_ros_test_util.h"
@@ -221,6 +222,24 @@ TEST(Cables, TheMarkersDrawEveryCableAndTheCloth) {
   EXPECT_EQ(cloth->type, visualization_msgs::Marker::TRIANGLE_LIST);
   EXPECT_EQ(cloth->points.size(), 10u * 10u * 2u * 3u);
   EXPECT_EQ(findMarker(array, "cables", 2), nullptr);
+}
+
+TEST(Cables, TheRobotACableHoldsOnToIsNotDeleted) {
+  pfx::DeleteModel remove;
+  remove.request.name = "ft_bumper";
+  const pfx::DeleteModel::Response refused =
+      pfx_test::call(kNode + "delete_model", remove).response;
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.message.find("cable 'catenary' holds on to it"), std::string::npos)
+      << refused.message;
+  // Nothing went: its links answer by name, its sensor publishes.
+  pfx::GetContacts contacts;
+  contacts.request.link = "pad";
+  const pfx::GetContacts::Response pad = pfx_test::call(kNode + "get_contacts", contacts).response;
+  EXPECT_TRUE(pad.success) << pad.message;
+  EXPECT_FALSE(pad.contacts.empty());
+  Latest<geometry_msgs::WrenchStamped> wrench("/hinge_wrench");
+  EXPECT_TRUE(wrench.waitFor(2, 10));
 }
 
 // Last: the second node it starts publishes /clock while it runs.

@@ -4,8 +4,10 @@
 // frames beta/...) and the KUKA iiwa of ../shared/realworld each get their frames at their
 // spawn poses, their own joint_states, command topics and sensors, which act on their robot
 // only; ~link_states lists every link of every model with TF's poses; every bad request is
-// refused with its reason and nothing changed; deleting alpha leaves beta as it was, and
-// ~reset builds the live models again at their spawn poses.
+// refused with its reason and nothing changed; the services reach every model's links and
+// joints by frame or model-qualified name (alpha::pan, box/crate); deleting alpha leaves beta
+// as it was, ~reset builds the live models again at their spawn poses, and the robot of
+// robot_description is deleted and spawned again under its name like any model.
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -13,11 +15,14 @@
 #include <std_srvs/Trigger.h>
 
 #include <limits>
-#include <mutex>
 #include <set>
 
+#include "pfx/ApplyBodyWrench.h"
 #include "pfx/DeleteModel.h"
+#include "pfx/GetContacts.h"
 #include "pfx/LinkStates.h"
+#include "pfx/SetBodyState.h"
+#include "pfx/SetJointCommand.h"
 #include "pfx/SpawnModel.h"
 #include "pfx/Step.h"
 #include "pfx/WorldFile.h"
@@ -39,41 +44,6 @@ const double kIiwaY = 3.0;
 const double kLaserForward = 0.22;  // scout.urdf: the laser's mount ahead of the base
 const double kLaserHeight = 0.1;
 
-// The latest message of a topic whose header carries a stamp.
-template <typename Msg>
-class Latest {
- public:
-  Latest(ros::NodeHandle& nh, const std::string& topic)
-      : m_sub(nh.subscribe(topic, 20, &Latest::onMessage, this)) {}
-  bool connected() const { return m_sub.getNumPublishers() > 0; }
-  // A message stamped `seconds` or later, within `wallSeconds`.
-  bool waitFor(double seconds, Msg& out, double wallSeconds = 5) const {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
-    for (;;) {
-      {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        if (m_has && m_latest.header.stamp.toSec() >= seconds - 1e-9) {
-          out = m_latest;
-          return true;
-        }
-      }
-      if (ros::WallTime::now() > deadline) return false;
-      ros::WallDuration(0.01).sleep();
-    }
-  }
-
- private:
-  void onMessage(const Msg& msg) {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    m_latest = msg;
-    m_has = true;
-  }
-  ros::Subscriber m_sub;
-  mutable std::mutex m_mutex;
-  Msg m_latest;
-  bool m_has = false;
-};
-
 // One scout's topics.
 struct Scout {
   Scout(ros::NodeHandle& nh, const std::string& ns)
@@ -85,18 +55,18 @@ struct Scout {
     return joints.connected() && scan.connected() && imu.connected() &&
            pan.getNumSubscribers() > 0;
   }
-  Latest<sensor_msgs::JointState> joints;
-  Latest<sensor_msgs::LaserScan> scan;
-  Latest<sensor_msgs::Imu> imu;
+  pfx_test::Latest<sensor_msgs::JointState> joints;
+  pfx_test::Latest<sensor_msgs::LaserScan> scan;
+  pfx_test::Latest<sensor_msgs::Imu> imu;
   ros::Publisher pan;
 };
 
 struct Shared {
   std::unique_ptr<pfx_test::RosClient> ros;
-  std::unique_ptr<Latest<pfx::LinkStates>> linkStates;
+  std::unique_ptr<pfx_test::Latest<pfx::LinkStates>> linkStates;
   std::unique_ptr<pfx_test::BodyCount> bodies;
   std::unique_ptr<Scout> alpha, beta;
-  std::unique_ptr<Latest<sensor_msgs::JointState>> iiwaJoints;
+  std::unique_ptr<pfx_test::Latest<sensor_msgs::JointState>> iiwaJoints;
   double time = 0;  // simulated time after the last ~step
 };
 Shared* shared = nullptr;
@@ -147,6 +117,7 @@ pfx::DeleteModel::Response remove(const std::string& name) {
 }
 
 std::string scoutPath() { return std::string(PFX_SOURCE_DIR) + "/tests/ros/data/scout.urdf"; }
+std::string cratePath() { return std::string(PFX_SOURCE_DIR) + "/tests/ros/data/crate.urdf"; }
 
 // The public copy beside the checkout when there is one, else the repository's own copy
 // (the same file).
@@ -349,6 +320,142 @@ TEST(Models, LinkStatesListEveryLinkOfEveryModelAsTfHasIt) {
   }
 }
 
+pfx::SetJointCommand::Response commandJoints(const std::vector<std::string>& names,
+                                             double target) {
+  pfx::SetJointCommand srv;
+  srv.request.names = names;
+  srv.request.mode = pfx::SetJointCommand::Request::POSITION;
+  srv.request.targets.assign(names.size(), target);
+  return call(kNode + "set_joint_command", srv).response;
+}
+
+// Both scouts' pan joints after `steps` steps.
+std::pair<double, double> pansAfter(int steps) {
+  const double time = step(steps);
+  sensor_msgs::JointState alpha, beta;
+  EXPECT_TRUE(shared->alpha->joints.waitFor(time, alpha));
+  EXPECT_TRUE(shared->beta->joints.waitFor(time, beta));
+  return {jointPosition(alpha, "pan"), jointPosition(beta, "pan")};
+}
+
+pfx::SetBodyState::Response setBodyState(const std::string& link, double x, double y, double z) {
+  pfx::SetBodyState srv;
+  srv.request.link = link;
+  srv.request.pose.position.x = x;
+  srv.request.pose.position.y = y;
+  srv.request.pose.position.z = z;
+  srv.request.pose.orientation.w = 1;
+  return call(kNode + "set_body_state", srv).response;
+}
+
+pfx::ApplyBodyWrench::Response pushAlongX(const std::string& link, double force) {
+  pfx::ApplyBodyWrench srv;
+  srv.request.link = link;
+  srv.request.force.x = force;
+  srv.request.duration = 0.1;
+  return call(kNode + "apply_body_wrench", srv).response;
+}
+
+pfx::GetContacts::Response contactsOf(const std::string& link) {
+  pfx::GetContacts srv;
+  srv.request.link = link;
+  return call(kNode + "get_contacts", srv).response;
+}
+
+void expectRefused(bool success, const std::string& message, const std::string& reason) {
+  EXPECT_FALSE(success) << reason;
+  EXPECT_NE(message.find(reason), std::string::npos)
+      << "'" << message << "' does not say '" << reason << "'";
+}
+
+TEST(Models, JointServicesReachEveryModelByItsQualifiedName) {
+  // Alpha's pan stands at 0.5 and beta's at -0.4 (EachRobotsCommandsMoveOnlyThatRobot).
+  pfx::SetJointCommand::Response res = commandJoints({"beta::pan"}, 0.2);
+  ASSERT_TRUE(res.success) << res.message;
+  auto [alpha, beta] = pansAfter(250);
+  EXPECT_NEAR(beta, 0.2, 0.01);
+  EXPECT_NEAR(alpha, 0.5, 0.01) << "beta's command moved alpha";
+  res = commandJoints({"beta/pan"}, -0.4);
+  ASSERT_TRUE(res.success) << res.message;
+  std::tie(alpha, beta) = pansAfter(250);
+  EXPECT_NEAR(beta, -0.4, 0.01);
+  EXPECT_NEAR(alpha, 0.5, 0.01);
+
+  res = commandJoints({"alpha::pan", "beta::pan"}, 0);
+  expectRefused(res.success, res.message, "command one model per request");
+  res = commandJoints({"ghost::pan"}, 0);
+  expectRefused(res.success, res.message, "no model is named 'ghost'");
+  res = commandJoints({"alpha::tilt"}, 0);
+  expectRefused(res.success, res.message, "model 'alpha' has no joint 'tilt'");
+  res = commandJoints({"pan"}, 0);  // the crate, robot_description, has no joints
+  expectRefused(res.success, res.message, "unknown joint 'pan'");
+  res = commandJoints({"beta::pan"}, std::numeric_limits<double>::quiet_NaN());
+  expectRefused(res.success, res.message, "target of joint 'beta::pan' is not finite");
+  std::tie(alpha, beta) = pansAfter(50);
+  EXPECT_NEAR(beta, -0.4, 1e-3) << "a refused command moved beta";
+  EXPECT_NEAR(alpha, 0.5, 0.01) << "a refused command moved alpha";
+}
+
+TEST(Models, LinkServicesReachEveryModelByFrameOrQualifiedName) {
+  // A loose crate, model "box", given beta's prefix: "beta/crate" is its link's frame, which
+  // comes before the qualified names, so that "beta::crate" names no link.
+  pfx::SpawnModel::Request box = spawnRequest("box", 0, -3, 0);
+  box.fixed_base = false;
+  box.pose.position.z = 0.26;
+  box.urdf = pfx_test::readText(cratePath());
+  box.tf_prefix = "beta";
+  const pfx::SpawnModel::Response spawned = spawn(box);
+  ASSERT_TRUE(spawned.success) << spawned.message;
+
+  pfx::SetBodyState::Response lifted = setBodyState("box::crate", 0, -3, 1);
+  ASSERT_TRUE(lifted.success) << lifted.message;
+  double time = step(1);
+  geometry_msgs::TransformStamped frame;
+  ASSERT_TRUE(frameAt("beta/crate", time, frame));
+  EXPECT_GT(frame.transform.translation.z, 0.9);
+  EXPECT_LE(frame.transform.translation.z, 1.0);
+
+  time = step(250);  // fallen and at rest on the ground
+  const pfx::GetContacts::Response byModel = contactsOf("box/crate");
+  ASSERT_TRUE(byModel.success) << byModel.message;
+  ASSERT_FALSE(byModel.contacts.empty());
+  for (const pfx::Contact& contact : byModel.contacts) {
+    EXPECT_EQ(contact.link_a, "beta/crate");
+    EXPECT_EQ(contact.link_b, "ground");
+  }
+  EXPECT_EQ(contactsOf("beta/crate").contacts.size(), byModel.contacts.size());
+
+  ASSERT_TRUE(frameAt("beta/crate", time, frame));
+  const double restX = frame.transform.translation.x;
+  const pfx::ApplyBodyWrench::Response pushed = pushAlongX("beta/crate", 600);
+  ASSERT_TRUE(pushed.success) << pushed.message;
+  time = step(250);
+  ASSERT_TRUE(frameAt("beta/crate", time, frame));
+  EXPECT_GT(frame.transform.translation.x - restX, 0.01) << "the push did not move the box";
+
+  const geometry_msgs::TransformStamped before = frame;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  pfx::ApplyBodyWrench::Response wrench = pushAlongX("beta::crate", 600);
+  expectRefused(wrench.success, wrench.message, "model 'beta' has no link 'crate'");
+  wrench = pushAlongX("ghost/crate", 600);
+  expectRefused(wrench.success, wrench.message, "no model is named 'ghost'");
+  wrench = pushAlongX("box::crate", nan);
+  expectRefused(wrench.success, wrench.message, "force is not finite");
+  pfx::SetBodyState::Response state = setBodyState("box::crate", nan, -3, 1);
+  expectRefused(state.success, state.message, "position is not finite");
+  state = setBodyState("box::lid", 0, -3, 1);
+  expectRefused(state.success, state.message, "model 'box' has no link 'lid'");
+  const pfx::GetContacts::Response contacts = contactsOf("ghost::crate");
+  expectRefused(contacts.success, contacts.message, "no model is named 'ghost'");
+  time = step(25);
+  ASSERT_TRUE(frameAt("beta/crate", time, frame));
+  EXPECT_NEAR(frame.transform.translation.x, before.transform.translation.x, 1e-4);
+  EXPECT_NEAR(frame.transform.translation.z, before.transform.translation.z, 1e-4);
+
+  const pfx::DeleteModel::Response deleted = remove("box");
+  EXPECT_TRUE(deleted.success) << deleted.message;
+}
+
 struct BadRequest {
   const char* what;
   pfx::SpawnModel::Request request;
@@ -420,9 +527,7 @@ TEST(Models, BadRequestsAreRefusedWithTheirReasonAndChangeNothing) {
         << entry.what << ": '" << res.message << "' does not say '" << entry.reason << "'";
   }
   const std::pair<const char*, const char*> badDeletes[] = {
-      {"nobody", "no model named 'nobody'"},
-      {"crate", "is the robot of robot_description, which cannot be deleted"},
-      {"", "no name given"}};
+      {"nobody", "no model named 'nobody'"}, {"", "no name given"}};
   for (const auto& [name, reason] : badDeletes) {
     const pfx::DeleteModel::Response res = remove(name);
     EXPECT_FALSE(res.success) << name;
@@ -506,6 +611,47 @@ TEST(Models, ResetBuildsTheLiveModelsAgainAtTheirSpawnPoses) {
   EXPECT_NEAR(frame.transform.translation.x, kBetaX, 1e-5);
 }
 
+TEST(Models, TheRobotOfRobotDescriptionIsDeletedAndSpawnedAgainAsAModel) {
+  step(1);
+  const double bodies = shared->bodies->next();
+  pfx::Raycast::Response down = pfx_test::raycast(kNode + "raycast", 0, 0, 2, 0, 0, -3);
+  ASSERT_TRUE(down.hit);
+  EXPECT_EQ(down.link, "crate");
+
+  const pfx::DeleteModel::Response deleted = remove("crate");
+  ASSERT_TRUE(deleted.success) << deleted.message;
+  double time = step(1);
+  down = pfx_test::raycast(kNode + "raycast", 0, 0, 2, 0, 0, -3);
+  EXPECT_EQ(down.link, "ground");
+  EXPECT_EQ(shared->bodies->next(), bodies - 1);
+  EXPECT_EQ(linkStateNames(time).count("crate::crate"), 0u);
+  const pfx::DeleteModel::Response again = remove("crate");
+  expectRefused(again.success, again.message, "no model named 'crate'");
+  pfx::SetBodyState::Response state = setBodyState("crate", 0, 0, 1);
+  expectRefused(state.success, state.message, "unknown link 'crate'");
+
+  // Its name is free: spawned again, it is a model like the others, frames prefixed.
+  pfx::SpawnModel::Request crate = spawnRequest("crate", 0, 0, 0);
+  crate.fixed_base = false;
+  crate.pose.position.z = 0.26;
+  crate.urdf = pfx_test::readText(cratePath());
+  const pfx::SpawnModel::Response spawned = spawn(crate);
+  ASSERT_TRUE(spawned.success) << spawned.message;
+  time = step(25);
+  EXPECT_EQ(linkStateNames(time).count("crate::crate"), 1u);
+  down = pfx_test::raycast(kNode + "raycast", 0, 0, 2, 0, 0, -3);
+  EXPECT_EQ(down.link, "crate/crate");
+  EXPECT_TRUE(setBodyState("crate::crate", 0, 0, 0.26).success);
+
+  // ~reset builds the spawned crate again, not the deleted robot.
+  ASSERT_TRUE(call(kNode + "reset", std_srvs::Trigger()).response.success);
+  time = step(1);
+  EXPECT_EQ(linkStateNames(time).count("crate::crate"), 1u);
+  EXPECT_EQ(shared->bodies->next(), bodies);
+  down = pfx_test::raycast(kNode + "raycast", 0, 0, 2, 0, 0, -3);
+  EXPECT_EQ(down.link, "crate/crate");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -514,11 +660,11 @@ int main(int argc, char** argv) {
   Shared state;
   state.ros = std::make_unique<pfx_test::RosClient>();
   ros::NodeHandle& nh = state.ros->nh;
-  state.linkStates = std::make_unique<Latest<pfx::LinkStates>>(nh, kNode + "link_states");
+  state.linkStates = std::make_unique<pfx_test::Latest<pfx::LinkStates>>(nh, kNode + "link_states");
   state.bodies = std::make_unique<pfx_test::BodyCount>(nh);
   state.alpha = std::make_unique<Scout>(nh, "/alpha");
   state.beta = std::make_unique<Scout>(nh, "/team/beta");
-  state.iiwaJoints = std::make_unique<Latest<sensor_msgs::JointState>>(nh, "/iiwa/joint_states");
+  state.iiwaJoints = std::make_unique<pfx_test::Latest<sensor_msgs::JointState>>(nh, "/iiwa/joint_states");
   shared = &state;
   if (!pfx_test::waitForServices({kNode + "spawn_model", kNode + "delete_model", kNode + "step"},
                                  30.0)) {

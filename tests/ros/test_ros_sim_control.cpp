@@ -3,17 +3,25 @@
 // while running and for a count out of 1 .. 10000. ~set_physics refuses every bad value,
 // naming the field, with nothing changed (as ~get_physics and the clock show), and its good
 // values take effect from the next step: the time step of the steps, the pace of the clock
-// (real-time factor), the gravity the robot falls in; ~reset keeps them.
+// (real-time factor), the gravity the robot falls in; ~reset keeps them. After ~reset the
+// clock goes on: TF carries no stamp twice, and a world saved after it holds the time since
+// the start.
 #include <sensor_msgs/JointState.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <unistd.h>
+
 #include <atomic>
+#include <cstdio>
 #include <limits>
+#include <mutex>
+#include <set>
 
 #include "pfx/GetPhysics.h"
 #include "pfx/SetPhysics.h"
 #include "pfx/Step.h"
+#include "pfx/WorldFile.h"
 #include "pfx_ros_test_util.h"
 
 using pfx_test::call;
@@ -38,10 +46,39 @@ class JointStampWatcher {
   std::atomic<double> m_stamp{-1.0};
 };
 
+// Every stamp /tf has carried for one frame since the last clear().
+class TfStamps {
+ public:
+  TfStamps(ros::NodeHandle& nh, const std::string& frame)
+      : m_frame(frame), m_sub(nh.subscribe("/tf", 100, &TfStamps::onTf, this)) {}
+  bool connected() const { return m_sub.getNumPublishers() > 0; }
+  void clear() {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_stamps.clear();
+  }
+  std::vector<double> stamps() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_stamps;
+  }
+
+ private:
+  void onTf(const tf2_msgs::TFMessage& msg) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    for (const geometry_msgs::TransformStamped& t : msg.transforms) {
+      if (t.child_frame_id == m_frame) m_stamps.push_back(t.header.stamp.toSec());
+    }
+  }
+  std::string m_frame;
+  ros::Subscriber m_sub;
+  mutable std::mutex m_mutex;
+  std::vector<double> m_stamps;
+};
+
 struct Shared {
   std::unique_ptr<pfx_test::RosClient> ros;
   std::unique_ptr<pfx_test::ClockWatcher> clock;
   std::unique_ptr<JointStampWatcher> joints;
+  std::unique_ptr<TfStamps> armStamps;
 };
 Shared* shared = nullptr;
 
@@ -242,6 +279,39 @@ TEST(SimControl, SetPhysicsTakesEffectFromTheNextStep) {
   EXPECT_NEAR(step(4).time - t1, 4 * set.dt, 1e-9);
 }
 
+pfx::WorldFile::Response worldFile(const std::string& service, const std::string& path) {
+  pfx::WorldFile srv;
+  srv.request.path = path;
+  return call(kNode + service, srv).response;
+}
+
+TEST(SimControl, ResetRepeatsNoTfStampAndTheWorldsClockGoesOn) {
+  const double dt = getPhysics().dt;
+  shared->armStamps->clear();
+  const double before = step(10).time;
+  expectStateAt(before);
+  ASSERT_TRUE(trigger("reset"));
+  // Paused: a reset state published at once would carry the stamp already sent.
+  ros::WallDuration(0.3).sleep();
+  const pfx::Step::Response after = step(1);
+  ASSERT_TRUE(after.success) << after.message;
+  EXPECT_NEAR(after.time - before, dt, 1e-9);
+  expectStateAt(after.time);
+  const std::vector<double> stamps = shared->armStamps->stamps();
+  EXPECT_EQ(std::set<double>(stamps.begin(), stamps.end()).size(), stamps.size())
+      << "TF sent one stamp of arm twice (TF_REPEATED_DATA): " << stamps.size() << " stamps";
+
+  // Saved one step after the reset, the world holds the node's time, not one step.
+  const std::string path = "/tmp/pfx_sim_control_" + std::to_string(::getpid()) + ".pfxw";
+  const pfx::WorldFile::Response saved = worldFile("save_world", path);
+  ASSERT_TRUE(saved.success) << saved.message;
+  step(5);
+  const pfx::WorldFile::Response loaded = worldFile("load_world", path);
+  ASSERT_TRUE(loaded.success) << loaded.message;
+  EXPECT_NEAR(step(1).time, after.time + dt, 1e-6) << loaded.message;
+  std::remove(path.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -251,6 +321,7 @@ int main(int argc, char** argv) {
   state.ros = std::make_unique<pfx_test::RosClient>();
   state.clock = std::make_unique<pfx_test::ClockWatcher>(state.ros->nh);
   state.joints = std::make_unique<JointStampWatcher>(state.ros->nh);
+  state.armStamps = std::make_unique<TfStamps>(state.ros->nh, "arm");
   shared = &state;
   if (!pfx_test::waitForServices(
           {kNode + "step", kNode + "set_physics", kNode + "get_physics", kNode + "reset"}, 30.0)) {
@@ -259,9 +330,9 @@ int main(int argc, char** argv) {
   }
   // The node publishes nothing while paused: the first ~step's state is seen only by
   // subscribers connected before it.
-  ros::Subscriber tf = state.ros->nh.subscribe("/tf", 10, +[](const tf2_msgs::TFMessage&) {});
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
-  while (!(state.joints->connected() && state.clock->connected() && tf.getNumPublishers() > 0)) {
+  while (!(state.joints->connected() && state.clock->connected() &&
+           state.armStamps->connected())) {
     if (ros::WallTime::now() > deadline) {
       ROS_FATAL("no connection to the node's /joint_states, /clock or /tf");
       return 1;

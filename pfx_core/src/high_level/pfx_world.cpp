@@ -126,6 +126,12 @@ PfxInt32 PfxWorld::setStepParam(PfxFloat timeStep, PfxUInt32 subStep, PfxUInt32 
   return PFX_OK;
 }
 
+PfxInt32 PfxWorld::setSimulatedTime(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return PFX_ERR_INVALID_VALUE;
+  m_simulatedTime = seconds;
+  return PFX_OK;
+}
+
 PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& body) {
   if (!state.isValid()) return PFX_ERR_INVALID_VALUE;
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && !body.isValid()) {

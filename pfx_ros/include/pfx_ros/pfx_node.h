@@ -75,6 +75,9 @@ class PfxNode {
   void publishState();
   // ~step's steps, and the state after them published at once.
   PfxInt32 stepPaused(PfxInt32 steps);
+  // ~delete_model of the robot of robot_description: its bodies, then its sensors and
+  // command topics; /clock and the agents' frames stay. Empty, or why not.
+  std::string removeRobot();
 
   ros::NodeHandle m_handle;
   ros::NodeHandle m_privateHandle{"~"};
@@ -82,11 +85,13 @@ class PfxNode {
   bool m_useSimTime = false;
   PfxNodeSimulation m_simulation;
   PfxUInt32 m_boundGeneration = 0;
+  ros::Time m_lastStateStamp;
   std::unique_ptr<PfxNodeServices> m_services;
   std::unique_ptr<PfxNodeStatePublisher> m_statePublisher;
   std::unique_ptr<PfxNodeDiagnostics> m_diagnostics;
   std::unique_ptr<PfxNodeMarkers> m_markers;
   std::unique_ptr<PfxNodeAgents> m_agents;
+  // The robot of robot_description's; null once it is deleted.
   std::unique_ptr<PfxNodeSensors> m_sensors;
   std::unique_ptr<PfxNodeJointCommands> m_jointCommands;
   std::unique_ptr<PfxNodeModels> m_models;

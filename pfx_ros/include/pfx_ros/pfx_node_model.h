@@ -37,6 +37,9 @@ class PfxNodeModel {
   void publishState(const ros::Time& stamp);
   // After ~reset or ~load_world rebuilt the world.
   void rebind();
+  // Ends the trajectories that hold one of `joints`, which ~set_joint_command has just
+  // commanded.
+  void releaseFromTrajectories(const std::vector<PfxUInt32>& joints);
 
   PfxUInt32 getSlot() const { return m_slot; }
   const std::string& getNamespace() const { return m_handle.getNamespace(); }

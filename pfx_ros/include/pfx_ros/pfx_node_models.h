@@ -2,10 +2,13 @@
 // "Models"): those declared in ~models at start-up, and the services ~spawn_model and
 // ~delete_model (pfx/SpawnModel, pfx/DeleteModel) while it runs. Each lives in a model
 // slot of the simulation and has its ROS side in a PfxNodeModel (pfx_node_model.h).
+// ~delete_model deletes the robot of robot_description too, whose ROS side the node holds.
+
 #pragma once
 
 #include <ros/ros.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -40,8 +43,13 @@ std::string pfxReadModelUrdf(const std::string& text, const std::string& paramNa
 
 class PfxNodeModels {
  public:
+  // Deletes the robot of robot_description (model slot 0) with its topics: empty, or why
+  // not (nothing changed then).
+  using RobotRemover = std::function<std::string()>;
+
   PfxNodeModels(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                PfxNodeSimulation& simulation, const std::string& fixedFrame, bool useSimTime);
+                PfxNodeSimulation& simulation, const std::string& fixedFrame, bool useSimTime,
+                RobotRemover robotRemover);
   ~PfxNodeModels();
 
   // Adds the models of ~models; false, with *message naming the entry and the reason, when
@@ -51,6 +59,8 @@ class PfxNodeModels {
   void afterStep(const ros::Time& stamp);
   void publishState(const ros::Time& stamp);
   void rebind();
+  // Ends the trajectories of the added model in `slot` that hold one of `joints`.
+  void releaseFromTrajectories(PfxUInt32 slot, const std::vector<PfxUInt32>& joints);
   std::size_t getNumModels() const { return m_models.size(); }
 
  private:
@@ -70,6 +80,7 @@ class PfxNodeModels {
   PfxNodeSimulation& m_simulation;
   std::string m_fixedFrame;
   bool m_useSimTime;
+  RobotRemover m_robotRemover;
   std::vector<ros::ServiceServer> m_servers;
   std::map<std::string, std::unique_ptr<PfxNodeModel>> m_models;  // by model name
 };

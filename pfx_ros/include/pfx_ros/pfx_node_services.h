@@ -1,7 +1,9 @@
 // The node's services, in its private namespace. Each checks the whole request before it
-// touches the world: a bad request (unknown link or joint, NaN, a zero-length ray, a
+// touches the world: a bad request (unknown model, link or joint, NaN, a zero-length ray, a
 // negative duration, too many rays, a quaternion that is not unit) gets success = false
-// and a message saying what was wrong, and changes nothing. Callbacks run between steps.
+// and a message saying what was wrong, and changes nothing. Links and joints of every model
+// are reached by name (PfxNodeSimulation::findModelLink, findModelJoint). Callbacks run
+// between steps.
 #pragma once
 
 #include <ros/ros.h>
@@ -37,9 +39,10 @@ class PfxNodeServices {
   // Takes `steps` steps as the node's loop does (sensors and diagnostics included) and
   // publishes the state after them.
   using StepFunction = std::function<PfxInt32(PfxInt32 steps)>;
-  // Told which joints (indices into the model's joints) ~set_joint_command has just
-  // commanded, so that a trajectory driving them lets them go.
-  using JointCommandListener = std::function<void(const std::vector<PfxUInt32>& joints)>;
+  // Told which joints (indices into the joints of the model in slot `model`)
+  // ~set_joint_command has just commanded, so that a trajectory driving them lets them go.
+  using JointCommandListener =
+      std::function<void(PfxUInt32 model, const std::vector<PfxUInt32>& joints)>;
 
   // Advertises the services on `privateHandle`; a batch may hold at most maxBatchRays rays.
   PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,

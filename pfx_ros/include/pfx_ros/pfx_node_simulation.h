@@ -63,9 +63,18 @@ struct PfxNodeSimulationConfig {
   // Accepted by addCable and addCloth, and built again with the world by reset().
   std::vector<PfxNodeCableSpec> cables;
   std::vector<PfxNodeClothSpec> cloths;
+  // The robot of urdfXml (model slot 0) was removed by removeModel: reset() leaves it out.
+  bool robotRemoved = false;
   // Models added by addModel, slot 1 on (slot 0 is the robot of urdfXml); a removed one
   // leaves its slot empty, so that the others keep their slots. Built again by reset().
   std::vector<std::optional<PfxNodeModelSpec>> models;
+};
+
+// A link or joint of one of the world's robots: its model slot and its index into that
+// model's links or joints.
+struct PfxNodeModelPart {
+  PfxUInt32 model = 0;
+  PfxUInt32 index = 0;
 };
 
 // One point where two bodies touch (or pushed on each other during the last step), or a
@@ -93,7 +102,8 @@ class PfxNodeSimulation {
   // Builds the world again as load() built it: every body and joint back at its start and
   // motor commands and pending wrenches dropped; the agents of the moment stand at their
   // starts again (without the overlap check of addAgent), and bodies of removed agents are
-  // gone. Simulated time keeps running, so that time stamps never go back.
+  // gone. Simulated time keeps running, the world's clock with the node's, so that time
+  // stamps never go back and a world saved after a reset holds the time since load().
   PfxInt32 reset(std::string* message);
   // One step of the time step; the wrenches that are due act during it.
   PfxInt32 step();
@@ -147,6 +157,16 @@ class PfxNodeSimulation {
   // Index into getModel(model).links or .joints by the URDF's name, or -1.
   PfxInt32 findLink(const std::string& name, PfxUInt32 model = 0) const;
   PfxInt32 findJoint(const std::string& name, PfxUInt32 model = 0) const;
+  // A link of any model by the name a service is given, tried in this order, the first
+  // match winning (README, "Models"): its TF frame (a link of the robot of
+  // robot_description by its URDF name, an added model's as "<tf_prefix>/<link>"; frames
+  // are unique in the world), then "<model>::<link>" (Gazebo's and ~link_states' form),
+  // then "<model>/<link>". Empty, or why the name names no link: no model so named, or
+  // no such link in the model named.
+  std::string findModelLink(const std::string& name, PfxNodeModelPart& link) const;
+  // A joint by name: the robot of robot_description's by its URDF name, then
+  // "<model>::<joint>", then "<model>/<joint>". Empty, or why not, as findModelLink.
+  std::string findModelJoint(const std::string& name, PfxNodeModelPart& joint) const;
   // Body id of a link, of "ground" or of "octomap", or -1.
   PfxInt64 findBody(const std::string& name) const;
   PfxTransform3 getLinkPose(PfxUInt32 linkIndex, PfxUInt32 model = 0) const;
@@ -166,8 +186,10 @@ class PfxNodeSimulation {
   // What addModel would refuse before loading the URDF (the name, the frame prefix, the
   // pose), or empty.
   std::string checkModelSpec(const PfxNodeModelSpec& spec) const;
-  // Removes an added model's bodies and joints from the world (PfxWorld::removeRigidBody);
-  // reset() does not bring it back. Refused for slot 0 and an empty slot.
+  // Removes a model's bodies and joints from the world (PfxWorld::removeRigidBody); reset()
+  // does not bring it back, and its name is free for addModel. Slot 0, the robot of
+  // robot_description, too, its body ids left unused. Refused, with nothing changed: an
+  // empty slot, and a model a cable or cloth holds on to.
   PfxInt32 removeModel(PfxUInt32 slot, std::string* message);
   // Counts addModel and removeModel calls that changed the world: whoever draws the fixed
   // bodies draws them again.
@@ -215,12 +237,12 @@ class PfxNodeSimulation {
   void getContacts(std::vector<PfxNodeContact>& contacts) const;
 
   // A force at the link's origin plus a torque (world frame), on the link's body for
-  // `duration` seconds of simulated time (at least one step).
-  PfxInt32 applyLinkWrench(PfxUInt32 linkIndex, const PfxVector3& force, const PfxVector3& torque,
-                           double duration);
+  // `duration` seconds of simulated time (at least one step). Deleting its model ends it.
+  PfxInt32 applyLinkWrench(const PfxNodeModelPart& link, const PfxVector3& force,
+                           const PfxVector3& torque, double duration);
   // Moves the link's body so that the link's frame is at `pose`, with the link origin's
   // velocity and the angular velocity given (world frame).
-  PfxInt32 setLinkState(PfxUInt32 linkIndex, const PfxTransform3& pose,
+  PfxInt32 setLinkState(const PfxNodeModelPart& link, const PfxTransform3& pose,
                         const PfxVector3& linearVelocity, const PfxVector3& angularVelocity);
   // One drive for several joints of a model, all or none: when one is rejected the joints
   // set before it are put back.
@@ -231,7 +253,7 @@ class PfxNodeSimulation {
  private:
   struct Scene;
   struct Wrench {
-    PfxUInt32 linkIndex;
+    PfxNodeModelPart link;
     PfxVector3 force;
     PfxVector3 torque;
     double remainingSteps;
@@ -242,6 +264,12 @@ class PfxNodeSimulation {
   // Loads an added model into the scene's world in slot `slot`; on error nothing changes.
   static PfxInt32 buildModel(Scene& scene, const PfxNodeModelSpec& spec, PfxUInt32 slot,
                              std::string* message);
+  // Takes a model's bodies out of the scene's world and its links' names out of the
+  // scene's; the newest bodies' slots are truncated away.
+  static void removeModelBodies(Scene& scene, const PfxUrdfModel& urdf,
+                                const std::vector<std::string>& linkNames);
+  // The frames of slot 0's links: the URDF's names.
+  static std::vector<std::string> robotLinkNames(const PfxUrdfModel& robot);
   // Empty when `name` may name a new cable or cloth, else why not.
   std::string checkGroupName(const Scene& scene, const std::string& name) const;
   // The body a cable end or cloth pin named `link` holds on to, and where `point` (in the
@@ -254,6 +282,9 @@ class PfxNodeSimulation {
                            const std::string& name, std::vector<PfxUInt32>& ids,
                            std::string* message);
   // PFX_ERR_INVALID_VALUE with `why` in *message.
+  // A link (isLink) or joint named "<model>::<part>" or "<model>/<part>"; empty, or why not.
+  std::string findQualifiedPart(const std::string& name, bool isLink,
+                                PfxNodeModelPart& part) const;
   static PfxInt32 refuse(const std::string& why, std::string* message);
   PfxInt32 buildCloth(Scene& scene, const PfxNodeClothSpec& spec, std::string* message) const;
 

@@ -32,7 +32,8 @@ class PfxNodeStatePublisher {
                         PfxUInt32 model = 0);
 
   // Reads the link tree and joint list of the simulation's robot; call after every load
-  // or reset.
+  // or reset, and after the model is removed (then only the agents' frames and /clock are
+  // published, and joint_states no longer).
   void bind(const PfxNodeSimulation& simulation);
   void publish(const PfxNodeSimulation& simulation, const ros::Time& stamp);
 

@@ -320,6 +320,10 @@ class PfxWorld {
   // Seconds simulated since initialize(): the sum of the steps taken (a loaded world goes
   // on from the saved one's time).
   double getSimulatedTime() const { return m_simulatedTime; }
+  // Sets the clock that steps advance, for a world rebuilt to continue another's time (a
+  // simulator's reset whose time stamps must not go back). PFX_ERR_INVALID_VALUE and
+  // nothing changed for a time that is negative, NaN or infinite.
+  PfxInt32 setSimulatedTime(double seconds);
   const PfxWorldStats& getStats() const { return m_stats; }
   PfxConservedQuantities measureConservedQuantities() const;
 
