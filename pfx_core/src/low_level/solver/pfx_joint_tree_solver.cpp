@@ -41,10 +41,6 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 jointPair;  // joint pair index, or -1 for a body node
   PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
-  // Joint node: each row's target velocity in the velocity solve (m_rhs) and the push
-  // solve (m_pushRhs), as rows' velocities, not impulses; zero past numRows.
-  PfxTreeVector velocityTarget;
-  PfxTreeVector pushTarget;
   PfxUInt32 tree;
 };
 
@@ -223,17 +219,13 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     } else {
       PfxJoint& joint = joints[pfxGetConstraintId(jointPairs[node.jointPair])];
       node.diagonalInverse = -PfxTreeBlock::Identity();
-      node.velocityTarget.setZero();
-      node.pushTarget.setZero();
       for (PfxUInt8 axis = 0; axis < 6; ++axis) {
         const PfxJointConstraint& c = joint.m_constraints[axis];
-        const PfxConstraintRow& r = c.m_constraintRow;
-        if (!isLockedRow(c) || r.m_jacDiagInv <= 0) continue;
+        if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
         const PfxUInt8 row = node.numRows++;
         node.axes[row] = axis;
-        node.diagonalInverse(row, row) = -kRelativeCompliance / double(r.m_jacDiagInv);
-        node.velocityTarget[row] = double(r.m_rhs / r.m_jacDiagInv);
-        node.pushTarget[row] = double(c.m_pushRhs / r.m_jacDiagInv);
+        node.diagonalInverse(row, row) =
+            -kRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
     }
     if (node.parent < 0) continue;
@@ -550,30 +542,21 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
       push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
 
   // Right-hand side: zero for bodies; for each row, its target velocity minus its velocity.
-  // A row's velocity is its Jacobian times its bodies' velocities, and the Jacobian is
-  // already in the couplings: a joint's parent is one of its bodies, its child the other
-  // (a body of the pair with no node does not move).
-  const auto velocityOf = [&](PfxInt32 body) {
-    const PfxSolverBody& sb = m_solverBodies[body];
-    PfxTreeVector v;
-    v << (sb.*linear).template cast<double>(), (sb.*angular).template cast<double>();
-    return v;
-  };
   for (std::size_t n = begin; n < end; ++n) {
     Node& node = m_nodes[n];
-    if (node.body >= 0) {
-      node.value.setZero();
-    } else {
-      node.value = push ? node.pushTarget : node.velocityTarget;
-    }
-  }
-  for (std::size_t n = begin; n < end; ++n) {
-    Node& node = m_nodes[n];
-    if (node.parent < 0) continue;
-    if (node.body >= 0) {
-      m_nodes[node.parent].value.noalias() -= node.coupling.transpose() * velocityOf(node.body);
-    } else {
-      node.value.noalias() -= node.coupling * velocityOf(m_nodes[node.parent].body);
+    node.value.setZero();
+    if (node.body >= 0) continue;
+    const PfxConstraintPair& pair = m_jointPairs[node.jointPair];
+    const PfxJoint& joint = m_joints[pfxGetConstraintId(pair)];
+    const PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
+    const PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
+    for (PfxUInt8 row = 0; row < node.numRows; ++row) {
+      const PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
+      const PfxConstraintRow& r = c.m_constraintRow;
+      const PfxJointRowJacobian j = pfxJointRowJacobian(joint, node.axes[row], r.m_normal);
+      const PfxFloat target = (push ? c.m_pushRhs : r.m_rhs) / r.m_jacDiagInv;
+      node.value[row] = double(target) - double(pfxJointRowVelocity(j, a.*linear, a.*angular,
+                                                                    b.*linear, b.*angular));
     }
   }
   pfxSolveBlockTree(m_nodes, begin, end);
