@@ -41,6 +41,9 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 jointPair;  // joint pair index, or -1 for a body node
   PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
+  // Joint node: each row's Jacobian, fixed for the solve, so that a tree solve's
+  // right-hand side does not rebuild it.
+  PfxJointRowJacobian jacobians[6];
   PfxUInt32 tree;
 };
 
@@ -224,6 +227,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
         const PfxUInt8 row = node.numRows++;
         node.axes[row] = axis;
+        node.jacobians[row] = pfxJointRowJacobian(joint, axis, c.m_constraintRow.m_normal);
         node.diagonalInverse(row, row) =
             -kRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
@@ -235,13 +239,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const Node& jointNode = node.body >= 0 ? parent : node;
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
     const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
-    const PfxJoint& joint = joints[pfxGetConstraintId(pair)];
     const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
     PfxTreeBlock rows = PfxTreeBlock::Zero();  // joint rows x body velocities
     for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
-      const PfxUInt8 axis = jointNode.axes[row];
-      const PfxJointRowJacobian j =
-          pfxJointRowJacobian(joint, axis, joint.m_constraints[axis].m_constraintRow.m_normal);
+      const PfxJointRowJacobian& j = jointNode.jacobians[row];
       rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
@@ -553,7 +554,7 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
     for (PfxUInt8 row = 0; row < node.numRows; ++row) {
       const PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
       const PfxConstraintRow& r = c.m_constraintRow;
-      const PfxJointRowJacobian j = pfxJointRowJacobian(joint, node.axes[row], r.m_normal);
+      const PfxJointRowJacobian& j = node.jacobians[row];
       const PfxFloat target = (push ? c.m_pushRhs : r.m_rhs) / r.m_jacDiagInv;
       node.value[row] = double(target) - double(pfxJointRowVelocity(j, a.*linear, a.*angular,
                                                                     b.*linear, b.*angular));
