@@ -79,7 +79,7 @@ class PfxJointTreeSolver {
   // two bodies alone), before the others only those moved from outside.
   void solveVelocitiesBeforeSweep(bool firstSweep, PfxTaskManager* taskManager = nullptr);
   // After a sweep: a velocity solve of the trees whose locked axes may not hold. Those
-  // moved from outside, every tree after the first sweep (trees without bounded rows have
+  // moved from outside, the trees without bounded rows after the first sweep (they have
   // not been solved yet), and the trees with bounded rows after the last, which takes out
   // what rounding in their updates' stored velocity changes has left on the locked axes.
   void solveVelocitiesAfterSweep(bool firstSweep, bool lastSweep,
