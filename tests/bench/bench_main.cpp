@@ -234,10 +234,12 @@ int main(int argc, char** argv) {
       progress.log(label + ": FAILED: " + result.error);
       continue;
     }
-    char timing[128];
-    std::snprintf(timing, sizeof(timing), ": %.4f ms per step, %.5f wall s per simulated s",
+    char timing[160];
+    std::snprintf(timing, sizeof(timing),
+                  ": %.4f ms per step, %.5f wall s per simulated s, %.4f CPU ms per step",
                   1e3 * result.wallSecondsPerSimSecond * job.settings.dt,
-                  result.wallSecondsPerSimSecond);
+                  result.wallSecondsPerSimSecond,
+                  1e3 * result.cpuSecondsPerSimSecond * job.settings.dt);
     progress.log(label + timing);
     if (result.stopped) {
       ++stopped;

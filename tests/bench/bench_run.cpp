@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <malloc.h>
+#include <time.h>
 #include <memory>
 
 #include "bench_metrics.h"
@@ -60,11 +61,18 @@ bool withinSpeedLimit(const Scene& scene, const std::vector<BodyState>& states,
   return true;
 }
 
+double processCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
 struct Simulation {
   bool built = false;
   bool ok = false;  // built and stepped to the end
   std::string error;
   double wallSeconds = 0;
+  double cpuSeconds = 0;
   double simulatedSeconds = 0;
   std::uint64_t finalDigest = 0;
 };
@@ -144,15 +152,18 @@ Simulation simulate(const EngineInfo& info, const Scene& scene, const EngineSett
       controller.commands(static_cast<double>(done) * settings.dt, states, rates);
     }
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuSeconds();
     if (driven) engine->setMotorRates(rates);
     for (long long i = 0; i < chunk; ++i) {
       if (!engine->step(sim.error)) {
         sim.wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        sim.cpuSeconds += processCpuSeconds() - cpuStart;
         sim.simulatedSeconds = static_cast<double>(done + i) * settings.dt;
         return sim;
       }
     }
     sim.wallSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    sim.cpuSeconds += processCpuSeconds() - cpuStart;
     done += chunk;
     sim.simulatedSeconds = static_cast<double>(done) * settings.dt;
     if (observers.joints) {
@@ -215,10 +226,13 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
     result.error = when + run.error;
     result.wallSecondsPerSimSecond =
         run.simulatedSeconds > 0 ? run.wallSeconds / run.simulatedSeconds : kNaN;
+    result.cpuSecondsPerSimSecond =
+        run.simulatedSeconds > 0 ? run.cpuSeconds / run.simulatedSeconds : kNaN;
     for (Metric metric : scene.metrics) result.metrics.emplace_back(metric, kNaN);
     return result;
   }
   result.wallSecondsPerSimSecond = run.wallSeconds / run.simulatedSeconds;
+  result.cpuSecondsPerSimSecond = run.cpuSeconds / run.simulatedSeconds;
   result.stateDigest = run.finalDigest;
 
   double positionError = kNaN;

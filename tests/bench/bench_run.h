@@ -23,6 +23,9 @@ struct RunResult {
   bool stopped = false;
   std::string error;
   double wallSecondsPerSimSecond = 0;
+  // The process's CPU time over the same steps: on a machine shared with other work, where
+  // the wall time also counts the time the process waited for a core.
+  double cpuSecondsPerSimSecond = 0;
   std::vector<std::pair<Metric, double>> metrics;
   // FNV-1a over every body's final position, orientation and velocities as the engine
   // reported them: equal digests mean bit-identical states (runs finished only).

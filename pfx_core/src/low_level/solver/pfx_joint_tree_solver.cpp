@@ -41,8 +41,10 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxInt32 jointPair;  // joint pair index, or -1 for a body node
   PfxUInt8 axes[6];    // joint node: the joint axis of each row
   PfxUInt8 numRows;
-  PfxUInt32 treeBegin;  // the nodes of this node's tree
-  PfxUInt32 treeEnd;
+  // Joint node: each row's Jacobian, fixed for the solve, so that a tree solve's
+  // right-hand side does not rebuild it.
+  PfxJointRowJacobian jacobians[6];
+  PfxUInt32 tree;
 };
 
 // A bounded row of a joint in the forest, prepared by prepareBoundedRows().
@@ -65,7 +67,8 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       2 * numRigidBodies + 1 +  // nodes, sets
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
-                                                      numRigidBodies + 1));     // tree starts
+                                                      numRigidBodies + 1)) +    // tree starts
+      PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // trees moved from outside
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -91,8 +94,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  m_treeMovedFromOutside = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
   if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts ||
+      !m_treeMovedFromOutside ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
@@ -186,10 +191,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         }
       }
     }
-    for (std::size_t n = root; n < m_numNodes; ++n) {
-      m_nodes[n].treeBegin = static_cast<PfxUInt32>(root);
-      m_nodes[n].treeEnd = static_cast<PfxUInt32>(m_numNodes);
-    }
+    for (std::size_t n = root; n < m_numNodes; ++n) m_nodes[n].tree = m_numTrees - 1;
   };
   for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
     if (m_jointNode[i] != kChosen) continue;
@@ -225,6 +227,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
         const PfxUInt8 row = node.numRows++;
         node.axes[row] = axis;
+        node.jacobians[row] = pfxJointRowJacobian(joint, axis, c.m_constraintRow.m_normal);
         node.diagonalInverse(row, row) =
             -kRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
@@ -236,13 +239,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const Node& jointNode = node.body >= 0 ? parent : node;
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
     const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
-    const PfxJoint& joint = joints[pfxGetConstraintId(pair)];
     const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
     PfxTreeBlock rows = PfxTreeBlock::Zero();  // joint rows x body velocities
     for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
-      const PfxUInt8 axis = jointNode.axes[row];
-      const PfxJointRowJacobian j =
-          pfxJointRowJacobian(joint, axis, joint.m_constraints[axis].m_constraintRow.m_normal);
+      const PfxJointRowJacobian& j = jointNode.jacobians[row];
       rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
@@ -257,9 +257,6 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   return true;
 }
 
-void PfxJointTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
-  solve(false, taskManager);
-}
 void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
 PfxUInt32 PfxJointTreeSolver::getBoundedRowWorkBytes(PfxUInt32 numRigidBodies,
@@ -332,7 +329,17 @@ bool PfxJointTreeSolver::prepareBoundedRows(void* workBuff, PfxUInt32 workBytes,
     for (PfxUInt32 t = first; t < last; ++t) {
       for (PfxUInt32 r = m_treeRowStarts[t]; r < m_treeRowStarts[t + 1]; ++r) {
         const BoundedRow& boundedRow = m_boundedRows[r];
-        solveTreeForRowImpulses(t, r, r + 1, nullptr);
+        // A drive and a limit on one axis mostly share a direction (or its opposite), so
+        // the last row's solve, the nodes' values, answers this one too, exactly.
+        const double sign =
+            r > m_treeRowStarts[t] ? sameJacobianSign(m_boundedRows[r - 1], boundedRow) : 0;
+        if (sign == 0) {
+          solveTreeForRowImpulses(t, r, r + 1, nullptr);
+        } else if (sign < 0) {
+          for (PfxUInt32 n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) {
+            m_nodes[n].value = -m_nodes[n].value;
+          }
+        }
         // The row's own velocity change per unit impulse.
         const PfxJointRowJacobian j = boundedRowJacobian(boundedRow);
         const PfxConstraintPair& pair = m_jointPairs[boundedRow.jointPair];
@@ -361,6 +368,18 @@ bool PfxJointTreeSolver::prepareBoundedRows(void* workBuff, PfxUInt32 workBytes,
     }
   });
   return true;
+}
+
+double PfxJointTreeSolver::sameJacobianSign(const BoundedRow& first,
+                                            const BoundedRow& second) const {
+  if (first.jointPair != second.jointPair || first.axis != second.axis) return 0;
+  const PfxJointConstraint& c =
+      m_joints[pfxGetConstraintId(m_jointPairs[first.jointPair])].m_constraints[first.axis];
+  const PfxVector3& a = (first.drive ? c.m_driveRow : c.m_constraintRow).m_normal;
+  const PfxVector3& b = (second.drive ? c.m_driveRow : c.m_constraintRow).m_normal;
+  if (a == b) return 1;
+  if (a == -b) return -1;
+  return 0;
 }
 
 PfxJointRowJacobian PfxJointTreeSolver::boundedRowJacobian(const BoundedRow& row) const {
@@ -420,14 +439,68 @@ void PfxJointTreeSolver::applyBoundedRowImpulse(PfxInt32 slot, PfxFloat impulse)
   m_rowImpulseSums[slot] += impulse;
 }
 
-void PfxJointTreeSolver::solveVelocitiesOfBoundedTrees(PfxTaskManager* taskManager) {
-  if (!m_boundedRowSlot) return;
+void PfxJointTreeSolver::markTreeOfBody(PfxUInt32 rigidBodyId) {
+  const PfxInt32 node = m_bodyNode[rigidBodyId];
+  if (node >= 0) m_treeMovedFromOutside[m_nodes[node].tree] = 1;
+}
+
+void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* contactPairs,
+                                                   PfxUInt32 numContactPairs,
+                                                   const PfxContactManifold* manifolds,
+                                                   const PfxJointCoupling* couplings,
+                                                   PfxUInt32 numCouplings) {
+  if (m_numNodes == 0) return;
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) m_treeMovedFromOutside[t] = 0;
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (!pfxGetActive(pair) || manifolds[pfxGetContactId(pair)].getNumContacts() == 0) continue;
+    markTreeOfBody(pfxGetObjectIdA(pair));
+    markTreeOfBody(pfxGetObjectIdB(pair));
+  }
+  for (PfxUInt32 i = 0; i < m_numJointPairs; ++i) {
+    const PfxConstraintPair& pair = m_jointPairs[i];
+    if (!pfxGetActive(pair) || contains(i)) continue;
+    markTreeOfBody(pfxGetObjectIdA(pair));
+    markTreeOfBody(pfxGetObjectIdB(pair));
+  }
+  for (PfxUInt32 i = 0; i < numCouplings; ++i) {
+    for (PfxUInt32 b = 0; b < couplings[i].m_numBodies; ++b) {
+      markTreeOfBody(couplings[i].m_bodies[b].m_rigidBodyId);
+    }
+  }
+}
+
+template <typename TreePredicate>
+void PfxJointTreeSolver::solveVelocitiesOf(TreePredicate solves, PfxTaskManager* taskManager) {
   pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
-      if (m_treeRowStarts[t] == m_treeRowStarts[t + 1]) continue;
-      solveTree(false, m_treeStarts[t], m_treeStarts[t + 1]);
+      if (solves(t)) solveTree(false, m_treeStarts[t], m_treeStarts[t + 1]);
     }
   });
+}
+
+void PfxJointTreeSolver::solveVelocitiesBeforeSweep(bool firstSweep, PfxTaskManager* taskManager) {
+  if (!m_boundedRowSlot) return;
+  solveVelocitiesOf(
+      [&](PfxUInt32 t) {
+        return hasBoundedRows(t) && (firstSweep || m_treeMovedFromOutside[t]);
+      },
+      taskManager);
+}
+
+void PfxJointTreeSolver::solveVelocitiesAfterSweep(bool firstSweep, bool lastSweep,
+                                                   PfxTaskManager* taskManager) {
+  if (!m_boundedRowSlot) {
+    // Trees and their bounded rows not prepared: every tree, every sweep.
+    solve(false, taskManager);
+    return;
+  }
+  solveVelocitiesOf(
+      [&](PfxUInt32 t) {
+        return m_treeMovedFromOutside[t] || (firstSweep && !hasBoundedRows(t)) ||
+               (lastSweep && hasBoundedRows(t));
+      },
+      taskManager);
 }
 
 void PfxJointTreeSolver::addLockedImpulsesOfBoundedRows(PfxTaskManager* taskManager) {
@@ -450,7 +523,7 @@ void PfxJointTreeSolver::addLockedImpulsesOfBoundedRows(PfxTaskManager* taskMana
 PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
   if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
   // A tree's first node is a body or a joint whose first child is a body.
-  std::size_t n = m_nodes[m_bodyNode[rigidBodyId]].treeBegin;
+  std::size_t n = m_treeStarts[m_nodes[m_bodyNode[rigidBodyId]].tree];
   while (m_nodes[n].body < 0) ++n;
   return m_nodes[n].body;
 }
@@ -481,7 +554,7 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
     for (PfxUInt8 row = 0; row < node.numRows; ++row) {
       const PfxJointConstraint& c = joint.m_constraints[node.axes[row]];
       const PfxConstraintRow& r = c.m_constraintRow;
-      const PfxJointRowJacobian j = pfxJointRowJacobian(joint, node.axes[row], r.m_normal);
+      const PfxJointRowJacobian& j = node.jacobians[row];
       const PfxFloat target = (push ? c.m_pushRhs : r.m_rhs) / r.m_jacDiagInv;
       node.value[row] = double(target) - double(pfxJointRowVelocity(j, a.*linear, a.*angular,
                                                                     b.*linear, b.*angular));

@@ -11,7 +11,9 @@
 #pragma once
 
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
+#include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_task_manager.h"
 #include "low_level/solver/pfx_joint_row.h"
@@ -59,19 +61,37 @@ class PfxJointTreeSolver {
   PfxFloat getBoundedRowResponse(PfxInt32 slot) const;
   // Moves the row's tree as it answers `impulse` on the row, its locked axes held.
   void applyBoundedRowImpulse(PfxInt32 slot, PfxFloat impulse);
-  // solveVelocities() for the trees with bounded rows: a row reads its velocity where the
-  // locked axes hold, and contacts since the last solve may have upset them.
-  void solveVelocitiesOfBoundedTrees(PfxTaskManager* taskManager = nullptr);
+  // Marks the trees that something besides their own rows moves during a solve: a body
+  // of theirs touched by a contact point, held by a joint outside the forest (it closes a
+  // loop, or is one-way) or by a joint coupling. The other trees' locked axes, once
+  // solved, stay held through the iterations: their bounded rows' updates keep them so.
+  void markTreesMovedFromOutside(const PfxConstraintPair* contactPairs,
+                                 PfxUInt32 numContactPairs,
+                                 const PfxContactManifold* manifolds,
+                                 const PfxJointCoupling* couplings, PfxUInt32 numCouplings);
+  // A velocity solve of a tree adds to its locked rows' impulses and its bodies' velocity
+  // changes what makes every locked axis move at its target velocity (m_rhs). Trees are
+  // solved in parallel with a task manager; they share no moving body, so the result is
+  // the same.
+  // Before a sweep of the joints: a velocity solve of the trees with bounded rows whose
+  // locked axes may not hold, since a row reads its velocity where they hold. Before the
+  // first sweep that is every such tree (the warm start gave each row's impulse to its
+  // two bodies alone), before the others only those moved from outside.
+  void solveVelocitiesBeforeSweep(bool firstSweep, PfxTaskManager* taskManager = nullptr);
+  // After a sweep: a velocity solve of the trees whose locked axes may not hold. Those
+  // moved from outside, the trees without bounded rows after the first sweep (they have
+  // not been solved yet), and the trees with bounded rows after the last, which takes out
+  // what rounding in their updates' stored velocity changes has left on the locked axes.
+  void solveVelocitiesAfterSweep(bool firstSweep, bool lastSweep,
+                                 PfxTaskManager* taskManager = nullptr);
   // The locked axes' share of the bounded rows' impulses, which applyBoundedRowImpulse
   // moves the bodies by but does not add to the locked rows' impulses: one tree solve for
   // all the updates of the solve, once they are done.
   void addLockedImpulsesOfBoundedRows(PfxTaskManager* taskManager = nullptr);
 
-  // Adds to the rows' impulses and the bodies' velocity changes what makes every locked
-  // axis move at its target velocity (m_rhs). Trees are solved in parallel with a task
-  // manager; they share no moving body, so the result is the same.
-  void solveVelocities(PfxTaskManager* taskManager = nullptr);
-  // The same for the push velocities and the rows' position corrections (m_pushRhs).
+  // Adds to the rows' push impulses and the bodies' push velocities what makes every
+  // locked axis move at its position correction (m_pushRhs), as a velocity solve does
+  // for the velocity changes and m_rhs.
   void solvePush(PfxTaskManager* taskManager = nullptr);
   // One body of the tree that holds body `rigidBodyId`, the same for every body of that
   // tree, or -1 for a body in no tree: a joint row that moves its tree
@@ -82,10 +102,19 @@ class PfxJointTreeSolver {
   struct Node;
   struct BoundedRow;
   void solve(bool push, PfxTaskManager* taskManager);
+  // A velocity solve of the trees t with solves(t).
+  template <typename TreePredicate>
+  void solveVelocitiesOf(TreePredicate solves, PfxTaskManager* taskManager);
+  bool hasBoundedRows(PfxUInt32 tree) const {
+    return m_treeRowStarts[tree] != m_treeRowStarts[tree + 1];
+  }
+  void markTreeOfBody(PfxUInt32 rigidBodyId);
   void solveTree(bool push, std::size_t begin, std::size_t end);
   // Adds a joint node's negated multipliers to its locked rows' impulses.
   void addLockedRowImpulses(const Node& node, bool push);
   PfxJointRowJacobian boundedRowJacobian(const BoundedRow& row) const;
+  // 1 when two rows have the same Jacobian, -1 when opposite ones, else 0.
+  double sameJacobianSign(const BoundedRow& first, const BoundedRow& second) const;
   // Solves tree t with the generalized impulse of each row of [firstRow, lastRow), times
   // `impulses` (1 when null), on its bodies and no velocity error: the bodies' values are
   // the velocity change, the joints' the locked rows' negated impulses.
@@ -97,6 +126,7 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numNodes = 0;
   PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
   PfxUInt32 m_numTrees = 0;
+  PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxUInt32 m_numRigidBodies = 0;
   PfxUInt32 m_numJointPairs = 0;

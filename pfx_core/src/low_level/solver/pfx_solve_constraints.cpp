@@ -224,7 +224,7 @@ constexpr PfxFloat kMinTreeSizedUpdate =
 // with the tree's locked axes held) and moves the whole tree, so a motor at an arm's
 // shoulder carries the arm in one update. A row sized so once keeps that for the rest of
 // the solve (`response`, 0 until then). The row reads its velocity where the locked axes
-// hold (solveVelocitiesOfBoundedTrees before the sweep), and the updates of the tree's rows
+// hold (solveVelocitiesBeforeSweep), and the updates of the tree's rows
 // keep them held.
 void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJointConstraint& c,
                        bool dampingOnly, const PfxJoint& joint, PfxUInt32 axis,
@@ -490,6 +490,9 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
     if (param.numJointPairs > 0) {
       tree.prepareBoundedRows(boundedRowWork, layout.boundedRowBytes, taskManager);
+      tree.markTreesMovedFromOutside(param.contactPairs, param.numContactPairs,
+                                     param.offsetContactManifolds, param.offsetJointCouplings,
+                                     param.numJointCouplings);
     }
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
@@ -498,13 +501,15 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                                    &PfxSolverBody::m_deltaAngularVelocity);
     }
     // Joints last in each iteration, and their locked axes exactly: whatever the contacts
-    // did, every iteration ends with the joints' velocities consistent. Their positions are
+    // did, every iteration ends with the joints' velocities consistent (a tree that
+    // nothing outside it moves stays so without a solve). Their positions are
     // corrected after the bodies have moved, by pfxCorrectJointPositions.
     for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
       sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
         solveContacts(m, p);
       });
-      tree.solveVelocitiesOfBoundedTrees(taskManager);
+      const bool first = iteration == 0, last = iteration + 1 == param.iteration;
+      tree.solveVelocitiesBeforeSweep(first, taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
       });
@@ -512,8 +517,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
         pfxSolveJointCouplingBlock(param.offsetJointCouplings[i], param.offsetJoints,
                                    param.offsetSolverBodies, false);
       }
-      tree.solveVelocities(taskManager);
-      if (iteration == 0) solveContactTrees();
+      tree.solveVelocitiesAfterSweep(first, last, taskManager);
+      if (first) solveContactTrees();
     }
     tree.addLockedImpulsesOfBoundedRows(taskManager);
     sweepContacts(1, [&](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
