@@ -455,6 +455,53 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
   return m_nodes[n].body;
 }
 
+PfxFloat PfxJointTreeSolver::getImpulseResponse(const BodyImpulse* impulses,
+                                                PfxUInt32 numImpulses) {
+  auto nodeOf = [&](const BodyImpulse& impulse) -> Node* {
+    if (!m_bodyNode || impulse.rigidBodyId >= m_numRigidBodies) return nullptr;
+    const PfxInt32 n = m_bodyNode[impulse.rigidBodyId];
+    return n >= 0 ? &m_nodes[n] : nullptr;
+  };
+  // Every tree touched is cleared before any impulse is set: two bodies may share one.
+  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
+    if (const Node* node = nodeOf(impulses[i])) {
+      for (std::size_t n = node->treeBegin; n < node->treeEnd; ++n) m_nodes[n].value.setZero();
+    }
+  }
+  double response = 0;
+  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
+    const BodyImpulse& impulse = impulses[i];
+    if (Node* node = nodeOf(impulse)) {
+      node->value.head<3>() += impulse.linear.cast<double>();
+      node->value.tail<3>() += impulse.angular.cast<double>();
+    } else {
+      const PfxSolverBody& body = m_solverBodies[impulse.rigidBodyId];
+      response += double(body.m_massInv) * impulse.linear.squaredNorm() +
+                  impulse.angular.dot(body.m_inertiaInv * impulse.angular);
+    }
+  }
+  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
+    const Node* node = nodeOf(impulses[i]);
+    if (!node) continue;
+    const bool solvedAlready = i == 1 && nodeOf(impulses[0]) &&
+                               nodeOf(impulses[0])->treeBegin == node->treeBegin;
+    if (!solvedAlready) pfxSolveBlockTree(m_nodes, node->treeBegin, node->treeEnd);
+  }
+  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
+    if (const Node* node = nodeOf(impulses[i])) {
+      response += impulses[i].linear.cast<double>().dot(node->value.head<3>()) +
+                  impulses[i].angular.cast<double>().dot(node->value.tail<3>());
+    }
+  }
+  return static_cast<PfxFloat>(response);
+}
+
+void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
+  const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
+  solveTree(push, node.treeBegin, node.treeEnd);
+}
+
 void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
   pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {

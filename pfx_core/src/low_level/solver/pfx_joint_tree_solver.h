@@ -77,6 +77,20 @@ class PfxJointTreeSolver {
   // tree, or -1 for a body in no tree: a joint row that moves its tree
   // (applyBoundedRowImpulse) touches every body of the tree.
   PfxInt32 getTreeBody(PfxUInt32 rigidBodyId) const;
+  // A generalized impulse (linear, angular) on one body.
+  struct BodyImpulse {
+    PfxUInt32 rigidBodyId;
+    PfxVector3 linear;
+    PfxVector3 angular;
+  };
+  // How fast the impulses on one or two bodies move them apart along themselves per unit,
+  // the locked axes of the trees holding them held (J M^-1 J^T with J the two impulses): the
+  // effective inverse mass of a contact between bodies of trees. A body in no tree answers
+  // alone. Uses the trees' nodes as scratch, so not while a solve of the same tree runs.
+  PfxFloat getImpulseResponse(const BodyImpulse* impulses, PfxUInt32 numImpulses);
+  // solveVelocities() (or solvePush()) for the one tree that holds body `rigidBodyId`, if
+  // any.
+  void solveTreeOf(PfxUInt32 rigidBodyId, bool push);
 
  private:
   struct Node;
