@@ -56,6 +56,12 @@ struct PfxJointTreeSolver::BoundedRow {
   PfxFloat response;  // the row's own velocity change per unit impulse
 };
 
+namespace {
+std::size_t maxBodiesInTrees(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
+  return std::min(std::size_t(numRigidBodies), 2 * std::size_t(numJointPairs));
+}
+}  // namespace
+
 PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
   const std::size_t numNodes = std::size_t(numRigidBodies) + numJointPairs;
   const std::size_t bytes =
@@ -65,7 +71,10 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       2 * numRigidBodies + 1 +  // nodes, sets
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
-                                                      numRigidBodies + 1));     // tree starts
+                                                      numRigidBodies + 1 +      // tree starts
+                                                     numNodes)) +              // response slots
+      PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
+                              sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs));
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -91,12 +100,16 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  m_responseSlot = carver.take<PfxInt32>(maxNodes);
+  m_bodyResponses = carver.take<PfxTreeBlock>(maxBodiesInTrees(numRigidBodies, numJointPairs));
+  m_numBodyResponses = 0;
   if (maxNodes == 0) return true;
-  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts ||
+  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_responseSlot ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
   m_bodyNode = bodyNode;
+  for (std::size_t n = 0; n < maxNodes; ++n) m_responseSlot[n] = -1;
 
   auto movable = [&](PfxUInt32 id, bool receives) {
     return receives && solverBodies[id].m_massInv > 0;
@@ -455,45 +468,25 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
   return m_nodes[n].body;
 }
 
-PfxFloat PfxJointTreeSolver::getImpulseResponse(const BodyImpulse* impulses,
-                                                PfxUInt32 numImpulses) {
-  auto nodeOf = [&](const BodyImpulse& impulse) -> Node* {
-    if (!m_bodyNode || impulse.rigidBodyId >= m_numRigidBodies) return nullptr;
-    const PfxInt32 n = m_bodyNode[impulse.rigidBodyId];
-    return n >= 0 ? &m_nodes[n] : nullptr;
-  };
-  // Every tree touched is cleared before any impulse is set: two bodies may share one.
-  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
-    if (const Node* node = nodeOf(impulses[i])) {
-      for (std::size_t n = node->treeBegin; n < node->treeEnd; ++n) m_nodes[n].value.setZero();
+PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
+                                                const PfxVector3& angular) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
+  const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
+  PfxInt32& slot = m_responseSlot[bodyNode];
+  if (slot < 0) {
+    const Node& node = m_nodes[bodyNode];
+    PfxTreeBlock& response = m_bodyResponses[m_numBodyResponses];
+    for (int axis = 0; axis < 6; ++axis) {
+      for (std::size_t n = node.treeBegin; n < node.treeEnd; ++n) m_nodes[n].value.setZero();
+      m_nodes[bodyNode].value[axis] = 1;
+      pfxSolveBlockTree(m_nodes, node.treeBegin, node.treeEnd);
+      response.col(axis) = m_nodes[bodyNode].value;
     }
+    slot = static_cast<PfxInt32>(m_numBodyResponses++);
   }
-  double response = 0;
-  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
-    const BodyImpulse& impulse = impulses[i];
-    if (Node* node = nodeOf(impulse)) {
-      node->value.head<3>() += impulse.linear.cast<double>();
-      node->value.tail<3>() += impulse.angular.cast<double>();
-    } else {
-      const PfxSolverBody& body = m_solverBodies[impulse.rigidBodyId];
-      response += double(body.m_massInv) * impulse.linear.squaredNorm() +
-                  impulse.angular.dot(body.m_inertiaInv * impulse.angular);
-    }
-  }
-  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
-    const Node* node = nodeOf(impulses[i]);
-    if (!node) continue;
-    const bool solvedAlready = i == 1 && nodeOf(impulses[0]) &&
-                               nodeOf(impulses[0])->treeBegin == node->treeBegin;
-    if (!solvedAlready) pfxSolveBlockTree(m_nodes, node->treeBegin, node->treeEnd);
-  }
-  for (PfxUInt32 i = 0; i < numImpulses; ++i) {
-    if (const Node* node = nodeOf(impulses[i])) {
-      response += impulses[i].linear.cast<double>().dot(node->value.head<3>()) +
-                  impulses[i].angular.cast<double>().dot(node->value.tail<3>());
-    }
-  }
-  return static_cast<PfxFloat>(response);
+  PfxTreeVector impulse;
+  impulse << linear.cast<double>(), angular.cast<double>();
+  return static_cast<PfxFloat>(impulse.dot(m_bodyResponses[slot] * impulse));
 }
 
 void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {

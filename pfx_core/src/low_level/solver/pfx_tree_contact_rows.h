@@ -36,25 +36,30 @@ inline PfxFloat pfxTreeContactResponse(const PfxContactPoint& cp, PfxUInt32 idA,
                                        PfxUInt32 idB, const PfxSolverBody& b,
                                        PfxFloat receivesB, PfxJointTreeSolver& tree) {
   const PfxVector3& normal = cp.m_constraintRow[0].m_normal;
-  PfxJointTreeSolver::BodyImpulse impulses[2];
-  PfxUInt32 numImpulses = 0;
-  if (pfxTakesImpulse(a, receivesA)) {
-    impulses[numImpulses++] = {idA, -normal, cp.m_armA.cross(-normal)};
-  }
-  if (pfxTakesImpulse(b, receivesB)) {
-    impulses[numImpulses++] = {idB, normal, cp.m_armB.cross(normal)};
-  }
-  const PfxFloat response = tree.getImpulseResponse(impulses, numImpulses);
+  PfxFloat response = 0;
+  auto side = [&](PfxUInt32 id, const PfxSolverBody& body, PfxFloat receives,
+                  const PfxVector3& arm, const PfxVector3& direction) {
+    if (!pfxTakesImpulse(body, receives)) return;
+    const PfxVector3 torque = arm.cross(direction);
+    const PfxFloat throughTree = tree.getImpulseResponse(id, direction, torque);
+    response += throughTree >= 0 ? throughTree
+                                 : body.m_massInv + torque.dot(body.m_inertiaInv * torque);
+  };
+  side(idA, a, receivesA, cp.m_armA, -normal);
+  side(idB, b, receivesB, cp.m_armB, normal);
   const PfxFloat twoBodies = cp.m_constraintRow[0].m_jacDiagInv > 0
                                  ? 1 / cp.m_constraintRow[0].m_jacDiagInv
                                  : 0;
   return response > kPfxSmallestTreeContactResponse * twoBodies ? response : 0;
 }
 
-// Which pairs a sweep takes: those with a body in a tree, and also the others (each with
-// its two bodies' response), or not. A pair within one tree (a limb on a limb) is never
-// sized by the tree: its response there may be next to none, and the impulses that bought
-// it pushed the tree through the joints' limits, which the tree's solve does not hold.
+// Which pairs a sweep takes: those between a body of a tree and one that does not move (a
+// foot on the ground), and also the others (each with its two bodies' response), or not.
+// A pair within one tree (a limb on a limb) is not sized by the tree: its response there
+// may be next to none, and the impulses that bought it pushed the tree through the joints'
+// limits, which the tree's solve does not hold. Nor is a pair of two trees (ragdolls in a
+// pile): sizing those too took the pile's deepest overlap from 4.1 to 1.7 mm but doubled
+// its cost.
 enum class PfxTreeContactPairs { kOnTrees, kAll };
 
 // One sweep over the normal rows of those pairs; returns whether a row's velocity was short
@@ -77,8 +82,9 @@ inline bool pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
     const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
     const PfxInt32 treeA = receivesA != 0 ? tree.getTreeBody(idA) : -1;
     const PfxInt32 treeB = receivesB != 0 ? tree.getTreeBody(idB) : -1;
-    const bool withinOneTree = treeA >= 0 && treeA == treeB;
-    const bool throughTrees = !withinOneTree && (treeA >= 0 || treeB >= 0);
+    const bool fixedA = !pfxTakesImpulse(solverBodies[idA], receivesA);
+    const bool fixedB = !pfxTakesImpulse(solverBodies[idB], receivesB);
+    const bool throughTrees = (treeA >= 0 && fixedB) || (treeB >= 0 && fixedA);
     if (!throughTrees && taken == PfxTreeContactPairs::kOnTrees) continue;
     PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
     PfxSolverBody& a = solverBodies[idA];
