@@ -204,13 +204,13 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
   // errors, linearised there: a Newton step. One pass leaves tens of micrometres on a fast
   // 100-link chain at 1/60 s, two leave a few.
   // With contact points, three passes: the contacts take part in the first two, and in the
-  // third only those between a tree and what is not of it, so that it leaves the joints
+  // third only those between a tree and what does not move, so that it leaves the joints
   // closed where a tree's contacts with itself contradict them (a chain folded onto
   // itself); a third pass of the joints alone closed an ankle opened on landing by pressing
-  // the foot back into the ground (10 cm at dt 1/30). Without, two passes do (the third cost a hanging chain a quarter of its
-  // step). The choice follows the contacts there are, not whether they acted in this step:
-  // going from two passes to three and back from step to step kept the seed's ragdoll
-  // creeping at 4 cm/s for 20 s.
+  // the foot back into the ground (10 cm at dt 1/30). Without, two passes do (the third
+  // cost a hanging chain a quarter of its step). The choice follows the contacts there
+  // are, not whether they acted in this step: going from two passes to three and back from
+  // step to step kept the seed's ragdoll creeping at 4 cm/s for 20 s.
   const bool withContacts = anyContactPoint(param);
   const PfxUInt32 passes = withContacts ? kNewtonPasses + 1 : kNewtonPasses;
   for (PfxUInt32 pass = 0; pass < passes; ++pass) {

@@ -72,7 +72,7 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
                                                       numRigidBodies + 1 +      // tree starts
-                                                     numNodes)) +              // response slots
+                                                     numNodes)) +  // response slots
       PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
                               sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs));
   return static_cast<PfxUInt32>(bytes);

@@ -513,8 +513,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       // (pfx_tree_contact_rows.h): the sweep above leaves a landing foot sinking with the
       // body's momentum. Before the joints' limits, which the trees' solve does not hold.
       pfxSweepTreeContacts(param.contactPairs, param.numContactPairs,
-                           param.offsetContactManifolds, param.offsetSolverBodies, tree, PfxTreeContactVelocities::kVelocity,
-                           PfxTreeContactPairs::kOnTrees,
+                           param.offsetContactManifolds, param.offsetSolverBodies, tree,
+                           PfxTreeContactVelocities::kVelocity, PfxTreeContactPairs::kOnTrees,
                            kNegligibleTreeContactShortfall / param.timeStep);
       tree.solveVelocitiesOfBoundedTrees(taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
