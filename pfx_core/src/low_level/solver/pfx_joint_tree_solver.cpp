@@ -58,6 +58,12 @@ struct PfxJointTreeSolver::BoundedRow {
   PfxFloat response;  // the row's own velocity change per unit impulse
 };
 
+namespace {
+std::size_t maxBodiesInTrees(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
+  return std::min(std::size_t(numRigidBodies), 2 * std::size_t(numJointPairs));
+}
+}  // namespace
+
 PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs) {
   const std::size_t numNodes = std::size_t(numRigidBodies) + numJointPairs;
   const std::size_t bytes =
@@ -67,7 +73,10 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       2 * numRigidBodies + 1 +  // nodes, sets
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
-                                                      numRigidBodies + 1)) +    // tree starts
+                                                      numRigidBodies + 1 +      // tree starts
+                                                      numNodes)) +  // response slots
+      PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
+                              sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs)) +
       PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // trees moved from outside
   return static_cast<PfxUInt32>(bytes);
 }
@@ -94,14 +103,18 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  m_responseSlot = carver.take<PfxInt32>(maxNodes);
+  m_bodyResponses = carver.take<PfxTreeBlock>(maxBodiesInTrees(numRigidBodies, numJointPairs));
+  m_numBodyResponses = 0;
   m_treeMovedFromOutside = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
-  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts ||
+  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_responseSlot ||
       !m_treeMovedFromOutside ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
   m_bodyNode = bodyNode;
+  for (std::size_t n = 0; n < maxNodes; ++n) m_responseSlot[n] = -1;
 
   auto movable = [&](PfxUInt32 id, bool receives) {
     return receives && solverBodies[id].m_massInv > 0;
@@ -526,6 +539,33 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
   std::size_t n = m_treeStarts[m_nodes[m_bodyNode[rigidBodyId]].tree];
   while (m_nodes[n].body < 0) ++n;
   return m_nodes[n].body;
+}
+
+PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
+                                                const PfxVector3& angular) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
+  const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
+  PfxInt32& slot = m_responseSlot[bodyNode];
+  if (slot < 0) {
+    const Node& node = m_nodes[bodyNode];
+    PfxTreeBlock& response = m_bodyResponses[m_numBodyResponses];
+    for (int axis = 0; axis < 6; ++axis) {
+      for (std::size_t n = node.treeBegin; n < node.treeEnd; ++n) m_nodes[n].value.setZero();
+      m_nodes[bodyNode].value[axis] = 1;
+      pfxSolveBlockTree(m_nodes, node.treeBegin, node.treeEnd);
+      response.col(axis) = m_nodes[bodyNode].value;
+    }
+    slot = static_cast<PfxInt32>(m_numBodyResponses++);
+  }
+  PfxTreeVector impulse;
+  impulse << linear.cast<double>(), angular.cast<double>();
+  return static_cast<PfxFloat>(impulse.dot(m_bodyResponses[slot] * impulse));
+}
+
+void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
+  const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
+  solveTree(push, node.treeBegin, node.treeEnd);
 }
 
 void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {

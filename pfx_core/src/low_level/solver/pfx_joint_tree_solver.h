@@ -16,6 +16,7 @@
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_task_manager.h"
+#include "low_level/solver/pfx_block_tree.h"
 #include "low_level/solver/pfx_joint_row.h"
 
 namespace pfx {
@@ -97,6 +98,16 @@ class PfxJointTreeSolver {
   // tree, or -1 for a body in no tree: a joint row that moves its tree
   // (applyBoundedRowImpulse) touches every body of the tree.
   PfxInt32 getTreeBody(PfxUInt32 rigidBodyId) const;
+  // How fast the generalized impulse (linear, angular) on body `rigidBodyId` moves it
+  // along itself per unit, its tree's locked axes held (j^T M^-1 j over the tree): the
+  // effective inverse mass of a contact on a body of a tree. -1 for a body in no tree. The
+  // body's 6 x 6 answer is solved for on first use, six tree solves, and kept until the
+  // next build(). Uses the tree's nodes as scratch, so not while a solve of it runs.
+  PfxFloat getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
+                              const PfxVector3& angular);
+  // solveVelocities() (or solvePush()) for the one tree that holds body `rigidBodyId`, if
+  // any.
+  void solveTreeOf(PfxUInt32 rigidBodyId, bool push);
 
  private:
   struct Node;
@@ -128,6 +139,10 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numTrees = 0;
   PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
+  // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1.
+  PfxInt32* m_responseSlot = nullptr;
+  PfxTreeBlock* m_bodyResponses = nullptr;  // room for every body a joint can hold
+  PfxUInt32 m_numBodyResponses = 0;
   PfxUInt32 m_numRigidBodies = 0;
   PfxUInt32 m_numJointPairs = 0;
   PfxJoint* m_joints = nullptr;

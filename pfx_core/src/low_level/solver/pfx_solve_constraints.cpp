@@ -10,6 +10,7 @@
 #include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 #include "low_level/solver/pfx_joint_tree_solver.h"
+#include "low_level/solver/pfx_tree_contact_rows.h"
 
 namespace pfx {
 
@@ -37,6 +38,10 @@ void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
     }
   }
 }
+
+// How far short of its target a contact on a tree may end the step (m per step): far
+// below the contact slop.
+constexpr PfxFloat kNegligibleTreeContactShortfall = PfxFloat(1e-4);
 
 // Sweeps of the small problem of one manifold's normal rows; it converges in a few.
 constexpr int kBlockSweeps = 6;
@@ -509,6 +514,13 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
         solveContacts(m, p);
       });
       const bool first = iteration == 0, last = iteration + 1 == param.iteration;
+      // The contacts on the trees' bodies again, as the trees answer them
+      // (pfx_tree_contact_rows.h): the sweep above leaves a landing foot sinking with the
+      // body's momentum. Before the joints' limits, which the trees' solve does not hold.
+      pfxSweepTreeContacts(param.contactPairs, param.numContactPairs,
+                           param.offsetContactManifolds, param.offsetSolverBodies, tree,
+                           PfxTreeContactVelocities::kVelocity, PfxTreeContactPairs::kOnTrees,
+                           kNegligibleTreeContactShortfall / param.timeStep);
       tree.solveVelocitiesBeforeSweep(first, taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
