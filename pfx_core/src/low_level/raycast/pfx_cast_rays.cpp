@@ -13,8 +13,8 @@ namespace pfx {
 
 namespace {
 
-constexpr double kQuantizedMax = 65535.0;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kRayQuantizedMax = 65535.0;
+constexpr double kRayInfinity = std::numeric_limits<double>::infinity();
 
 // The axis along which the ray moves fastest, and whether it moves towards +.
 struct WalkDirection {
@@ -86,7 +86,7 @@ RayInCells toCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
   RayInCells cells;
   for (int a = 0; a < 3; ++a) {
     const double extent = param.rangeExtent[a];
-    const double cellsPerMetre = kQuantizedMax / (2.0 * extent);
+    const double cellsPerMetre = kRayQuantizedMax / (2.0 * extent);
     const double origin = double(param.rangeCenter[a]) - extent;
     cells.start[a] = (double(ray.m_startPosition[a]) - origin) * cellsPerMetre;
     cells.direction[a] = double(ray.m_direction[a]) * cellsPerMetre;
@@ -97,8 +97,8 @@ RayInCells toCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
 
 // A 16-bit box in cells, one cell wider on each side against rounding; a side clamped to
 // the edge of the range stands for everything beyond it.
-double lowerCell(PfxUInt16 v) { return v == 0 ? -kInfinity : double(v) - 1.0; }
-double upperCell(PfxUInt16 v) { return v == 0xffff ? kInfinity : double(v) + 1.0; }
+double lowerCell(PfxUInt16 v) { return v == 0 ? -kRayInfinity : double(v) - 1.0; }
+double upperCell(PfxUInt16 v) { return v == 0xffff ? kRayInfinity : double(v) + 1.0; }
 
 // Whether the ray passes through the box at a fraction in [0, maxFraction], and where it
 // enters it.
@@ -254,7 +254,7 @@ PfxUInt64 mortonKey(const PfxRayInput& ray, const PfxRayCastParam& param) {
   PfxUInt64 start[3], direction[3];
   const double length = double(ray.m_direction.norm());
   for (int a = 0; a < 3; ++a) {
-    start[a] = static_cast<PfxUInt64>(std::min(std::max(cells.start[a], 0.0), kQuantizedMax));
+    start[a] = static_cast<PfxUInt64>(std::min(std::max(cells.start[a], 0.0), kRayQuantizedMax));
     const double unit = length > 0 ? double(ray.m_direction[a]) / length : 0.0;
     const double cell = (unit + 1) * 0.5 * ((1 << kDirectionBits) - 1) + 0.5;
     direction[a] = static_cast<PfxUInt64>(std::min(std::max(cell, 0.0), double((1 << kDirectionBits) - 1)));
