@@ -326,7 +326,8 @@ PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, s
       pfxCreateConvexMesh(created, vertices.data(), static_cast<PfxUInt32>(vertices.size() / 3),
                           indices.data(), static_cast<PfxUInt32>(indices.size()));
   if (err != PFX_OK) {
-    setHullMessage(message, std::string("the hull is not a valid convex mesh: ") + pfxErrorString(err));
+    setHullMessage(message,
+                   std::string("the hull is not a valid convex mesh: ") + pfxErrorString(err));
     return err;
   }
   hull = created;

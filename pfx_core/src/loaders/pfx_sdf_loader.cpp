@@ -125,7 +125,7 @@ PfxVector3 toVector(const math::Vector3d& v) {
   return PfxVector3(PfxFloat(v.X()), PfxFloat(v.Y()), PfxFloat(v.Z()));
 }
 
-PfxQuat toQuat(const math::Quaterniond& q) {
+PfxQuat quatFromSdf(const math::Quaterniond& q) {
   return PfxQuat(PfxFloat(q.W()), PfxFloat(q.X()), PfxFloat(q.Y()), PfxFloat(q.Z())).normalized();
 }
 
@@ -368,7 +368,7 @@ class SdfReader {
     body.body.reset();
     body.state.setMotionType(motion);
     body.state.setPosition(toVector(linkPose.Pos() + linkPose.Rot().RotateVector(com)));
-    body.state.setOrientation(toQuat(linkPose.Rot()));
+    body.state.setOrientation(quatFromSdf(linkPose.Rot()));
     if (moves) {
       const double mass = inertial.MassMatrix().Mass();
       const math::Matrix3d moi = inertial.Moi();
@@ -502,7 +502,7 @@ class SdfReader {
     }
     const math::Pose3d placed = inBody * math::Pose3d(shift, turn);
     shape.setOffsetPosition(toVector(placed.Pos()));
-    shape.setOffsetOrientation(toQuat(placed.Rot()));
+    shape.setOffsetOrientation(quatFromSdf(placed.Rot()));
     body.shapes.push_back(shape);
     if (body.shapes.size() > PFX_MAX_SHAPES_PER_COLLIDABLE) {
       return fail(
@@ -622,7 +622,8 @@ class SdfReader {
       return;
     }
     if (rotation && (lower < -PFX_PI || upper > PFX_PI)) {
-      m_build.model.warnings.push_back(what + ": limits [" + numberText(lower) + ", " + numberText(upper) +
+      m_build.model.warnings.push_back(what + ": limits [" + numberText(lower) + ", " +
+                                       numberText(upper) +
                                        "] cut to [-pi, pi], where the joint's angle wraps");
       lower = std::max(lower, double(-PFX_PI));
       upper = std::min(upper, double(PFX_PI));
@@ -765,7 +766,7 @@ class SdfReader {
       frame.col(2) = axis2;
       frame.col(0) = axis1.cross(axis2);
     } else {
-      frame = toQuat(jointPose.Rot()).toRotationMatrix();
+      frame = quatFromSdf(jointPose.Rot()).toRotationMatrix();
     }
     if (pfxInitSceneJoint(type, m_build, parentBody, childBody, anchor, frame, built) != PFX_OK) {
       return fail(element, what, "the joint cannot be set up between these links");

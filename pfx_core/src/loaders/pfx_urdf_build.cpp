@@ -206,14 +206,16 @@ class UrdfBuilder {
     for (const std::string& name : m_order.links) {
       LinkNode node;
       node.link = m_model.getLink(name);
-      if (!node.link) return fail(PFX_ERR_INVALID_VALUE, "link " + pfxUrdfQuoted(name) + ": not parsed");
+      if (!node.link)
+        return fail(PFX_ERR_INVALID_VALUE, "link " + pfxUrdfQuoted(name) + ": not parsed");
       linkIndex[name] = static_cast<int>(m_links.size());
       m_links.push_back(node);
     }
     for (const std::string& name : m_order.joints) {
       JointNode node;
       node.joint = m_model.getJoint(name);
-      if (!node.joint) return fail(PFX_ERR_INVALID_VALUE, "joint " + pfxUrdfQuoted(name) + ": not parsed");
+      if (!node.joint)
+        return fail(PFX_ERR_INVALID_VALUE, "joint " + pfxUrdfQuoted(name) + ": not parsed");
       node.type = jointType(node.joint->type);
       node.parent = linkIndex.at(node.joint->parent_link_name);
       node.child = linkIndex.at(node.joint->child_link_name);
@@ -240,7 +242,8 @@ class UrdfBuilder {
       const Vec3 moments = eigen.eigenvalues();  // ascending
       if (moments[0] + moments[1] < moments[2] * (1 - 1e-6)) {
         warn("link " + pfxUrdfQuoted(node.link->name) + ": principal moments of inertia " +
-             pfxUrdfNumber(moments[0]) + ", " + pfxUrdfNumber(moments[1]) + ", " + pfxUrdfNumber(moments[2]) +
+             pfxUrdfNumber(moments[0]) + ", " + pfxUrdfNumber(moments[1]) + ", " +
+             pfxUrdfNumber(moments[2]) +
              " break the triangle inequality (no solid body has them); kept as given");
       }
     }
@@ -292,8 +295,9 @@ class UrdfBuilder {
         node.group = parent.group;
         m_groups[node.group].links.push_back(link);
         if (!m_param.lumpFixedJoints) {
-          warn("joint " + pfxUrdfQuoted(joint.joint->name) + ": lumped although lumpFixedJoints is off, " +
-               "since link " + pfxUrdfQuoted(node.massless ? node.link->name : parent.link->name) +
+          warn("joint " + pfxUrdfQuoted(joint.joint->name) +
+               ": lumped although lumpFixedJoints is off, " + "since link " +
+               pfxUrdfQuoted(node.massless ? node.link->name : parent.link->name) +
                " has no mass to be a body of its own");
         }
       } else {
@@ -338,8 +342,8 @@ class UrdfBuilder {
         for (const int link : group.links) {
           warn("link " + pfxUrdfQuoted(linkName(link)) +
                ": no mass and no child joint; carried as a frame by the body of link " +
-               pfxUrdfQuoted(linkName(joint.parent)) + ", with joint " + pfxUrdfQuoted(joint.joint->name) +
-               " held at zero");
+               pfxUrdfQuoted(linkName(joint.parent)) + ", with joint " +
+               pfxUrdfQuoted(joint.joint->name) + " held at zero");
         }
         continue;
       }
@@ -404,8 +408,9 @@ class UrdfBuilder {
       const JointNode& joint = m_joints[chain.joints[i]];
       const double distance = (joint.origin - first.origin).norm();
       if (distance > kCoincidentDistance) {
-        whyNot = "joints " + pfxUrdfQuoted(first.joint->name) + " and " + pfxUrdfQuoted(joint.joint->name) +
-                 " do not meet at one point (" + pfxUrdfNumber(distance) + " m apart)";
+        whyNot = "joints " + pfxUrdfQuoted(first.joint->name) + " and " +
+                 pfxUrdfQuoted(joint.joint->name) + " do not meet at one point (" +
+                 pfxUrdfNumber(distance) + " m apart)";
         return false;
       }
       for (std::size_t k = 0; k < i; ++k) {
@@ -477,7 +482,8 @@ class UrdfBuilder {
     group.role = Role::kBody;
     group.light = true;
     warn("link " + pfxUrdfQuoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
-         ", so its joints cannot become one; loaded as a light body of " + pfxUrdfNumber(mass) + " kg" +
+         ", so its joints cannot become one; loaded as a light body of " + pfxUrdfNumber(mass) +
+         " kg" +
          (lighter >= 0 ? " (a tenth of the mass of link " +
                              pfxUrdfQuoted(linkName(m_groups[lighter].links[0])) + ")"
                        : std::string()) +
@@ -596,8 +602,8 @@ class UrdfBuilder {
       const std::string& top = linkName(m_groups[m_bodies[b].group].links[0]);
       if (out.shapes.size() > PFX_MAX_SHAPES_PER_COLLIDABLE) {
         return fail(PFX_ERR_OUT_OF_RANGE,
-                    "link " + pfxUrdfQuoted(top) + ": its body has " + std::to_string(out.shapes.size()) +
-                        " collision shapes, more than the " +
+                    "link " + pfxUrdfQuoted(top) + ": its body has " +
+                        std::to_string(out.shapes.size()) + " collision shapes, more than the " +
                         std::to_string(PFX_MAX_SHAPES_PER_COLLIDABLE) + " a body holds");
       }
       if (out.shapes.empty()) {
@@ -692,9 +698,10 @@ class UrdfBuilder {
     if (mesh.filename.empty() ||
         !pfxResolveUrdfMeshUri(mesh.filename, m_folder, m_param.packageRoot, path, searched)) {
       const std::string text =
-          subject + (mesh.filename.empty()
-                         ? "<mesh> on line " + std::to_string(mesh.line) + " has no filename"
-                         : "mesh " + pfxUrdfQuoted(mesh.filename) + " not found (" + searched + ")");
+          subject +
+          (mesh.filename.empty()
+               ? "<mesh> on line " + std::to_string(mesh.line) + " has no filename"
+               : "mesh " + pfxUrdfQuoted(mesh.filename) + " not found (" + searched + ")");
       if (!m_param.allowMissingMeshes) return fail(PFX_ERR_INVALID_VALUE, text);
       warn(text + "; left out");
       missing = true;
@@ -741,8 +748,8 @@ class UrdfBuilder {
     lower = m_joints[j].joint->limits->lower;
     upper = m_joints[j].joint->limits->upper;
     if (lower < -PFX_PI || upper > PFX_PI) {
-      warn("joint " + pfxUrdfQuoted(jointName(j)) + ": limits [" + pfxUrdfNumber(lower) + ", " + pfxUrdfNumber(upper) +
-           "] cut to [-pi, pi], where the joint's angle wraps");
+      warn("joint " + pfxUrdfQuoted(jointName(j)) + ": limits [" + pfxUrdfNumber(lower) + ", " +
+           pfxUrdfNumber(upper) + "] cut to [-pi, pi], where the joint's angle wraps");
       lower = std::max(lower, double(-PFX_PI));
       upper = std::min(upper, double(PFX_PI));
     }
@@ -822,8 +829,8 @@ class UrdfBuilder {
 
   PfxInt32 addJoint(const PfxJoint& joint, int j) {
     if (const PfxInt32 err = pfxCheckJoint(joint); err != PFX_OK) {
-      return fail(
-          err, "joint " + pfxUrdfQuoted(jointName(j)) + ": cannot be built (" + pfxErrorString(err) + ")");
+      return fail(err, "joint " + pfxUrdfQuoted(jointName(j)) + ": cannot be built (" +
+                           pfxErrorString(err) + ")");
     }
     m_build.joints.push_back(joint);
     return PFX_OK;
@@ -915,9 +922,9 @@ class UrdfBuilder {
       const JointNode& f = m_joints[j];
       const JointNode& l = m_joints[leader];
       if (f.worldJoint < 0 || l.worldJoint < 0) {
-        warn("joint " + pfxUrdfQuoted(jointName(j)) + ": <mimic> of " + pfxUrdfQuoted(jointName(leader)) +
-             " left out, since " + pfxUrdfQuoted(jointName(f.worldJoint < 0 ? j : leader)) +
-             " is held at zero");
+        warn("joint " + pfxUrdfQuoted(jointName(j)) + ": <mimic> of " +
+             pfxUrdfQuoted(jointName(leader)) + " left out, since " +
+             pfxUrdfQuoted(jointName(f.worldJoint < 0 ? j : leader)) + " is held at zero");
         continue;
       }
       // URDF: qf = m ql + o, with q = sign c for both; so cf = (m sl / sf) cl + o / sf.

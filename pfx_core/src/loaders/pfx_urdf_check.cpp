@@ -326,8 +326,8 @@ PfxInt32 checkTree(const std::vector<std::string>& links, const std::vector<Join
         for (const std::string& link : path)
           through += (through.empty() ? "" : ", ") + pfxUrdfQuoted(link);
         return fail(error, PFX_ERR_INVALID_VALUE,
-                    "joint " + pfxUrdfQuoted(joints[it->second].name) + ": closes a cycle through links " +
-                        through);
+                    "joint " + pfxUrdfQuoted(joints[it->second].name) +
+                        ": closes a cycle through links " + through);
       }
       if (path.size() > links.size()) break;  // a cycle above `start`, found from one of its links
       path.push_back(parent);
@@ -353,8 +353,8 @@ PfxInt32 checkMimics(const std::vector<JointText>& joints, PfxUrdfError& error) 
     const auto leader = byName.find(joint.mimic);
     if (leader == byName.end()) {
       return fail(error, PFX_ERR_INVALID_VALUE,
-                  "joint " + pfxUrdfQuoted(joint.name) + ": mimics joint " + pfxUrdfQuoted(joint.mimic) +
-                      ", which is not defined");
+                  "joint " + pfxUrdfQuoted(joint.name) + ": mimics joint " +
+                      pfxUrdfQuoted(joint.mimic) + ", which is not defined");
     }
     for (const JointText* j : {&joint, leader->second}) {
       if (j->type != "revolute" && j->type != "continuous" && j->type != "prismatic") {
@@ -390,8 +390,8 @@ PfxInt32 readName(const TiXmlElement* element, std::map<std::string, int>& lines
   name = text;
   if (const auto [it, inserted] = lines.emplace(name, element->Row()); !inserted) {
     return fail(error, PFX_ERR_INVALID_VALUE,
-                kind + " " + pfxUrdfQuoted(name) + ": defined twice (lines " + std::to_string(it->second) +
-                    " and " + std::to_string(element->Row()) + ")");
+                kind + " " + pfxUrdfQuoted(name) + ": defined twice (lines " +
+                    std::to_string(it->second) + " and " + std::to_string(element->Row()) + ")");
   }
   return PFX_OK;
 }
@@ -463,8 +463,8 @@ PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, Pf
       if (linkLines.count(*link) == 0) {
         return fail(error, PFX_ERR_INVALID_VALUE,
                     "joint " + pfxUrdfQuoted(text.name) + ": " +
-                        (link == &text.parent ? "parent" : "child") + " link " + pfxUrdfQuoted(*link) +
-                        " is not defined");
+                        (link == &text.parent ? "parent" : "child") + " link " +
+                        pfxUrdfQuoted(*link) + " is not defined");
       }
     }
     joints.push_back(text);

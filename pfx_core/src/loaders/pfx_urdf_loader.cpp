@@ -17,7 +17,7 @@ namespace pfx {
 namespace {
 
 PfxInt32 reportUrdfFailure(PfxInt32 code, const std::string& file, const std::string& text,
-                std::string* message) {
+                           std::string* message) {
   if (message) *message = file + ": " + text;
   return code;
 }

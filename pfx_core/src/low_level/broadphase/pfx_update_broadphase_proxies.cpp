@@ -268,12 +268,13 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   for (int a = 0; a < kNumProxyArrays; ++a) {
     PfxBroadphaseProxy* array = arrays[a];
     if (!array) continue;
-    pfxParallelFor(taskManager, numProxies, kProxyBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
-      for (PfxUInt32 i = begin; i < end; ++i) {
-        if (array != primary) array[i] = primary[i];
-        pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
-      }
-    });
+    pfxParallelFor(taskManager, numProxies, kProxyBodiesPerTask,
+                   [&](PfxUInt32 begin, PfxUInt32 end) {
+                     for (PfxUInt32 i = begin; i < end; ++i) {
+                       if (array != primary) array[i] = primary[i];
+                       pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
+                     }
+                   });
     pfxParallelSort(array, numProxies, param.workBuff, param.workBytes, taskManager);
   }
 

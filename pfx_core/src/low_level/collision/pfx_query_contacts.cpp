@@ -103,7 +103,8 @@ PfxInt32 pfxQueryContacts(const PfxContactQueryInput& query, const PfxQueryConta
                           PfxQueryContactsResult& result) {
   if (const PfxInt32 err = checkQuery(query); err != PFX_OK) return err;
   if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
-  if (!out && maxContacts > 0) return pfxRejectNull(kQueryContactsAt, "out", "maxContacts", maxContacts);
+  if (!out && maxContacts > 0)
+    return pfxRejectNull(kQueryContactsAt, "out", "maxContacts", maxContacts);
 
   PfxQueryContactsResult found;
   if (param.numProxies == 0) {

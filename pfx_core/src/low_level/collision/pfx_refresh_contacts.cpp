@@ -41,7 +41,8 @@ PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param, PfxTaskManager
   }
   pfxParallelFor(taskManager, param.numContactPairs, kRefreshedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
-                   for (PfxUInt32 i = begin; i < end; ++i) refreshPair(param, param.contactPairs[i]);
+                   for (PfxUInt32 i = begin; i < end; ++i)
+                     refreshPair(param, param.contactPairs[i]);
                  });
   return PFX_OK;
 }

@@ -273,20 +273,22 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // from the pair (one-way) cannot be both inside and outside the system: such a pair
   // stays iterative. Found for every pair at once, in parallel, since it reads each
   // manifold; the forest is then picked from these flags in pair order.
-  pfxParallelFor(taskManager, numContactPairs, kTreeSolvedPairsPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
-    for (PfxUInt32 i = begin; i < end; ++i) {
-      const PfxConstraintPair& pair = contactPairs[i];
-      pairFlags[i] = 0;
-      if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)])) continue;
-      const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
-      const bool moveA = movable(a, pfxGetReceivesA(pair));
-      const bool moveB = movable(b, pfxGetReceivesB(pair));
-      const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
-                          (!moveB && solverBodies[b].m_massInv > 0);
-      if (oneWay || (!moveA && !moveB)) continue;
-      pairFlags[i] = kEligible | (moveA ? kMovesA : 0) | (moveB ? kMovesB : 0);
-    }
-  });
+  pfxParallelFor(taskManager, numContactPairs, kTreeSolvedPairsPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     const PfxConstraintPair& pair = contactPairs[i];
+                     pairFlags[i] = 0;
+                     if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)]))
+                       continue;
+                     const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+                     const bool moveA = movable(a, pfxGetReceivesA(pair));
+                     const bool moveB = movable(b, pfxGetReceivesB(pair));
+                     const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
+                                         (!moveB && solverBodies[b].m_massInv > 0);
+                     if (oneWay || (!moveA && !moveB)) continue;
+                     pairFlags[i] = kEligible | (moveA ? kMovesA : 0) | (moveB ? kMovesB : 0);
+                   }
+                 });
   auto eligible = [&](PfxUInt32 pairIndex, bool& moveA, bool& moveB) {
     const PfxUInt8 flags = pairFlags[pairIndex];
     moveA = (flags & kMovesA) != 0;
@@ -415,8 +417,9 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   };
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
     const PfxConstraintPair& pair = contactPairs[facePair[f]];
-    if (faceState[f] != kContactTreeChosen || movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) ==
-                                       movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))) {
+    if (faceState[f] != kContactTreeChosen ||
+        movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) ==
+            movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))) {
       continue;
     }
     const std::size_t head = m_numNodes;
@@ -485,11 +488,12 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
                                            PfxUInt32(body) == pfxGetObjectIdB(pair));
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) {
-      pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
-    }
-  });
+  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
+                 [&](PfxUInt32 first, PfxUInt32 last) {
+                   for (PfxUInt32 t = first; t < last; ++t) {
+                     pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
+                   }
+                 });
 }
 
 void PfxContactTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
@@ -510,9 +514,11 @@ void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) {
 
 void PfxContactTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
-  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
-  });
+  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
+                 [&](PfxUInt32 first, PfxUInt32 last) {
+                   for (PfxUInt32 t = first; t < last; ++t)
+                     solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
+                 });
 }
 
 void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) {

@@ -75,8 +75,8 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   if (c.m_lock == kPfxJointLockLocked || lower == upper) {
     const PfxFloat error = position - c.getLockedValue();
     c.m_rowType = kPfxJointRowEquality;
-    setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse, c.m_weight,
-           warmStartFactor, bodies);
+    setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse,
+           c.m_weight, warmStartFactor, bodies);
     c.m_pushRhs = -c.m_bias * error / timeStep * c.m_constraintRow.m_jacDiagInv;
     return;
   }
