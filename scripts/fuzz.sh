@@ -30,8 +30,8 @@ configure_and_build() {
   CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DPFX_SANITIZE=address,undefined -DPFX_BUILD_FUZZ=ON -DPFX_BUILD_TESTS=OFF \
-    -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF -DPFX_BUILD_PYTHON=OFF \
-    >/dev/null
+    -DPFX_UNITY_BUILD=ON -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF \
+    -DPFX_BUILD_PYTHON=OFF >/dev/null
   cmake --build "$build" -j"$(nproc)" --target "$@"
 }
 

@@ -30,8 +30,9 @@ PfxSerializeError argumentError(PfxInt32 code, const std::string& reason) {
 
 // What both entry points do first: check the file and the init callback, then let the
 // callback name the arrays and their sizes.
-PfxInt32 initialize(FILE* file, const PfxSerializeCallbacks& callbacks, const char* function,
-                    PfxSerializeCapacity& capacity, PfxSerializeBuffer& buffer) {
+PfxInt32 initializeSerializer(FILE* file, const PfxSerializeCallbacks& callbacks,
+                              const char* function, PfxSerializeCapacity& capacity,
+                              PfxSerializeBuffer& buffer) {
   if (!file || !callbacks.init) {
     return report(callbacks, function,
                   argumentError(PFX_ERR_NULL_POINTER,
@@ -145,7 +146,7 @@ PfxInt32 pfxSerializeWrite(FILE* file, const PfxSerializeCallbacks& callbacks) {
   constexpr const char* kFunction = "pfxSerializeWrite";
   PfxSerializeCapacity counts;
   PfxSerializeBuffer buffer;
-  if (const PfxInt32 code = initialize(file, callbacks, kFunction, counts, buffer);
+  if (const PfxInt32 code = initializeSerializer(file, callbacks, kFunction, counts, buffer);
       code != PFX_OK) {
     return code;
   }
@@ -173,7 +174,7 @@ PfxInt32 pfxSerializeRead(FILE* file, const PfxSerializeCallbacks& callbacks) {
   constexpr const char* kFunction = "pfxSerializeRead";
   PfxSerializeCapacity capacity;
   PfxSerializeBuffer buffer;
-  if (const PfxInt32 code = initialize(file, callbacks, kFunction, capacity, buffer);
+  if (const PfxInt32 code = initializeSerializer(file, callbacks, kFunction, capacity, buffer);
       code != PFX_OK) {
     return code;
   }

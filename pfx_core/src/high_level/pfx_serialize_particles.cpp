@@ -17,7 +17,9 @@ constexpr std::size_t kTetherBytes = 2 * 4 + 4 + 4 + 3 * 4;
 constexpr std::size_t kPinBytes = 2 * 4 + 3 * 4 + 2 * 4;
 constexpr std::size_t kTriangleBytes = 3 * 4;
 
-std::string at(const char* what, PfxUInt32 i) { return std::string(what) + " " + std::to_string(i); }
+std::string particleAt(const char* what, PfxUInt32 i) {
+  return std::string(what) + " " + std::to_string(i);
+}
 
 }  // namespace
 
@@ -88,7 +90,7 @@ bool pfxDecodeParticleGroups(PfxByteReader& r, PfxSerializeImage& image) {
   image.particleGroups.clear();
   image.particleGroups.resize(numGroups);
   for (PfxUInt32 id = 0; id < numGroups; ++id) {
-    PfxTagScope tag(r, at("group", id));
+    PfxTagScope tag(r, particleAt("group", id));
     const PfxUInt8 present = r.u8("present");
     if (!r.ok()) return false;
     if (present > 1) return r.fail(PFX_ERR_INVALID_VALUE, "present", "is neither 0 nor 1");

@@ -211,9 +211,9 @@ bool Parser::largeMesh(PfxLargeTriMesh& mesh) {
   if (!r.ok()) return false;
   const PfxLargeMeshStorage storage{(storageBits & 1) != 0, (storageBits & 2) != 0,
                                     (storageBits & 4) != 0};
-  constexpr PfxUInt32 kAllFlags =
+  constexpr PfxUInt32 kKnownMeshFlags =
       PFX_MESH_FLAG_USE_BVH | PFX_MESH_FLAG_USE_QUANTIZED | PFX_MESH_FLAG_HIGH_QUALITY;
-  if ((mesh.m_flags & ~kAllFlags) != 0 || storageBits > 7 ||
+  if ((mesh.m_flags & ~kKnownMeshFlags) != 0 || storageBits > 7 ||
       storage.quantized != ((mesh.m_flags & PFX_MESH_FLAG_USE_QUANTIZED) != 0)) {
     return r.fail(PFX_ERR_INVALID_FLAG, "flags", "unknown flags, or storage that they contradict");
   }

@@ -248,7 +248,7 @@ bool simplifyHull(const std::vector<Vec3d>& points, const Hull& full, double dia
   return true;
 }
 
-void setMessage(std::string* message, const std::string& text) {
+void setHullMessage(std::string* message, const std::string& text) {
   if (message) *message = "convex hull: " + text;
 }
 
@@ -257,12 +257,12 @@ void setMessage(std::string* message, const std::string& text) {
 PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, std::string* message,
                              PfxConvexHullInfo* info) {
   if (mesh.vertices.size() % 3 != 0) {
-    setMessage(message, "vertex array length is not a multiple of 3");
+    setHullMessage(message, "vertex array length is not a multiple of 3");
     return PFX_ERR_OUT_OF_RANGE;
   }
   const std::size_t numPoints = mesh.vertices.size() / 3;
   if (numPoints < 4) {
-    setMessage(message, "needs at least 4 vertices, got " + std::to_string(numPoints));
+    setHullMessage(message, "needs at least 4 vertices, got " + std::to_string(numPoints));
     return PFX_ERR_DEGENERATE;
   }
   std::vector<Vec3d> points(numPoints);
@@ -272,7 +272,7 @@ PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, s
   for (std::size_t i = 0; i < numPoints; ++i) {
     const PfxFloat* v = &mesh.vertices[3 * i];
     if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-      setMessage(message, "vertex " + std::to_string(i) + " is NaN or infinite");
+      setHullMessage(message, "vertex " + std::to_string(i) + " is NaN or infinite");
       return PFX_ERR_INVALID_VALUE;
     }
     points[i] = Vec3d(v[0], v[1], v[2]);
@@ -283,18 +283,18 @@ PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, s
   const double diagonal = (hi - lo).norm();
   std::string reason;
   if (!(diagonal > 0)) {
-    setMessage(message, "all " + std::to_string(numPoints) + " vertices are one point");
+    setHullMessage(message, "all " + std::to_string(numPoints) + " vertices are one point");
     return PFX_ERR_DEGENERATE;
   }
   int corners[4];
   if (const PfxInt32 err = findTetrahedron(points, ids, diagonal, corners, reason); err != PFX_OK) {
-    setMessage(message, reason);
+    setHullMessage(message, reason);
     return err;
   }
 
   Hull full;
   if (!computeHull(points, ids, diagonal, full, reason)) {
-    setMessage(message, reason);
+    setHullMessage(message, reason);
     return PFX_ERR_DEGENERATE;
   }
   const Hull* result = &full;
@@ -302,7 +302,7 @@ PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, s
   if (full.vertices.size() > PFX_CONVEX_MESH_MAX_VERTICES ||
       full.triangles.size() > PFX_CONVEX_MESH_MAX_FACETS) {
     if (!simplifyHull(points, full, diagonal, simplified, reason)) {
-      setMessage(message, reason);
+      setHullMessage(message, reason);
       return PFX_ERR_DEGENERATE;
     }
     result = &simplified;
@@ -326,7 +326,8 @@ PfxInt32 pfxCreateConvexHull(const PfxTriangleMesh& mesh, PfxConvexMesh& hull, s
       pfxCreateConvexMesh(created, vertices.data(), static_cast<PfxUInt32>(vertices.size() / 3),
                           indices.data(), static_cast<PfxUInt32>(indices.size()));
   if (err != PFX_OK) {
-    setMessage(message, std::string("the hull is not a valid convex mesh: ") + pfxErrorString(err));
+    setHullMessage(message,
+                   std::string("the hull is not a valid convex mesh: ") + pfxErrorString(err));
     return err;
   }
   hull = created;

@@ -35,7 +35,7 @@ const std::map<std::string, PfxJointType> kJointTypes = {
     {"hinge", kPfxJointHinge}, {"slider", kPfxJointSlider},
     {"fixed", kPfxJointFixed}, {"universal", kPfxJointUniversal}};
 
-const std::map<std::string, PfxUInt32> kAxes = {
+const std::map<std::string, PfxUInt32> kJointAxisByName = {
     {"x", kPfxJointAxisX},           {"y", kPfxJointAxisY},
     {"z", kPfxJointAxisZ},           {"twist", kPfxJointAxisTwist},
     {"swing1", kPfxJointAxisSwing1}, {"swing2", kPfxJointAxisSwing2}};
@@ -517,8 +517,9 @@ class Reader {
       return m_error.code;
     }
     const char* index = x->Attribute("index");
-    const auto axis = index ? kAxes.find(index) : kAxes.end();
-    if (axis == kAxes.end()) return fail(x, "index must be x, y, z, twist, swing1 or swing2");
+    const auto axis = index ? kJointAxisByName.find(index) : kJointAxisByName.end();
+    if (axis == kJointAxisByName.end())
+      return fail(x, "index must be x, y, z, twist, swing1 or swing2");
     PfxJointConstraint& c = joint.m_constraints[axis->second];
     const bool hasLimit = x->Attribute("lower") || x->Attribute("upper");
     if (!number(x, "lower", c.m_movableLowerLimit) || !number(x, "upper", c.m_movableUpperLimit) ||
@@ -576,8 +577,8 @@ class Reader {
         return fail(
             e, std::string(i == 0 ? "leader" : "follower") + " must name a joint defined above");
       }
-      const auto axis = axes[i] ? kAxes.find(axes[i]) : kAxes.end();
-      if (axis == kAxes.end()) {
+      const auto axis = axes[i] ? kJointAxisByName.find(axes[i]) : kJointAxisByName.end();
+      if (axis == kJointAxisByName.end()) {
         return fail(e, std::string(i == 0 ? "leader_axis" : "follower_axis") +
                            " must be x, y, z, twist, swing1 or swing2");
       }

@@ -115,7 +115,7 @@ const std::set<std::string> kHonouredAttributes = {
 
 std::string inQuotes(const std::string& name) { return "'" + name + "'"; }
 
-std::string number(double value) {
+std::string numberText(double value) {
   std::ostringstream text;
   text << value;
   return text.str();
@@ -125,7 +125,7 @@ PfxVector3 toVector(const math::Vector3d& v) {
   return PfxVector3(PfxFloat(v.X()), PfxFloat(v.Y()), PfxFloat(v.Z()));
 }
 
-PfxQuat toQuat(const math::Quaterniond& q) {
+PfxQuat quatFromSdf(const math::Quaterniond& q) {
   return PfxQuat(PfxFloat(q.W()), PfxFloat(q.X()), PfxFloat(q.Y()), PfxFloat(q.Z())).normalized();
 }
 
@@ -260,7 +260,7 @@ class SdfReader {
       if (!(physics->MaxStepSize() > 0) || !std::isfinite(physics->MaxStepSize())) {
         return fail(physics->Element(), "physics " + inQuotes(physics->Name()),
                     "max_step_size must be positive and finite (got " +
-                        number(physics->MaxStepSize()) + ")");
+                        numberText(physics->MaxStepSize()) + ")");
       }
       p.timeStep = static_cast<PfxFloat>(physics->MaxStepSize());
       // ODE's iterations where the file gives them: pfx's solver iterations play that part.
@@ -368,7 +368,7 @@ class SdfReader {
     body.body.reset();
     body.state.setMotionType(motion);
     body.state.setPosition(toVector(linkPose.Pos() + linkPose.Rot().RotateVector(com)));
-    body.state.setOrientation(toQuat(linkPose.Rot()));
+    body.state.setOrientation(quatFromSdf(linkPose.Rot()));
     if (moves) {
       const double mass = inertial.MassMatrix().Mass();
       const math::Matrix3d moi = inertial.Moi();
@@ -502,7 +502,7 @@ class SdfReader {
     }
     const math::Pose3d placed = inBody * math::Pose3d(shift, turn);
     shape.setOffsetPosition(toVector(placed.Pos()));
-    shape.setOffsetOrientation(toQuat(placed.Rot()));
+    shape.setOffsetOrientation(quatFromSdf(placed.Rot()));
     body.shapes.push_back(shape);
     if (body.shapes.size() > PFX_MAX_SHAPES_PER_COLLIDABLE) {
       return fail(
@@ -531,7 +531,7 @@ class SdfReader {
           if (ode->HasElement("mu2") && ode->GetElement("mu2")->GetExplicitlySetInFile() &&
               mu2 != mu) {
             m_build.model.warnings.push_back(what + ": friction is isotropic in pfx: mu " +
-                                             number(mu) + " is used, mu2 " + number(mu2) +
+                                             numberText(mu) + " is used, mu2 " + numberText(mu2) +
                                              " is not");
           }
         }
@@ -622,7 +622,8 @@ class SdfReader {
       return;
     }
     if (rotation && (lower < -PFX_PI || upper > PFX_PI)) {
-      m_build.model.warnings.push_back(what + ": limits [" + number(lower) + ", " + number(upper) +
+      m_build.model.warnings.push_back(what + ": limits [" + numberText(lower) + ", " +
+                                       numberText(upper) +
                                        "] cut to [-pi, pi], where the joint's angle wraps");
       lower = std::max(lower, double(-PFX_PI));
       upper = std::min(upper, double(PFX_PI));
@@ -638,8 +639,8 @@ class SdfReader {
     const double lower = axis.Lower(), upper = axis.Upper();
     if (std::isnan(lower) || std::isnan(upper) || !(lower <= upper)) {
       return fail(axis.Element(), what,
-                  "limits must be numbers with lower <= upper (got [" + number(lower) + ", " +
-                      number(upper) + "])");
+                  "limits must be numbers with lower <= upper (got [" + numberText(lower) + ", " +
+                      numberText(upper) + "])");
     }
     if (!(axis.Damping() >= 0) || !(axis.Friction() >= 0) || !std::isfinite(axis.Damping()) ||
         !std::isfinite(axis.Friction())) {
@@ -765,7 +766,7 @@ class SdfReader {
       frame.col(2) = axis2;
       frame.col(0) = axis1.cross(axis2);
     } else {
-      frame = toQuat(jointPose.Rot()).toRotationMatrix();
+      frame = quatFromSdf(jointPose.Rot()).toRotationMatrix();
     }
     if (pfxInitSceneJoint(type, m_build, parentBody, childBody, anchor, frame, built) != PFX_OK) {
       return fail(element, what, "the joint cannot be set up between these links");

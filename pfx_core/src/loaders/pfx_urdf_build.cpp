@@ -33,15 +33,7 @@ constexpr double kLightBodyMassFraction = 0.1;
 constexpr double kLightBodyFallbackMass = 0.01;
 constexpr double kLightBodyFallbackGyration = 0.01;
 // Radius of the sphere a body without collision geometry carries (its filters match nothing).
-constexpr PfxFloat kPlaceholderRadius = PfxFloat(0.01);
-
-std::string quoted(const std::string& name) { return "'" + name + "'"; }
-
-std::string number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
+constexpr PfxFloat kUrdfPlaceholderRadius = PfxFloat(0.01);
 
 Pose toPose(const urdf::Pose& p) {
   Pose pose = Pose::Identity();
@@ -214,14 +206,16 @@ class UrdfBuilder {
     for (const std::string& name : m_order.links) {
       LinkNode node;
       node.link = m_model.getLink(name);
-      if (!node.link) return fail(PFX_ERR_INVALID_VALUE, "link " + quoted(name) + ": not parsed");
+      if (!node.link)
+        return fail(PFX_ERR_INVALID_VALUE, "link " + pfxUrdfQuoted(name) + ": not parsed");
       linkIndex[name] = static_cast<int>(m_links.size());
       m_links.push_back(node);
     }
     for (const std::string& name : m_order.joints) {
       JointNode node;
       node.joint = m_model.getJoint(name);
-      if (!node.joint) return fail(PFX_ERR_INVALID_VALUE, "joint " + quoted(name) + ": not parsed");
+      if (!node.joint)
+        return fail(PFX_ERR_INVALID_VALUE, "joint " + pfxUrdfQuoted(name) + ": not parsed");
       node.type = jointType(node.joint->type);
       node.parent = linkIndex.at(node.joint->parent_link_name);
       node.child = linkIndex.at(node.joint->child_link_name);
@@ -247,8 +241,9 @@ class UrdfBuilder {
       const Eigen::SelfAdjointEigenSolver<Mat3> eigen(tensor, Eigen::EigenvaluesOnly);
       const Vec3 moments = eigen.eigenvalues();  // ascending
       if (moments[0] + moments[1] < moments[2] * (1 - 1e-6)) {
-        warn("link " + quoted(node.link->name) + ": principal moments of inertia " +
-             number(moments[0]) + ", " + number(moments[1]) + ", " + number(moments[2]) +
+        warn("link " + pfxUrdfQuoted(node.link->name) + ": principal moments of inertia " +
+             pfxUrdfNumber(moments[0]) + ", " + pfxUrdfNumber(moments[1]) + ", " +
+             pfxUrdfNumber(moments[2]) +
              " break the triangle inequality (no solid body has them); kept as given");
       }
     }
@@ -300,8 +295,9 @@ class UrdfBuilder {
         node.group = parent.group;
         m_groups[node.group].links.push_back(link);
         if (!m_param.lumpFixedJoints) {
-          warn("joint " + quoted(joint.joint->name) + ": lumped although lumpFixedJoints is off, " +
-               "since link " + quoted(node.massless ? node.link->name : parent.link->name) +
+          warn("joint " + pfxUrdfQuoted(joint.joint->name) +
+               ": lumped although lumpFixedJoints is off, " + "since link " +
+               pfxUrdfQuoted(node.massless ? node.link->name : parent.link->name) +
                " has no mass to be a body of its own");
         }
       } else {
@@ -328,7 +324,7 @@ class UrdfBuilder {
       if (group.parentJoint < 0) {
         if (group.mass == 0 && !m_fixedRoot) {
           m_fixedRoot = true;
-          warn("link " + quoted(linkName(m_root)) +
+          warn("link " + pfxUrdfQuoted(linkName(m_root)) +
                ": the root link has no mass, so it cannot float; the robot is loaded with a "
                "fixed base (give the root an <inertial> to let it float)");
         }
@@ -344,16 +340,16 @@ class UrdfBuilder {
       if (group.childJoints.empty()) {
         group.role = Role::kFrame;
         for (const int link : group.links) {
-          warn("link " + quoted(linkName(link)) +
+          warn("link " + pfxUrdfQuoted(linkName(link)) +
                ": no mass and no child joint; carried as a frame by the body of link " +
-               quoted(linkName(joint.parent)) + ", with joint " + quoted(joint.joint->name) +
-               " held at zero");
+               pfxUrdfQuoted(linkName(joint.parent)) + ", with joint " +
+               pfxUrdfQuoted(joint.joint->name) + " held at zero");
         }
         continue;
       }
       if (!m_param.collapseMasslessChains) {
         return fail(PFX_ERR_INVALID_VALUE,
-                    "link " + quoted(linkName(group.links[0])) +
+                    "link " + pfxUrdfQuoted(linkName(group.links[0])) +
                         ": no mass (no <inertial>, or mass 0) and joints below it, "
                         "and collapseMasslessChains is off");
       }
@@ -364,15 +360,15 @@ class UrdfBuilder {
       for (const int link : group.links) {
         if (group.role == Role::kBody && m_links[link].massless &&
             m_links[link].childJoints.empty()) {
-          warn("link " + quoted(linkName(link)) +
+          warn("link " + pfxUrdfQuoted(linkName(link)) +
                ": no mass and no child joint; a frame of the body of link " +
-               quoted(linkName(group.links[0])));
+               pfxUrdfQuoted(linkName(group.links[0])));
         }
       }
       if (group.role == Role::kHelper) {
         for (const int link : group.links) {
           if (!collisionsOf(link).empty()) {
-            warn("link " + quoted(linkName(link)) +
+            warn("link " + pfxUrdfQuoted(linkName(link)) +
                  ": collision geometry left out, since the link has no mass and no body (it "
                  "is a helper of a collapsed joint)");
           }
@@ -412,15 +408,16 @@ class UrdfBuilder {
       const JointNode& joint = m_joints[chain.joints[i]];
       const double distance = (joint.origin - first.origin).norm();
       if (distance > kCoincidentDistance) {
-        whyNot = "joints " + quoted(first.joint->name) + " and " + quoted(joint.joint->name) +
-                 " do not meet at one point (" + number(distance) + " m apart)";
+        whyNot = "joints " + pfxUrdfQuoted(first.joint->name) + " and " +
+                 pfxUrdfQuoted(joint.joint->name) + " do not meet at one point (" +
+                 pfxUrdfNumber(distance) + " m apart)";
         return false;
       }
       for (std::size_t k = 0; k < i; ++k) {
         const JointNode& other = m_joints[chain.joints[k]];
         if (std::abs(joint.axis.dot(other.axis)) > kPerpendicularCosine) {
-          whyNot = "the axes of joints " + quoted(other.joint->name) + " and " +
-                   quoted(joint.joint->name) + " are not perpendicular";
+          whyNot = "the axes of joints " + pfxUrdfQuoted(other.joint->name) + " and " +
+                   pfxUrdfQuoted(joint.joint->name) + " are not perpendicular";
           return false;
         }
       }
@@ -484,10 +481,11 @@ class UrdfBuilder {
     group.mass = mass;
     group.role = Role::kBody;
     group.light = true;
-    warn("link " + quoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
-         ", so its joints cannot become one; loaded as a light body of " + number(mass) + " kg" +
+    warn("link " + pfxUrdfQuoted(linkName(top)) + ": no mass, and " + whyNotCollapsed +
+         ", so its joints cannot become one; loaded as a light body of " + pfxUrdfNumber(mass) +
+         " kg" +
          (lighter >= 0 ? " (a tenth of the mass of link " +
-                             quoted(linkName(m_groups[lighter].links[0])) + ")"
+                             pfxUrdfQuoted(linkName(m_groups[lighter].links[0])) + ")"
                        : std::string()) +
          " so that each of its joints turns where the URDF puts it");
   }
@@ -544,9 +542,9 @@ class UrdfBuilder {
         out.body.setInertia(local.cast<PfxFloat>());
         if (!out.body.isValid()) {
           return fail(PFX_ERR_INVALID_VALUE,
-                      "link " + quoted(linkName(group.links[0])) +
+                      "link " + pfxUrdfQuoted(linkName(group.links[0])) +
                           ": mass or inertia out of the range the solver takes (mass " +
-                          number(body.mass) + " kg)");
+                          pfxUrdfNumber(body.mass) + " kg)");
         }
       }
       m_build.bodies.push_back(out);
@@ -604,12 +602,12 @@ class UrdfBuilder {
       const std::string& top = linkName(m_groups[m_bodies[b].group].links[0]);
       if (out.shapes.size() > PFX_MAX_SHAPES_PER_COLLIDABLE) {
         return fail(PFX_ERR_OUT_OF_RANGE,
-                    "link " + quoted(top) + ": its body has " + std::to_string(out.shapes.size()) +
-                        " collision shapes, more than the " +
+                    "link " + pfxUrdfQuoted(top) + ": its body has " +
+                        std::to_string(out.shapes.size()) + " collision shapes, more than the " +
                         std::to_string(PFX_MAX_SHAPES_PER_COLLIDABLE) + " a body holds");
       }
       if (out.shapes.empty()) {
-        out.shapes.push_back(pfxMakeShape(PfxSphere(kPlaceholderRadius)));
+        out.shapes.push_back(pfxMakeShape(PfxSphere(kUrdfPlaceholderRadius)));
         shapeLinks[b].push_back(-1);
         out.state.setContactFilterSelf(0);
         out.state.setContactFilterTarget(0);
@@ -620,7 +618,7 @@ class UrdfBuilder {
       for (const PfxShape& shape : out.shapes) {
         if (shape.validate() != PFX_OK) {
           return fail(PFX_ERR_INVALID_VALUE,
-                      "link " + quoted(top) + ": a collision shape is invalid");
+                      "link " + pfxUrdfQuoted(top) + ": a collision shape is invalid");
         }
       }
     }
@@ -635,7 +633,7 @@ class UrdfBuilder {
 
   PfxInt32 addShape(int link, const PfxUrdfCollision& collision, const Pose& pose, bool fixedBody,
                     std::vector<PfxShape>& shapes) {
-    const std::string subject = "link " + quoted(linkName(link)) + ": ";
+    const std::string subject = "link " + pfxUrdfQuoted(linkName(link)) + ": ";
     const std::string& geometry = collision.geometry;
     Pose placed = pose;
     PfxShape shape;
@@ -693,16 +691,17 @@ class UrdfBuilder {
                          PfxShape& shape, bool& missing) {
     const Vec3 scale(mesh.scale[0], mesh.scale[1], mesh.scale[2]);
     if (!scale.allFinite() || !(scale.minCoeff() > 0)) {
-      return fail(PFX_ERR_INVALID_VALUE, subject + "mesh " + quoted(mesh.filename) +
+      return fail(PFX_ERR_INVALID_VALUE, subject + "mesh " + pfxUrdfQuoted(mesh.filename) +
                                              ": scale must be positive and finite");
     }
     std::string path, searched;
     if (mesh.filename.empty() ||
         !pfxResolveUrdfMeshUri(mesh.filename, m_folder, m_param.packageRoot, path, searched)) {
       const std::string text =
-          subject + (mesh.filename.empty()
-                         ? "<mesh> on line " + std::to_string(mesh.line) + " has no filename"
-                         : "mesh " + quoted(mesh.filename) + " not found (" + searched + ")");
+          subject +
+          (mesh.filename.empty()
+               ? "<mesh> on line " + std::to_string(mesh.line) + " has no filename"
+               : "mesh " + pfxUrdfQuoted(mesh.filename) + " not found (" + searched + ")");
       if (!m_param.allowMissingMeshes) return fail(PFX_ERR_INVALID_VALUE, text);
       warn(text + "; left out");
       missing = true;
@@ -718,7 +717,7 @@ class UrdfBuilder {
     std::string reason;
     if (const PfxInt32 err = pfxLoadMeshFile(path, scale.cast<PfxFloat>(), triangles, &reason);
         err != PFX_OK) {
-      return fail(err, subject + "mesh " + quoted(mesh.filename) + ": " + reason);
+      return fail(err, subject + "mesh " + pfxUrdfQuoted(mesh.filename) + ": " + reason);
     }
     shape.reset();
     if (fixedBody) {
@@ -727,7 +726,7 @@ class UrdfBuilder {
       if (const PfxInt32 err =
               pfxCreateLargeTriMeshFromMesh(triangles, PFX_MESH_FLAG_USE_BVH, *large, &reason);
           err != PFX_OK) {
-        return fail(err, subject + "mesh " + quoted(mesh.filename) + ": " + reason);
+        return fail(err, subject + "mesh " + pfxUrdfQuoted(mesh.filename) + ": " + reason);
       }
       shape.setLargeTriMesh(large.get());
       m_build.model.largeMeshes.push_back(std::move(large));
@@ -735,7 +734,7 @@ class UrdfBuilder {
       std::unique_ptr<PfxConvexMesh, PfxConvexMeshRelease> hull(pfxNewConvexMesh());
       if (!hull) return fail(PFX_ERR_OUT_OF_BUFFER, subject + "out of memory");
       if (const PfxInt32 err = pfxCreateConvexHull(triangles, *hull, &reason); err != PFX_OK) {
-        return fail(err, subject + "mesh " + quoted(mesh.filename) + ": " + reason);
+        return fail(err, subject + "mesh " + pfxUrdfQuoted(mesh.filename) + ": " + reason);
       }
       shape.setConvexMesh(hull.get());
       m_build.model.convexMeshes.push_back(std::move(hull));
@@ -749,8 +748,8 @@ class UrdfBuilder {
     lower = m_joints[j].joint->limits->lower;
     upper = m_joints[j].joint->limits->upper;
     if (lower < -PFX_PI || upper > PFX_PI) {
-      warn("joint " + quoted(jointName(j)) + ": limits [" + number(lower) + ", " + number(upper) +
-           "] cut to [-pi, pi], where the joint's angle wraps");
+      warn("joint " + pfxUrdfQuoted(jointName(j)) + ": limits [" + pfxUrdfNumber(lower) + ", " +
+           pfxUrdfNumber(upper) + "] cut to [-pi, pi], where the joint's angle wraps");
       lower = std::max(lower, double(-PFX_PI));
       upper = std::min(upper, double(PFX_PI));
     }
@@ -830,8 +829,8 @@ class UrdfBuilder {
 
   PfxInt32 addJoint(const PfxJoint& joint, int j) {
     if (const PfxInt32 err = pfxCheckJoint(joint); err != PFX_OK) {
-      return fail(
-          err, "joint " + quoted(jointName(j)) + ": cannot be built (" + pfxErrorString(err) + ")");
+      return fail(err, "joint " + pfxUrdfQuoted(jointName(j)) + ": cannot be built (" +
+                           pfxErrorString(err) + ")");
     }
     m_build.joints.push_back(joint);
     return PFX_OK;
@@ -874,7 +873,7 @@ class UrdfBuilder {
         if (err == PFX_OK) setAxis(joint, kPfxJointAxisX, j, 1);
       }
       if (err != PFX_OK) {
-        return fail(err, "joint " + quoted(jointName(j)) + ": cannot be built (" +
+        return fail(err, "joint " + pfxUrdfQuoted(jointName(j)) + ": cannot be built (" +
                              pfxErrorString(err) + ")");
       }
       if (hasCoordinate(node.type)) node.worldJoint = static_cast<int>(m_build.joints.size());
@@ -896,7 +895,7 @@ class UrdfBuilder {
             : pfxInitializeBallJoint(joint, a, b,
                                      atJointFrame<PfxBallJointInitParam>(anchor, chain.frame));
     if (err != PFX_OK) {
-      return fail(err, "joint " + quoted(jointName(first)) + ": cannot be built (" +
+      return fail(err, "joint " + pfxUrdfQuoted(jointName(first)) + ": cannot be built (" +
                            pfxErrorString(err) + ")");
     }
     // Euler angles along the chain's axes: each URDF joint's limits bound its own turn.
@@ -923,9 +922,9 @@ class UrdfBuilder {
       const JointNode& f = m_joints[j];
       const JointNode& l = m_joints[leader];
       if (f.worldJoint < 0 || l.worldJoint < 0) {
-        warn("joint " + quoted(jointName(j)) + ": <mimic> of " + quoted(jointName(leader)) +
-             " left out, since " + quoted(jointName(f.worldJoint < 0 ? j : leader)) +
-             " is held at zero");
+        warn("joint " + pfxUrdfQuoted(jointName(j)) + ": <mimic> of " +
+             pfxUrdfQuoted(jointName(leader)) + " left out, since " +
+             pfxUrdfQuoted(jointName(f.worldJoint < 0 ? j : leader)) + " is held at zero");
         continue;
       }
       // URDF: qf = m ql + o, with q = sign c for both; so cf = (m sl / sf) cl + o / sf.
@@ -940,7 +939,7 @@ class UrdfBuilder {
       if (const PfxInt32 err = pfxCheckJointCoupling(coupling, m_build.joints.data(),
                                                      static_cast<PfxUInt32>(m_build.joints.size()));
           err != PFX_OK) {
-        return fail(err, "joint " + quoted(jointName(j)) + ": <mimic> cannot be built (" +
+        return fail(err, "joint " + pfxUrdfQuoted(jointName(j)) + ": <mimic> cannot be built (" +
                              pfxErrorString(err) + ")");
       }
       m_couplingOf[j] = static_cast<int>(m_build.couplings.size());

@@ -17,15 +17,15 @@
 
 namespace pfx {
 
-namespace {
+std::string pfxUrdfQuoted(const std::string& name) { return "'" + name + "'"; }
 
-std::string quoted(const std::string& name) { return "'" + name + "'"; }
-
-std::string number(double value) {
+std::string pfxUrdfNumber(double value) {
   std::ostringstream text;
   text << value;
   return text.str();
 }
+
+namespace {
 
 PfxInt32 fail(PfxUrdfError& error, PfxInt32 code, const std::string& text) {
   error.code = code;
@@ -59,7 +59,7 @@ bool parseNumbers(const std::string& text, int count, double* values) {
 struct Subject {
   std::string kind;
   std::string name;
-  std::string describe() const { return kind + " " + quoted(name); }
+  std::string describe() const { return kind + " " + pfxUrdfQuoted(name); }
 };
 
 // Reads attribute `attribute` of `element` as `count` finite numbers. A missing attribute
@@ -70,14 +70,14 @@ bool readFinite(const TiXmlElement* element, const char* attribute, int count, d
   if (!text) return true;
   if (!parseNumbers(text, count, values)) {
     fail(error, PFX_ERR_INVALID_VALUE,
-         subject.describe() + ": " + what + " " + quoted(text) + " is not " +
+         subject.describe() + ": " + what + " " + pfxUrdfQuoted(text) + " is not " +
              (count == 1 ? "a number" : std::to_string(count) + " numbers"));
     return false;
   }
   for (int i = 0; i < count; ++i) {
     if (!std::isfinite(values[i])) {
       fail(error, PFX_ERR_INVALID_VALUE,
-           subject.describe() + ": " + what + " " + quoted(text) + " is not finite");
+           subject.describe() + ": " + what + " " + pfxUrdfQuoted(text) + " is not finite");
       return false;
     }
   }
@@ -96,7 +96,7 @@ PfxInt32 checkInertial(const TiXmlElement* link, const Subject& subject, PfxUrdf
   }
   if (mass < 0) {
     return fail(error, PFX_ERR_INVALID_VALUE,
-                subject.describe() + ": mass " + number(mass) + " is negative");
+                subject.describe() + ": mass " + pfxUrdfNumber(mass) + " is negative");
   }
   const TiXmlElement* inertia = inertial->FirstChildElement("inertia");
   static const char* const kNames[6] = {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"};
@@ -117,8 +117,8 @@ PfxInt32 checkInertial(const TiXmlElement* link, const Subject& subject, PfxUrdf
     const Eigen::Vector3d principal = eigen.eigenvalues();
     return fail(error, PFX_ERR_INVALID_VALUE,
                 subject.describe() + ": inertia is not positive definite (principal moments " +
-                    number(principal[0]) + ", " + number(principal[1]) + ", " +
-                    number(principal[2]) + ")");
+                    pfxUrdfNumber(principal[0]) + ", " + pfxUrdfNumber(principal[1]) + ", " +
+                    pfxUrdfNumber(principal[2]) + ")");
   }
   return PFX_OK;
 }
@@ -194,7 +194,7 @@ PfxInt32 checkNoXacro(const TiXmlElement* element, PfxUrdfError& error) {
     for (const TiXmlAttribute* a = element->FirstAttribute(); a && found.empty(); a = a->Next()) {
       const std::string value = a->ValueStr();
       if (value.find("${") != std::string::npos || value.find("$(") != std::string::npos) {
-        found = "<" + tag + "> " + a->Name() + "=" + quoted(value);
+        found = "<" + tag + "> " + a->Name() + "=" + pfxUrdfQuoted(value);
       }
     }
   }
@@ -231,7 +231,7 @@ PfxInt32 checkJoint(const TiXmlElement* joint, JointText& out, PfxUrdfError& err
   out.type = type;
   if (!isKnownJointType(out.type)) {
     return fail(error, PFX_ERR_INVALID_FLAG,
-                subject.describe() + ": unknown type " + quoted(out.type) +
+                subject.describe() + ": unknown type " + pfxUrdfQuoted(out.type) +
                     " (URDF knows revolute, continuous, prismatic, fixed, floating, planar)");
   }
   for (const char* end : {"parent", "child"}) {
@@ -262,8 +262,8 @@ PfxInt32 checkJoint(const TiXmlElement* joint, JointText& out, PfxUrdfError& err
     }
     if ((out.type == "revolute" || out.type == "prismatic") && values[0] > values[1]) {
       return fail(error, PFX_ERR_INVALID_VALUE,
-                  subject.describe() + ": lower limit " + number(values[0]) +
-                      " is above upper limit " + number(values[1]));
+                  subject.describe() + ": lower limit " + pfxUrdfNumber(values[0]) +
+                      " is above upper limit " + pfxUrdfNumber(values[1]));
     }
     if (values[2] < 0 || values[3] < 0) {
       return fail(error, PFX_ERR_INVALID_VALUE,
@@ -305,14 +305,14 @@ PfxInt32 checkTree(const std::vector<std::string>& links, const std::vector<Join
     const JointText& joint = joints[j];
     if (joint.parent == joint.child) {
       return fail(error, PFX_ERR_INVALID_VALUE,
-                  "joint " + quoted(joint.name) + ": link " + quoted(joint.parent) +
+                  "joint " + pfxUrdfQuoted(joint.name) + ": link " + pfxUrdfQuoted(joint.parent) +
                       " is both its parent and its child (a cycle)");
     }
     const auto [it, inserted] = parentJoint.emplace(joint.child, j);
     if (!inserted) {
       return fail(error, PFX_ERR_INVALID_VALUE,
-                  "link " + quoted(joint.child) + ": child of two joints, " +
-                      quoted(joints[it->second].name) + " and " + quoted(joint.name) +
+                  "link " + pfxUrdfQuoted(joint.child) + ": child of two joints, " +
+                      pfxUrdfQuoted(joints[it->second].name) + " and " + pfxUrdfQuoted(joint.name) +
                       " (a URDF is a tree)");
     }
   }
@@ -324,10 +324,10 @@ PfxInt32 checkTree(const std::vector<std::string>& links, const std::vector<Join
       if (parent == start) {
         std::string through;
         for (const std::string& link : path)
-          through += (through.empty() ? "" : ", ") + quoted(link);
+          through += (through.empty() ? "" : ", ") + pfxUrdfQuoted(link);
         return fail(error, PFX_ERR_INVALID_VALUE,
-                    "joint " + quoted(joints[it->second].name) + ": closes a cycle through links " +
-                        through);
+                    "joint " + pfxUrdfQuoted(joints[it->second].name) +
+                        ": closes a cycle through links " + through);
       }
       if (path.size() > links.size()) break;  // a cycle above `start`, found from one of its links
       path.push_back(parent);
@@ -339,7 +339,7 @@ PfxInt32 checkTree(const std::vector<std::string>& links, const std::vector<Join
   }
   if (roots.size() > 1) {
     return fail(error, PFX_ERR_INVALID_VALUE,
-                "links " + quoted(roots[0]) + " and " + quoted(roots[1]) +
+                "links " + pfxUrdfQuoted(roots[0]) + " and " + pfxUrdfQuoted(roots[1]) +
                     " are both roots (no joint leads to either): the robot must be one tree");
   }
   return PFX_OK;
@@ -353,16 +353,16 @@ PfxInt32 checkMimics(const std::vector<JointText>& joints, PfxUrdfError& error) 
     const auto leader = byName.find(joint.mimic);
     if (leader == byName.end()) {
       return fail(error, PFX_ERR_INVALID_VALUE,
-                  "joint " + quoted(joint.name) + ": mimics joint " + quoted(joint.mimic) +
-                      ", which is not defined");
+                  "joint " + pfxUrdfQuoted(joint.name) + ": mimics joint " +
+                      pfxUrdfQuoted(joint.mimic) + ", which is not defined");
     }
     for (const JointText* j : {&joint, leader->second}) {
       if (j->type != "revolute" && j->type != "continuous" && j->type != "prismatic") {
         return fail(error, PFX_ERR_INVALID_VALUE,
-                    "joint " + quoted(joint.name) +
+                    "joint " + pfxUrdfQuoted(joint.name) +
                         ": <mimic> needs two revolute, continuous or "
                         "prismatic joints, and " +
-                        quoted(j->name) + " is " + j->type);
+                        pfxUrdfQuoted(j->name) + " is " + j->type);
       }
     }
     const JointText* step = &joint;
@@ -370,7 +370,7 @@ PfxInt32 checkMimics(const std::vector<JointText>& joints, PfxUrdfError& error) 
       step = byName[step->mimic];
       if (step == &joint) {
         return fail(error, PFX_ERR_INVALID_VALUE,
-                    "joint " + quoted(joint.name) + ": its <mimic> chain comes back to it");
+                    "joint " + pfxUrdfQuoted(joint.name) + ": its <mimic> chain comes back to it");
       }
     }
   }
@@ -390,8 +390,8 @@ PfxInt32 readName(const TiXmlElement* element, std::map<std::string, int>& lines
   name = text;
   if (const auto [it, inserted] = lines.emplace(name, element->Row()); !inserted) {
     return fail(error, PFX_ERR_INVALID_VALUE,
-                kind + " " + quoted(name) + ": defined twice (lines " + std::to_string(it->second) +
-                    " and " + std::to_string(element->Row()) + ")");
+                kind + " " + pfxUrdfQuoted(name) + ": defined twice (lines " +
+                    std::to_string(it->second) + " and " + std::to_string(element->Row()) + ")");
   }
   return PFX_OK;
 }
@@ -462,9 +462,9 @@ PfxInt32 pfxCheckUrdfXml(const std::string& xml, PfxUrdfDocumentOrder& order, Pf
     for (const std::string* link : {&text.parent, &text.child}) {
       if (linkLines.count(*link) == 0) {
         return fail(error, PFX_ERR_INVALID_VALUE,
-                    "joint " + quoted(text.name) + ": " +
-                        (link == &text.parent ? "parent" : "child") + " link " + quoted(*link) +
-                        " is not defined");
+                    "joint " + pfxUrdfQuoted(text.name) + ": " +
+                        (link == &text.parent ? "parent" : "child") + " link " +
+                        pfxUrdfQuoted(*link) + " is not defined");
       }
     }
     joints.push_back(text);

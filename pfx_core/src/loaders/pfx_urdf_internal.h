@@ -44,6 +44,10 @@ struct PfxUrdfDocumentOrder {
   std::map<std::string, std::vector<PfxUrdfCollision>> collisions;
 };
 
+// A name and a number as the loader's error texts print them ("link 'arm'", "mass -1").
+std::string pfxUrdfQuoted(const std::string& name);
+std::string pfxUrdfNumber(double value);
+
 // Checks what urdfdom either accepts silently or rejects without naming the element:
 // unexpanded xacro, XML syntax, names, joint types, dangling and duplicate references,
 // cycles, mimic leaders, and the numbers of masses, inertias, limits, axes, dynamics and

@@ -16,8 +16,8 @@ namespace pfx {
 
 namespace {
 
-PfxInt32 report(PfxInt32 code, const std::string& file, const std::string& text,
-                std::string* message) {
+PfxInt32 reportUrdfFailure(PfxInt32 code, const std::string& file, const std::string& text,
+                           std::string* message) {
   if (message) *message = file + ": " + text;
   return code;
 }
@@ -178,21 +178,21 @@ PfxInt32 load(PfxWorld& world, const std::string& xml, const std::string& file,
   PfxUrdfError error;
   PfxUrdfDocumentOrder order;
   if (checkParam(param, error) != PFX_OK || pfxCheckUrdfXml(xml, order, error) != PFX_OK) {
-    return report(error.code, file, error.text, message);
+    return reportUrdfFailure(error.code, file, error.text, message);
   }
   const urdf::ModelInterfaceSharedPtr parsed = pfxParseUrdfModel(xml, error);
-  if (!parsed) return report(error.code, file, error.text, message);
+  if (!parsed) return reportUrdfFailure(error.code, file, error.text, message);
   const PfxWorldParam& worldParam = world.getParam();
   PfxUrdfBuild build;
   if (pfxBuildUrdf(*parsed, order, folder, param,
                    worldParam.timeStep / PfxFloat(worldParam.subStep), build, error) != PFX_OK) {
-    return report(error.code, file, error.text, message);
+    return reportUrdfFailure(error.code, file, error.text, message);
   }
   if (param.placeAboveGround) {
     placeLowestPointAt(build, param.groundHeight + param.groundClearance);
   }
   if (addToWorld(world, build, !param.disableSelfCollision, error) != PFX_OK) {
-    return report(error.code, file, error.text, message);
+    return reportUrdfFailure(error.code, file, error.text, message);
   }
   model = std::move(build.model);
   if (message) message->clear();
@@ -206,7 +206,7 @@ PfxInt32 pfxLoadUrdfFile(PfxWorld& world, const std::string& path, const PfxUrdf
   std::error_code error;
   std::ifstream in(path, std::ios::binary);
   if (!std::filesystem::is_regular_file(path, error) || !in) {
-    return report(PFX_ERR_INVALID_VALUE, path, "cannot be read (no such file)", message);
+    return reportUrdfFailure(PFX_ERR_INVALID_VALUE, path, "cannot be read (no such file)", message);
   }
   std::ostringstream text;
   text << in.rdbuf();

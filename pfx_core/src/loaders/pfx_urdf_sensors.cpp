@@ -18,7 +18,7 @@ namespace {
 using tinyxml2::XMLElement;
 
 // A number as text, all of it (surrounding spaces allowed); false when it does not read.
-bool parseNumber(const char* text, double& value) {
+bool parseSensorNumber(const char* text, double& value) {
   if (!text) return false;
   char* end = nullptr;
   value = std::strtod(text, &end);
@@ -58,7 +58,7 @@ class SensorReader {
     const XMLElement* c = e->FirstChildElement(name);
     if (!c) return true;
     double v;
-    if (!parseNumber(c->GetText(), v)) {
+    if (!parseSensorNumber(c->GetText(), v)) {
       return fail(path + "><" + name,
                   "'" + std::string(c->GetText() ? c->GetText() : "") + "' is not a number");
     }
@@ -304,7 +304,7 @@ class SensorReader {
     double v[6];
     for (double& x : v) {
       std::string word;
-      if (!(in >> word) || !parseNumber(word.c_str(), x) || !std::isfinite(x)) {
+      if (!(in >> word) || !parseSensorNumber(word.c_str(), x) || !std::isfinite(x)) {
         return fail(path, "must be six finite numbers: x y z roll pitch yaw");
       }
     }

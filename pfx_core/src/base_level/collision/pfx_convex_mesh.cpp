@@ -15,7 +15,7 @@ namespace {
 using Vec3d = Eigen::Vector3d;
 
 constexpr int kMaxIndices = 3 * PFX_CONVEX_MESH_MAX_FACETS;
-constexpr int kMaxVerts = PFX_CONVEX_MESH_MAX_VERTICES;
+constexpr int kConvexMeshMaxVertices = PFX_CONVEX_MESH_MAX_VERTICES;
 constexpr int kMaxFacets = PFX_CONVEX_MESH_MAX_FACETS;
 
 // Distances are measured against the diagonal of the mesh's bounds. A vertex this far
@@ -32,8 +32,8 @@ constexpr double kRelativeZero = 1e-12;
 constexpr double kCoplanarCos = 0.99995;
 
 struct WorkMesh {
-  Vec3d verts[kMaxVerts];
-  PfxFloat floatVerts[kMaxVerts][3];
+  Vec3d verts[kConvexMeshMaxVertices];
+  PfxFloat floatVerts[kConvexMeshMaxVertices][3];
   int numVerts = 0;
   int tris[kMaxFacets][3];
   Vec3d triNormals[kMaxFacets];  // unit
@@ -72,7 +72,7 @@ PfxInt32 compactVertices(const PfxFloat* vertices, const PfxUInt16* indices, int
       ++id;
     }
     if (id == work.numVerts) {
-      if (work.numVerts == kMaxVerts) return PFX_ERR_OUT_OF_RANGE;
+      if (work.numVerts == kConvexMeshMaxVertices) return PFX_ERR_OUT_OF_RANGE;
       std::copy(p, p + 3, work.floatVerts[id]);
       work.verts[id] = Vec3d(p[0], p[1], p[2]);
       ++work.numVerts;
@@ -242,10 +242,10 @@ int groupFaces(WorkMesh& work) {
 // border other faces chain head to tail in that same sense. Returns the loop length, or 0
 // when the boundary is not one simple loop.
 int traceFaceLoop(const WorkMesh& work, int face, PfxUInt8* loop) {
-  int next[kMaxVerts];
-  std::fill(next, next + kMaxVerts, -1);
+  int next[kConvexMeshMaxVertices];
+  std::fill(next, next + kConvexMeshMaxVertices, -1);
   int numBoundaryEdges = 0;
-  int start = kMaxVerts;
+  int start = kConvexMeshMaxVertices;
   for (int t = 0; t < work.numTris; ++t) {
     if (work.triFace[t] != face) continue;
     for (int k = 0; k < 3; ++k) {

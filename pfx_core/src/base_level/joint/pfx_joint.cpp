@@ -50,7 +50,7 @@ namespace {
 
 bool inUnitRange(PfxFloat x) { return x >= 0 && x <= 1; }
 
-bool isRotation(const PfxMatrix3& m) {
+bool isFrameRotation(const PfxMatrix3& m) {
   return m.allFinite() && (m.transpose() * m - PfxMatrix3::Identity()).cwiseAbs().maxCoeff() < 1e-3f &&
          m.determinant() > 0;
 }
@@ -81,7 +81,7 @@ PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
     return PFX_ERR_INVALID_FLAG;
   }
   if (!pfxIsFinite(joint.m_anchorA) || !pfxIsFinite(joint.m_anchorB) ||
-      !isRotation(joint.m_frameA) || !isRotation(joint.m_frameB)) {
+      !isFrameRotation(joint.m_frameA) || !isFrameRotation(joint.m_frameB)) {
     return PFX_ERR_INVALID_VALUE;
   }
   for (const PfxJointConstraint& c : joint.m_constraints) {

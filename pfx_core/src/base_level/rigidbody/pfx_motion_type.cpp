@@ -21,16 +21,16 @@ constexpr bool kRespond[kPfxMotionTypeCount][kPfxMotionTypeCount] = {
     {false, false, false, false, false},
 };
 
-bool inRange(PfxMotionType t) { return t < kPfxMotionTypeCount; }
+bool isKnownMotionType(PfxMotionType t) { return t < kPfxMotionTypeCount; }
 
 }  // namespace
 
 bool pfxMotionTypesCollide(PfxMotionType a, PfxMotionType b) {
-  return inRange(a) && inRange(b) && kCollide[a][b];
+  return isKnownMotionType(a) && isKnownMotionType(b) && kCollide[a][b];
 }
 
 bool pfxMotionTypesRespond(PfxMotionType a, PfxMotionType b) {
-  return inRange(a) && inRange(b) && kRespond[a][b];
+  return isKnownMotionType(a) && isKnownMotionType(b) && kRespond[a][b];
 }
 
 bool pfxMotionTypeReceivesImpulse(PfxMotionType self, PfxMotionType other) {

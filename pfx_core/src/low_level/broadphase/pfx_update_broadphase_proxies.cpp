@@ -11,7 +11,7 @@ namespace {
 
 constexpr double kQuantizedMax = 65535.0;
 constexpr int kNumProxyArrays = 6;
-constexpr PfxUInt32 kBodiesPerTask = 256;
+constexpr PfxUInt32 kProxyBodiesPerTask = 256;
 constexpr PfxUInt32 kKnownOutOfWorldFlags =
     PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION | PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY;
 
@@ -240,7 +240,7 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
       (param.outOfWorldBehavior & PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY) != 0;
   // Each body writes its own proxy at its own index; the sort value (rewritten below)
   // marks a body outside the world until the proxies are counted in body order.
-  pfxParallelFor(taskManager, n, kBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
+  pfxParallelFor(taskManager, n, kProxyBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
     for (PfxUInt32 i = begin; i < end; ++i) {
       if (skipped(i)) continue;
       PfxRigidState& state = param.offsetRigidStates[i];
@@ -268,12 +268,13 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
   for (int a = 0; a < kNumProxyArrays; ++a) {
     PfxBroadphaseProxy* array = arrays[a];
     if (!array) continue;
-    pfxParallelFor(taskManager, numProxies, kBodiesPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
-      for (PfxUInt32 i = begin; i < end; ++i) {
-        if (array != primary) array[i] = primary[i];
-        pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
-      }
-    });
+    pfxParallelFor(taskManager, numProxies, kProxyBodiesPerTask,
+                   [&](PfxUInt32 begin, PfxUInt32 end) {
+                     for (PfxUInt32 i = begin; i < end; ++i) {
+                       if (array != primary) array[i] = primary[i];
+                       pfxSetSortValue(array[i], sortValueOfArray(array[i], a));
+                     }
+                   });
     pfxParallelSort(array, numProxies, param.workBuff, param.workBytes, taskManager);
   }
 

@@ -21,7 +21,7 @@ PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const 
   return (linear + angular) * timeStep;
 }
 
-constexpr PfxUInt32 kPairsPerTask = 32;
+constexpr PfxUInt32 kDetectedPairsPerTask = 32;
 
 void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
                 PfxContactCandidate* candidates) {
@@ -70,7 +70,7 @@ PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager
   }
 
   // Each pair writes only its own manifold and its own pair.
-  pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
+  pfxParallelFor(taskManager, param.numContactPairs, kDetectedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
                    for (PfxUInt32 i = begin; i < end; ++i) {

@@ -10,9 +10,9 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxParamNames kAt = {"pfxQueryContacts", "PfxQueryContactsParam"};
-constexpr double kQuantizedMax = 65535.0;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr PfxParamNames kQueryContactsAt = {"pfxQueryContacts", "PfxQueryContactsParam"};
+constexpr double kQueryQuantizedMax = 65535.0;
+constexpr double kQueryInfinity = std::numeric_limits<double>::infinity();
 
 bool isRigid(const PfxTransform3& transform) {
   const PfxMatrix3 r = transform.linear();
@@ -52,7 +52,7 @@ PfxInt32 checkParam(const PfxQueryContactsParam& param) {
                           "pfxQueryContacts: PfxQueryContactsParam::rangeCenter and rangeExtent "
                           "must be finite, the extent positive");
   }
-  return pfxCheckRequired(kAt,
+  return pfxCheckRequired(kQueryContactsAt,
                           {{param.offsetRigidStates, "offsetRigidStates"},
                            {param.offsetCollidables, "offsetCollidables"},
                            {param.bvhNodes, "bvhNodes"},
@@ -72,7 +72,7 @@ BoxInCells toCells(const PfxVector3& center, const PfxVector3& half,
   BoxInCells box;
   for (int a = 0; a < 3; ++a) {
     const double extent = param.rangeExtent[a];
-    const double cellsPerMetre = kQuantizedMax / (2.0 * extent);
+    const double cellsPerMetre = kQueryQuantizedMax / (2.0 * extent);
     const double origin = double(param.rangeCenter[a]) - extent;
     box.lo[a] = (double(center[a]) - double(half[a]) - origin) * cellsPerMetre - 1.0;
     box.hi[a] = (double(center[a]) + double(half[a]) - origin) * cellsPerMetre + 1.0;
@@ -83,8 +83,8 @@ BoxInCells toCells(const PfxVector3& center, const PfxVector3& half,
 // A side of a proxy clamped to the edge of the range stands for everything beyond it.
 bool boxMeetsCells(const BoxInCells& box, const PfxUInt16 min[3], const PfxUInt16 max[3]) {
   for (int a = 0; a < 3; ++a) {
-    const double lo = min[a] == 0 ? -kInfinity : double(min[a]);
-    const double hi = max[a] == 0xffff ? kInfinity : double(max[a]);
+    const double lo = min[a] == 0 ? -kQueryInfinity : double(min[a]);
+    const double hi = max[a] == 0xffff ? kQueryInfinity : double(max[a]);
     if (box.hi[a] < lo || box.lo[a] > hi) return false;
   }
   return true;
@@ -103,7 +103,8 @@ PfxInt32 pfxQueryContacts(const PfxContactQueryInput& query, const PfxQueryConta
                           PfxQueryContactsResult& result) {
   if (const PfxInt32 err = checkQuery(query); err != PFX_OK) return err;
   if (const PfxInt32 err = checkParam(param); err != PFX_OK) return err;
-  if (!out && maxContacts > 0) return pfxRejectNull(kAt, "out", "maxContacts", maxContacts);
+  if (!out && maxContacts > 0)
+    return pfxRejectNull(kQueryContactsAt, "out", "maxContacts", maxContacts);
 
   PfxQueryContactsResult found;
   if (param.numProxies == 0) {

@@ -6,7 +6,7 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kPairsPerTask = 128;
+constexpr PfxUInt32 kRefreshedPairsPerTask = 128;
 
 void refreshPair(const PfxRefreshContactsParam& param, PfxConstraintPair& pair) {
   PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
@@ -39,9 +39,10 @@ PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param, PfxTaskManager
                                   param.numContactManifolds)) != PFX_OK) {
     return err;
   }
-  pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
+  pfxParallelFor(taskManager, param.numContactPairs, kRefreshedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
-                   for (PfxUInt32 i = begin; i < end; ++i) refreshPair(param, param.contactPairs[i]);
+                   for (PfxUInt32 i = begin; i < end; ++i)
+                     refreshPair(param, param.contactPairs[i]);
                  });
   return PFX_OK;
 }

@@ -11,7 +11,7 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kParticlesPerTask = 64;
+constexpr PfxUInt32 kDetectedParticlesPerTask = 64;
 
 // The scratch, carved out of workBuff: a fixed set of rigid-contact slots per particle (so
 // that particles are queried in parallel and gathered in index order), then the grid.
@@ -203,7 +203,7 @@ PfxInt32 pfxDetectParticleContacts(const PfxDetectParticleContactsParam& param,
     }
   };
   if (withBodies) {
-    err = pfxParallelFor(taskManager, param.numParticles, kParticlesPerTask,
+    err = pfxParallelFor(taskManager, param.numParticles, kDetectedParticlesPerTask,
                          [&](PfxUInt32 begin, PfxUInt32 end) {
                            for (PfxUInt32 i = begin; i < end; ++i) detectRigid(param, i, work);
                          });

@@ -5,7 +5,7 @@
 namespace pfx {
 
 namespace {
-constexpr PfxUInt32 kParticlesPerTask = 1024;
+constexpr PfxUInt32 kIntegratedParticlesPerTask = 1024;
 }  // namespace
 
 PfxInt32 pfxIntegrateParticles(const PfxIntegrateParticlesParam& param,
@@ -26,7 +26,7 @@ PfxInt32 pfxIntegrateParticles(const PfxIntegrateParticlesParam& param,
   }
   const PfxFloat h = param.timeStep;
   const PfxFloat keep = 1 / (1 + param.linearDamping * h);
-  return pfxParallelFor(taskManager, param.numParticles, kParticlesPerTask,
+  return pfxParallelFor(taskManager, param.numParticles, kIntegratedParticlesPerTask,
                         [&](PfxUInt32 begin, PfxUInt32 end) {
                           for (PfxUInt32 i = begin; i < end; ++i) {
                             PfxParticle& p = param.particles[i];

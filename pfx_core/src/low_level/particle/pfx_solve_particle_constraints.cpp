@@ -13,18 +13,21 @@ constexpr PfxFloat kPi = PfxFloat(3.14159265358979323846);
 // Below this length (m) a direction is not defined and the constraint waits for the others.
 constexpr PfxFloat kMinLength = PfxFloat(1e-9);
 
-const PfxParamNames kAt{"pfxSolveParticleConstraints", "PfxSolveParticleConstraintsParam"};
+const PfxParamNames kSolveParticleConstraintsAt{"pfxSolveParticleConstraints",
+                                                "PfxSolveParticleConstraintsParam"};
 
 PfxInt32 rejectIndex(const char* array, PfxUInt32 i, const char* field, PfxUInt32 value,
                      const char* countField, PfxUInt32 count) {
-  return pfxRejectParam(PFX_ERR_OUT_OF_RANGE, "%s: %s::%s[%u].%s is %u, but %s is %u", kAt.stage,
-                        kAt.param, array, i, field, value, countField, count);
+  return pfxRejectParam(PFX_ERR_OUT_OF_RANGE, "%s: %s::%s[%u].%s is %u, but %s is %u",
+                        kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, array,
+                        i, field, value, countField, count);
 }
 
 PfxInt32 rejectValue(const char* array, PfxUInt32 i, const char* field, double value,
                      const char* requirement) {
   return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::%s[%u].%s is %g; it must be %s",
-                        kAt.stage, kAt.param, array, i, field, value, requirement);
+                        kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, array,
+                        i, field, value, requirement);
 }
 
 bool nonNegative(PfxFloat x) { return x >= 0 && pfxIsFinite(x); }
@@ -256,7 +259,8 @@ PfxInt32 checkBodyIndex(const char* array, PfxUInt32 i, PfxUInt32 id,
     return pfxRejectParam(PFX_ERR_NULL_POINTER,
                           "%s: %s::offsetRigidStates or offsetRigidBodies is null, but %s[%u] "
                           "names rigid body %u",
-                          kAt.stage, kAt.param, array, i, id);
+                          kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param,
+                          array, i, id);
   }
   return PFX_OK;
 }
@@ -264,7 +268,8 @@ PfxInt32 checkBodyIndex(const char* array, PfxUInt32 i, PfxUInt32 id,
 PfxInt32 checkDistinct(const char* array, PfxUInt32 i, PfxUInt32 a, PfxUInt32 b) {
   if (a != b) return PFX_OK;
   return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::%s[%u] names particle %u twice",
-                        kAt.stage, kAt.param, array, i, a);
+                        kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, array,
+                        i, a);
 }
 
 }  // namespace
@@ -272,19 +277,22 @@ PfxInt32 checkDistinct(const char* array, PfxUInt32 i, PfxUInt32 a, PfxUInt32 b)
 PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& param) {
   const PfxUInt32 n = param.numParticles;
   PfxInt32 err = PFX_OK;
-  if ((err = pfxCheckTimeStep(kAt, param.timeStep)) != PFX_OK ||
-      (err = pfxCheckValue(kAt, "iteration", param.iteration, param.iteration > 0,
-                           "at least 1")) != PFX_OK ||
-      (err = pfxCheckParticles(kAt, param.particles, n)) != PFX_OK ||
-      (err = pfxCheckRequired(kAt, {{param.distanceConstraints, "distanceConstraints"}},
+  if ((err = pfxCheckTimeStep(kSolveParticleConstraintsAt, param.timeStep)) != PFX_OK ||
+      (err = pfxCheckValue(kSolveParticleConstraintsAt, "iteration", param.iteration,
+                           param.iteration > 0, "at least 1")) != PFX_OK ||
+      (err = pfxCheckParticles(kSolveParticleConstraintsAt, param.particles, n)) != PFX_OK ||
+      (err = pfxCheckRequired(kSolveParticleConstraintsAt,
+                              {{param.distanceConstraints, "distanceConstraints"}},
                               "numDistanceConstraints", param.numDistanceConstraints)) != PFX_OK ||
-      (err = pfxCheckRequired(kAt, {{param.angleConstraints, "angleConstraints"}},
-                              "numAngleConstraints", param.numAngleConstraints)) != PFX_OK ||
-      (err = pfxCheckRequired(kAt, {{param.tethers, "tethers"}}, "numTethers",
-                              param.numTethers)) != PFX_OK ||
-      (err = pfxCheckRequired(kAt, {{param.pins, "pins"}}, "numPins", param.numPins)) != PFX_OK ||
-      (err = pfxCheckRequired(kAt, {{param.contacts, "contacts"}}, "numContacts",
-                              param.numContacts)) != PFX_OK) {
+      (err = pfxCheckRequired(kSolveParticleConstraintsAt,
+                              {{param.angleConstraints, "angleConstraints"}}, "numAngleConstraints",
+                              param.numAngleConstraints)) != PFX_OK ||
+      (err = pfxCheckRequired(kSolveParticleConstraintsAt, {{param.tethers, "tethers"}},
+                              "numTethers", param.numTethers)) != PFX_OK ||
+      (err = pfxCheckRequired(kSolveParticleConstraintsAt, {{param.pins, "pins"}}, "numPins",
+                              param.numPins)) != PFX_OK ||
+      (err = pfxCheckRequired(kSolveParticleConstraintsAt, {{param.contacts, "contacts"}},
+                              "numContacts", param.numContacts)) != PFX_OK) {
     return err;
   }
   for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
@@ -329,8 +337,9 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
     if (t.m_rigidBodyId != PFX_PARTICLE_PIN_WORLD) {
       if ((err = checkBodyIndex(array, i, t.m_rigidBodyId, param)) != PFX_OK) return err;
       if (!pfxIsFinite(t.m_localAnchor)) {
-        return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::tethers[%u].localAnchor is not finite",
-                              kAt.stage, kAt.param, i);
+        return pfxRejectParam(
+            PFX_ERR_INVALID_VALUE, "%s: %s::tethers[%u].localAnchor is not finite",
+            kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, i);
       }
     } else if ((err = checkParticleIndex(array, i, "particle", t.m_particle, n)) != PFX_OK ||
                (err = checkDistinct(array, i, t.m_particle, t.m_anchorParticle)) != PFX_OK) {
@@ -350,7 +359,8 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
     }
     if (!pfxIsFinite(pin.m_anchor)) {
       return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: %s::pins[%u].anchor is not finite",
-                            kAt.stage, kAt.param, i);
+                            kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param,
+                            i);
     }
     if (!nonNegative(pin.m_compliance)) {
       return rejectValue(array, i, "compliance", pin.m_compliance, "zero or positive and finite");
@@ -368,13 +378,14 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
     } else if (c.m_kind == kPfxParticleContactRigidBody) {
       if ((err = checkBodyIndex(array, i, c.m_other, param)) != PFX_OK) return err;
       if (!pfxIsFinite(c.m_localPoint) || !pfxIsFinite(c.m_localNormal)) {
-        return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                              "%s: %s::contacts[%u]: point or normal is not finite", kAt.stage,
-                              kAt.param, i);
+        return pfxRejectParam(
+            PFX_ERR_INVALID_VALUE, "%s: %s::contacts[%u]: point or normal is not finite",
+            kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, i);
       }
     } else {
-      return pfxRejectParam(PFX_ERR_INVALID_FLAG, "%s: %s::contacts[%u].kind is %u", kAt.stage,
-                            kAt.param, i, unsigned(c.m_kind));
+      return pfxRejectParam(PFX_ERR_INVALID_FLAG, "%s: %s::contacts[%u].kind is %u",
+                            kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, i,
+                            unsigned(c.m_kind));
     }
     if (!nonNegative(c.m_friction)) {
       return rejectValue(array, i, "friction", c.m_friction, "zero or positive and finite");

@@ -5,7 +5,7 @@
 namespace pfx {
 
 namespace {
-constexpr PfxUInt32 kParticlesPerTask = 1024;
+constexpr PfxUInt32 kUpdatedParticlesPerTask = 1024;
 }  // namespace
 
 PfxInt32 pfxUpdateParticles(const PfxUpdateParticlesParam& param, PfxTaskManager* taskManager) {
@@ -26,7 +26,7 @@ PfxInt32 pfxUpdateParticles(const PfxUpdateParticlesParam& param, PfxTaskManager
     }
   }
   const PfxFloat inverseStep = 1 / param.timeStep;
-  err = pfxParallelFor(taskManager, param.numParticles, kParticlesPerTask,
+  err = pfxParallelFor(taskManager, param.numParticles, kUpdatedParticlesPerTask,
                        [&](PfxUInt32 begin, PfxUInt32 end) {
                          for (PfxUInt32 i = begin; i < end; ++i) {
                            PfxParticle& p = param.particles[i];

@@ -8,9 +8,9 @@ namespace pfx {
 
 namespace {
 
-class Builder {
+class RayBvhBuilder {
  public:
-  Builder(const PfxBroadphaseProxy* proxies, PfxUInt32* order, PfxRayBvhNode* nodes)
+  RayBvhBuilder(const PfxBroadphaseProxy* proxies, PfxUInt32* order, PfxRayBvhNode* nodes)
       : m_proxies(proxies), m_order(order), m_nodes(nodes) {}
 
   // Writes the subtree over m_order[begin, end) from the next free node on; returns its root.
@@ -114,7 +114,7 @@ PfxInt32 pfxBuildRayBvh(const PfxBuildRayBvhParam& param) {
   }
   PfxUInt32* order = static_cast<PfxUInt32*>(param.workBuff);
   for (PfxUInt32 i = 0; i < n; ++i) order[i] = i;
-  Builder(param.proxies, order, param.nodes).build(0, n);
+  RayBvhBuilder(param.proxies, order, param.nodes).build(0, n);
   return PFX_OK;
 }
 

@@ -13,8 +13,8 @@ namespace pfx {
 
 namespace {
 
-constexpr double kQuantizedMax = 65535.0;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kRayQuantizedMax = 65535.0;
+constexpr double kRayInfinity = std::numeric_limits<double>::infinity();
 
 // The axis along which the ray moves fastest, and whether it moves towards +.
 struct WalkDirection {
@@ -37,7 +37,7 @@ const PfxBroadphaseProxy* proxiesFor(const PfxRayCastParam& param, WalkDirection
   return arrays[walk.axis + (walk.forward ? 0 : 3)];
 }
 
-PfxInt32 checkParam(const PfxParamNames& at, const PfxRayCastParam& param) {
+PfxInt32 checkRayParam(const PfxParamNames& at, const PfxRayCastParam& param) {
   if (!pfxIsFinite(param.rangeCenter) || !pfxIsFinite(param.rangeExtent) ||
       !(param.rangeExtent.minCoeff() > 0)) {
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
@@ -82,11 +82,11 @@ struct RayInCells {
   double inverse[3];
 };
 
-RayInCells toCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
+RayInCells rayToCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
   RayInCells cells;
   for (int a = 0; a < 3; ++a) {
     const double extent = param.rangeExtent[a];
-    const double cellsPerMetre = kQuantizedMax / (2.0 * extent);
+    const double cellsPerMetre = kRayQuantizedMax / (2.0 * extent);
     const double origin = double(param.rangeCenter[a]) - extent;
     cells.start[a] = (double(ray.m_startPosition[a]) - origin) * cellsPerMetre;
     cells.direction[a] = double(ray.m_direction[a]) * cellsPerMetre;
@@ -97,8 +97,8 @@ RayInCells toCells(const PfxRayInput& ray, const PfxRayCastParam& param) {
 
 // A 16-bit box in cells, one cell wider on each side against rounding; a side clamped to
 // the edge of the range stands for everything beyond it.
-double lowerCell(PfxUInt16 v) { return v == 0 ? -kInfinity : double(v) - 1.0; }
-double upperCell(PfxUInt16 v) { return v == 0xffff ? kInfinity : double(v) + 1.0; }
+double lowerCell(PfxUInt16 v) { return v == 0 ? -kRayInfinity : double(v) - 1.0; }
+double upperCell(PfxUInt16 v) { return v == 0xffff ? kRayInfinity : double(v) + 1.0; }
 
 // Whether the ray passes through the box at a fraction in [0, maxFraction], and where it
 // enters it.
@@ -219,7 +219,7 @@ void castCheckedRay(const PfxRayInput& ray, PfxRayOutput& out, const PfxRayCastP
   PfxRayOutput closest;
   closest.setMiss(ray);
   if (param.numProxies > 0) {
-    const RayInCells cells = toCells(ray, param);
+    const RayInCells cells = rayToCells(ray, param);
     if (param.bvhNodes) {
       descendBvh(ray, cells, param, closest);
     } else {
@@ -250,11 +250,11 @@ constexpr int kDirectionBits = 5;
 // The sort key of a ray: its start point's cell of the range, 16 bits per axis, clamped at
 // the range's faces; then its direction in 2^5 cells per axis of [-1, 1].
 PfxUInt64 mortonKey(const PfxRayInput& ray, const PfxRayCastParam& param) {
-  const RayInCells cells = toCells(ray, param);
+  const RayInCells cells = rayToCells(ray, param);
   PfxUInt64 start[3], direction[3];
   const double length = double(ray.m_direction.norm());
   for (int a = 0; a < 3; ++a) {
-    start[a] = static_cast<PfxUInt64>(std::min(std::max(cells.start[a], 0.0), kQuantizedMax));
+    start[a] = static_cast<PfxUInt64>(std::min(std::max(cells.start[a], 0.0), kRayQuantizedMax));
     const double unit = length > 0 ? double(ray.m_direction[a]) / length : 0.0;
     const double cell = (unit + 1) * 0.5 * ((1 << kDirectionBits) - 1) + 0.5;
     direction[a] = static_cast<PfxUInt64>(std::min(std::max(cell, 0.0), double((1 << kDirectionBits) - 1)));
@@ -276,7 +276,7 @@ PfxUInt32 pfxGetWorkBytesOfCastRays(PfxUInt32 numRays) {
 
 PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRayCastParam& param) {
   const PfxParamNames at{"pfxCastSingleRay", "PfxRayCastParam"};
-  if (const PfxInt32 err = checkParam(at, param); err != PFX_OK) return err;
+  if (const PfxInt32 err = checkRayParam(at, param); err != PFX_OK) return err;
   if (const PfxInt32 err = checkRay(at, in, 0, param); err != PFX_OK) return err;
   castCheckedRay(in, out, param);
   return PFX_OK;
@@ -285,7 +285,7 @@ PfxInt32 pfxCastSingleRay(const PfxRayInput& in, PfxRayOutput& out, const PfxRay
 PfxInt32 pfxCastRays(const PfxRayInput* in, PfxRayOutput* out, PfxUInt32 numRays,
                      const PfxRayCastParam& param, PfxTaskManager* taskManager) {
   const PfxParamNames at{"pfxCastRays", "PfxRayCastParam"};
-  if (const PfxInt32 err = checkParam(at, param); err != PFX_OK) return err;
+  if (const PfxInt32 err = checkRayParam(at, param); err != PFX_OK) return err;
   if (numRays == 0) return PFX_OK;
   if (!in || !out) {
     return pfxRejectParam(PFX_ERR_NULL_POINTER, "pfxCastRays: %s is null, but numRays is %u",

@@ -6,7 +6,7 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kBodiesPerTask = 512;
+constexpr PfxUInt32 kForcedBodiesPerTask = 512;
 
 bool movedByForces(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
@@ -65,7 +65,7 @@ PfxInt32 pfxApplyExternalForce(const PfxApplyExternalForceParam& param,
     }
   }
   const PfxVector3 zero = PfxVector3::Zero();
-  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+  pfxParallelFor(taskManager, param.numRigidBodies, kForcedBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      PfxRigidState& state = param.states[i];

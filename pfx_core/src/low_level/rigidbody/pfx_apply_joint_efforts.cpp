@@ -9,7 +9,7 @@ namespace pfx {
 
 namespace {
 
-bool movedByForces(const PfxRigidState& state) {
+bool movedByEfforts(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
 }
 
@@ -20,7 +20,7 @@ bool pushes(const PfxJointConstraint& c) {
 // v += m^-1 J^T impulse for one side of the row.
 void applyImpulse(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3& linear,
                   const PfxVector3& angular, PfxFloat impulse) {
-  if (!movedByForces(state)) return;
+  if (!movedByEfforts(state)) return;
   const PfxMatrix3 inertiaInv =
       pfxRotateInertia(state.getOrientation().toRotationMatrix(), body.getInertiaInv());
   state.setLinearVelocity(state.getLinearVelocity() + (body.getMassInv() * impulse) * linear);

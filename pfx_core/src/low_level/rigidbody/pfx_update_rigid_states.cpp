@@ -32,7 +32,7 @@ PfxQuat rotationAboutAxis(int axis, PfxFloat angle) {
 constexpr PfxFloat kMaxSplitAngle = PfxFloat(0.2);
 constexpr int kMaxSplitParts = 64;
 
-constexpr PfxUInt32 kBodiesPerTask = 256;
+constexpr PfxUInt32 kIntegratedBodiesPerTask = 256;
 
 bool isDiagonal(const PfxMatrix3& m) {
   return m(0, 1) == 0 && m(0, 2) == 0 && m(1, 2) == 0 && m(1, 0) == 0 && m(2, 0) == 0 &&
@@ -118,7 +118,7 @@ PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,
       (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK) {
     return err;
   }
-  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+  pfxParallelFor(taskManager, param.numRigidBodies, kIntegratedBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      pfxIntegrate(param.states[i], param.bodies[i], param.timeStep);

@@ -14,7 +14,7 @@ constexpr PfxUInt32 kMaxPoints = PFX_NUM_CONTACTS_PER_MANIFOLD;
 
 // Compliance added to each face row, relative to its effective mass: it leaves the answer
 // unchanged and keeps a row that the others nearly repeat from making the system singular.
-constexpr double kRelativeCompliance = 1e-9;
+constexpr double kContactTreeRelativeCompliance = 1e-9;
 
 // A moment row is kept only where the points spread along its axis by more than this
 // fraction of their spread along the other (squared): points on a line hold no moment
@@ -23,10 +23,10 @@ constexpr PfxFloat kMinSpreadRatio = PfxFloat(1e-4);
 constexpr PfxFloat kMinSpread = PfxFloat(1e-12);  // m^2: points that all coincide
 
 // A face of the forest was picked but not yet given a node.
-constexpr PfxInt32 kChosen = -2;
+constexpr PfxInt32 kContactTreeChosen = -2;
 
-constexpr PfxUInt32 kTreesPerTask = 8;
-constexpr PfxUInt32 kPairsPerTask = 256;
+constexpr PfxUInt32 kContactTreesPerTask = 8;
+constexpr PfxUInt32 kTreeSolvedPairsPerTask = 256;
 
 // What a pair is to the forest.
 constexpr PfxUInt8 kEligible = 1;
@@ -273,20 +273,22 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // from the pair (one-way) cannot be both inside and outside the system: such a pair
   // stays iterative. Found for every pair at once, in parallel, since it reads each
   // manifold; the forest is then picked from these flags in pair order.
-  pfxParallelFor(taskManager, numContactPairs, kPairsPerTask, [&](PfxUInt32 begin, PfxUInt32 end) {
-    for (PfxUInt32 i = begin; i < end; ++i) {
-      const PfxConstraintPair& pair = contactPairs[i];
-      pairFlags[i] = 0;
-      if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)])) continue;
-      const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
-      const bool moveA = movable(a, pfxGetReceivesA(pair));
-      const bool moveB = movable(b, pfxGetReceivesB(pair));
-      const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
-                          (!moveB && solverBodies[b].m_massInv > 0);
-      if (oneWay || (!moveA && !moveB)) continue;
-      pairFlags[i] = kEligible | (moveA ? kMovesA : 0) | (moveB ? kMovesB : 0);
-    }
-  });
+  pfxParallelFor(taskManager, numContactPairs, kTreeSolvedPairsPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     const PfxConstraintPair& pair = contactPairs[i];
+                     pairFlags[i] = 0;
+                     if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)]))
+                       continue;
+                     const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
+                     const bool moveA = movable(a, pfxGetReceivesA(pair));
+                     const bool moveB = movable(b, pfxGetReceivesB(pair));
+                     const bool oneWay = (!moveA && solverBodies[a].m_massInv > 0) ||
+                                         (!moveB && solverBodies[b].m_massInv > 0);
+                     if (oneWay || (!moveA && !moveB)) continue;
+                     pairFlags[i] = kEligible | (moveA ? kMovesA : 0) | (moveB ? kMovesB : 0);
+                   }
+                 });
   auto eligible = [&](PfxUInt32 pairIndex, bool& moveA, bool& moveB) {
     const PfxUInt8 flags = pairFlags[pairIndex];
     moveA = (flags & kMovesA) != 0;
@@ -359,7 +361,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     eligible(PfxUInt32(facePair[f]), moveA, moveB);
     if (unsolvedFaces[movingRoot(pair, moveA)] != 0) continue;
     facePair[kept] = facePair[f];
-    faceState[kept++] = kChosen;
+    faceState[kept++] = kContactTreeChosen;
     if (moveA) ++adjacencyStart[pfxGetObjectIdA(pair)];
     if (moveB) ++adjacencyStart[pfxGetObjectIdB(pair)];
   }
@@ -398,7 +400,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         for (PfxInt32 k = adjacencyStart[current.body]; k < adjacencyStart[current.body + 1];
              ++k) {
           const PfxInt32 face = adjacency[k];
-          if (faceState[face] != kChosen) continue;  // already in the forest
+          if (faceState[face] != kContactTreeChosen) continue;  // already in the forest
           faceState[face] = addNode(self, -1, face);
         }
         continue;
@@ -415,8 +417,9 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   };
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
     const PfxConstraintPair& pair = contactPairs[facePair[f]];
-    if (faceState[f] != kChosen || movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) ==
-                                       movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))) {
+    if (faceState[f] != kContactTreeChosen ||
+        movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair)) ==
+            movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair))) {
       continue;
     }
     const std::size_t head = m_numNodes;
@@ -425,7 +428,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     grow(head);
   }
   for (PfxUInt32 f = 0; f < numFaces; ++f) {
-    if (faceState[f] != kChosen) continue;
+    if (faceState[f] != kContactTreeChosen) continue;
     const PfxUInt32 a = pfxGetObjectIdA(contactPairs[facePair[f]]);
     const std::size_t head = m_numNodes;
     m_treeStarts[m_numTrees++] = m_numNodes;
@@ -473,7 +476,7 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
         }
       }
       for (PfxUInt8 k = 0; k < node.numRows; ++k) {
-        node.diagonalInverse(k, k) = -kRelativeCompliance * effectiveMass[k];
+        node.diagonalInverse(k, k) = -kContactTreeRelativeCompliance * effectiveMass[k];
       }
     }
     if (node.parent < 0) continue;
@@ -485,11 +488,12 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
                                            PfxUInt32(body) == pfxGetObjectIdB(pair));
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) {
-      pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
-    }
-  });
+  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
+                 [&](PfxUInt32 first, PfxUInt32 last) {
+                   for (PfxUInt32 t = first; t < last; ++t) {
+                     pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
+                   }
+                 });
 }
 
 void PfxContactTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
@@ -510,9 +514,11 @@ void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) {
 
 void PfxContactTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
-  });
+  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
+                 [&](PfxUInt32 first, PfxUInt32 last) {
+                   for (PfxUInt32 t = first; t < last; ++t)
+                     solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
+                 });
 }
 
 void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) {

@@ -22,7 +22,7 @@ namespace {
 
 constexpr PfxUInt32 kNewtonPasses = 2;
 
-constexpr PfxUInt32 kBodiesPerTask = 512;
+constexpr PfxUInt32 kCorrectedBodiesPerTask = 512;
 
 // The contacts as one-sided rows on the push velocities: the correction may move two
 // bodies apart at a contact point or along it, never closer. Without them the joints'
@@ -153,7 +153,7 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, bool seeContact
     tree.solvePush(taskManager);
     if (!iterated && !(seeContacts && anyContactApproached(param))) break;
   }
-  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+  pfxParallelFor(taskManager, param.numRigidBodies, kCorrectedBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      if (param.offsetSolverBodies[i].m_massInv == 0) continue;

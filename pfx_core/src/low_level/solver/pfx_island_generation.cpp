@@ -38,12 +38,12 @@ struct IslandLayout {
 };
 
 template <typename T>
-T* at(void* base, PfxUInt64 offset) {
+T* atOffset(void* base, PfxUInt64 offset) {
   return reinterpret_cast<T*>(static_cast<unsigned char*>(base) + offset);
 }
 
 template <typename T>
-const T* at(const void* base, PfxUInt64 offset) {
+const T* atOffset(const void* base, PfxUInt64 offset) {
   return reinterpret_cast<const T*>(static_cast<const unsigned char*>(base) + offset);
 }
 
@@ -190,7 +190,7 @@ PfxInt32 pfxGenerateIsland(const PfxGenerateIslandParam& param, PfxGenerateIslan
     return linksBodies(states[idA]) && linksBodies(states[idB]);
   };
 
-  DisjointSets sets(at<PfxUInt32>(buff, layout.parent), numBodies);
+  DisjointSets sets(atOffset<PfxUInt32>(buff, layout.parent), numBodies);
   for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
     const PfxConstraintPair& pair = param.contactPairs[i];
     const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
@@ -223,7 +223,7 @@ PfxInt32 pfxGenerateIsland(const PfxGenerateIslandParam& param, PfxGenerateIslan
   }
 
   // A root is its set's lowest id, so it is numbered before any other member.
-  PfxUInt32* islandOfBody = at<PfxUInt32>(buff, layout.islandOfBody);
+  PfxUInt32* islandOfBody = atOffset<PfxUInt32>(buff, layout.islandOfBody);
   PfxUInt32 numIslands = 0;
   for (PfxUInt32 i = 0; i < numBodies; ++i) {
     if (states[i].getMotionType() == kPfxMotionTypeFixed) {
@@ -240,23 +240,23 @@ PfxInt32 pfxGenerateIsland(const PfxGenerateIslandParam& param, PfxGenerateIslan
     if (linksBodies(states[idB])) return islandOfBody[idB];
     return PFX_ISLAND_NONE;
   };
-  PfxUInt32* bodies = at<PfxUInt32>(buff, layout.bodies);
+  PfxUInt32* bodies = atOffset<PfxUInt32>(buff, layout.bodies);
   groupByIsland(
-      numBodies, numIslands, at<PfxUInt32>(buff, layout.bodyStart),
+      numBodies, numIslands, atOffset<PfxUInt32>(buff, layout.bodyStart),
       [&](PfxUInt32 i) { return islandOfBody[i]; },
       [&](PfxUInt32 slot, PfxUInt32 i) { bodies[slot] = i; });
-  PfxConstraintPair* pairs = at<PfxConstraintPair>(buff, layout.pairs);
+  PfxConstraintPair* pairs = atOffset<PfxConstraintPair>(buff, layout.pairs);
   groupByIsland(
-      param.numContactPairs, numIslands, at<PfxUInt32>(buff, layout.pairStart),
+      param.numContactPairs, numIslands, atOffset<PfxUInt32>(buff, layout.pairStart),
       [&](PfxUInt32 i) {
         const PfxConstraintPair& pair = param.contactPairs[i];
         if (!pfxGetActive(pair) || pfxGetNumConstraints(pair) == 0) return PFX_ISLAND_NONE;
         return islandOfConstraint(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
       },
       [&](PfxUInt32 slot, PfxUInt32 i) { pairs[slot] = param.contactPairs[i]; });
-  PfxUInt32* joints = at<PfxUInt32>(buff, layout.joints);
+  PfxUInt32* joints = atOffset<PfxUInt32>(buff, layout.joints);
   groupByIsland(
-      param.numJoints, numIslands, at<PfxUInt32>(buff, layout.jointStart),
+      param.numJoints, numIslands, atOffset<PfxUInt32>(buff, layout.jointStart),
       [&](PfxUInt32 j) {
         const PfxJoint& joint = param.offsetJoints[j];
         if (!joint.m_active) return PFX_ISLAND_NONE;
@@ -277,7 +277,7 @@ PfxUInt32 pfxGetNumIslands(const PfxIsland& island) { return island.numIslands; 
 
 PfxUInt32 pfxGetIslandId(const PfxIsland& island, PfxUInt32 rigidBodyId) {
   if (rigidBodyId >= island.numRigidBodies) return PFX_ISLAND_NONE;
-  return at<PfxUInt32>(&island, layoutOf(island).islandOfBody)[rigidBodyId];
+  return atOffset<PfxUInt32>(&island, layoutOf(island).islandOfBody)[rigidBodyId];
 }
 
 namespace {
@@ -287,9 +287,9 @@ const T* islandItems(const PfxIsland& island, PfxUInt64 startOffset, PfxUInt64 i
                      PfxUInt32 islandId, PfxUInt32& count) {
   count = 0;
   if (islandId >= island.numIslands) return nullptr;
-  const PfxUInt32* start = at<PfxUInt32>(&island, startOffset);
+  const PfxUInt32* start = atOffset<PfxUInt32>(&island, startOffset);
   count = start[islandId + 1] - start[islandId];
-  return at<T>(&island, itemsOffset) + start[islandId];
+  return atOffset<T>(&island, itemsOffset) + start[islandId];
 }
 
 }  // namespace

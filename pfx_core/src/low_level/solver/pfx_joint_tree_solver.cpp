@@ -10,12 +10,12 @@ namespace {
 // Compliance added to each locked row, relative to its effective mass: small enough to
 // leave the answer unchanged, large enough to keep redundant rows (two joints holding the
 // same axis) from making the system singular.
-constexpr double kRelativeCompliance = 1e-9;
+constexpr double kJointTreeRelativeCompliance = 1e-9;
 
 // A joint picked for the forest but not yet given a node.
-constexpr PfxInt32 kChosen = -2;
+constexpr PfxInt32 kJointTreeChosen = -2;
 
-constexpr PfxUInt32 kTreesPerTask = 8;
+constexpr PfxUInt32 kJointTreesPerTask = 8;
 
 // Room for the bounded rows' velocity changes in the work buffer, per joint pair: three
 // rows on a tree of 24 bodies each (a ragdoll's ball joints have three limit rows, a URDF
@@ -148,7 +148,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     const PfxInt32 rb = pfxFindTreeRoot(sets, moveB ? static_cast<PfxInt32>(b) : ground);
     if (ra == rb) continue;
     sets[ra] = rb;
-    m_jointNode[i] = kChosen;
+    m_jointNode[i] = kJointTreeChosen;
     if (moveA) ++adjacencyStart[a];
     if (moveB) ++adjacencyStart[b];
   }
@@ -161,7 +161,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   }
   for (PfxUInt32 b = 0; b < numRigidBodies; ++b) sets[b] = adjacencyStart[b];  // fill cursors
   for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
-    if (m_jointNode[i] != kChosen) continue;
+    if (m_jointNode[i] != kJointTreeChosen) continue;
     const PfxConstraintPair& pair = jointPairs[i];
     const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
     if (movable(a, pfxGetReceivesA(pair))) adjacency[sets[a]++] = static_cast<PfxInt32>(i);
@@ -187,7 +187,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       if (current.body >= 0) {
         for (PfxInt32 k = adjacencyStart[current.body]; k < adjacencyStart[current.body + 1]; ++k) {
           const PfxInt32 pairIndex = adjacency[k];
-          if (m_jointNode[pairIndex] != kChosen) continue;  // already in the forest
+          if (m_jointNode[pairIndex] != kJointTreeChosen) continue;  // already in the forest
           m_jointNode[pairIndex] = addNode(self, -1, pairIndex);
         }
       } else {
@@ -207,7 +207,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     for (std::size_t n = root; n < m_numNodes; ++n) m_nodes[n].tree = m_numTrees - 1;
   };
   for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
-    if (m_jointNode[i] != kChosen) continue;
+    if (m_jointNode[i] != kJointTreeChosen) continue;
     const PfxConstraintPair& pair = jointPairs[i];
     const bool moveA = movable(pfxGetObjectIdA(pair), pfxGetReceivesA(pair));
     const bool moveB = movable(pfxGetObjectIdB(pair), pfxGetReceivesB(pair));
@@ -218,7 +218,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     grow(head);
   }
   for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
-    if (m_jointNode[i] != kChosen) continue;
+    if (m_jointNode[i] != kJointTreeChosen) continue;
     const PfxUInt32 a = pfxGetObjectIdA(jointPairs[i]);
     const std::size_t head = m_numNodes;
     m_treeStarts[m_numTrees++] = m_numNodes;
@@ -242,7 +242,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         node.axes[row] = axis;
         node.jacobians[row] = pfxJointRowJacobian(joint, axis, c.m_constraintRow.m_normal);
         node.diagonalInverse(row, row) =
-            -kRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
+            -kJointTreeRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
     }
     if (node.parent < 0) continue;
@@ -262,7 +262,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
   m_treeStarts[m_numTrees] = m_numNodes;
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
     }
@@ -338,7 +338,7 @@ bool PfxJointTreeSolver::prepareBoundedRows(void* workBuff, PfxUInt32 workBytes,
   m_treeRowStarts[m_numTrees] = numRows;
   m_boundedRowSlot = rowSlot;
 
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       for (PfxUInt32 r = m_treeRowStarts[t]; r < m_treeRowStarts[t + 1]; ++r) {
         const BoundedRow& boundedRow = m_boundedRows[r];
@@ -485,7 +485,7 @@ void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* cont
 
 template <typename TreePredicate>
 void PfxJointTreeSolver::solveVelocitiesOf(TreePredicate solves, PfxTaskManager* taskManager) {
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       if (solves(t)) solveTree(false, m_treeStarts[t], m_treeStarts[t + 1]);
     }
@@ -518,7 +518,7 @@ void PfxJointTreeSolver::solveVelocitiesAfterSweep(bool firstSweep, bool lastSwe
 
 void PfxJointTreeSolver::addLockedImpulsesOfBoundedRows(PfxTaskManager* taskManager) {
   if (!m_boundedRowSlot) return;
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       bool applied = false;
       for (PfxUInt32 r = m_treeRowStarts[t]; r < m_treeRowStarts[t + 1]; ++r) {
@@ -570,7 +570,7 @@ void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
 
 void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
   // Trees share no body that moves, so they are solved at the same time.
-  pfxParallelFor(taskManager, m_numTrees, kTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
+  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
   });
 }

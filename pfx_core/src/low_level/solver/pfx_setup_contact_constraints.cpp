@@ -92,7 +92,7 @@ void setupNormalCoupling(PfxContactManifold& manifold, const PfxSolverBody& a, P
   }
 }
 
-constexpr PfxUInt32 kPairsPerTask = 128;
+constexpr PfxUInt32 kSetUpPairsPerTask = 128;
 
 void setupPair(const PfxSetupContactConstraintsParam& param, const PfxConstraintPair& pair) {
   if (!pfxGetActive(pair)) return;
@@ -142,7 +142,7 @@ PfxInt32 pfxSetupContactConstraints(const PfxSetupContactConstraintsParam& param
     return err;
   }
 
-  pfxParallelFor(taskManager, param.numContactPairs, kPairsPerTask,
+  pfxParallelFor(taskManager, param.numContactPairs, kSetUpPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) setupPair(param, param.contactPairs[i]);
                  });

@@ -12,7 +12,7 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxFloat kInfinity = std::numeric_limits<PfxFloat>::max();
+constexpr PfxFloat kUnboundedImpulse = std::numeric_limits<PfxFloat>::max();
 constexpr PfxUInt32 kJointsPerTask = 64;
 
 struct JointBodies {
@@ -75,8 +75,8 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   if (c.m_lock == kPfxJointLockLocked || lower == upper) {
     const PfxFloat error = position - c.getLockedValue();
     c.m_rowType = kPfxJointRowEquality;
-    setRow(c.m_constraintRow, joint, axis, direction, 0, -kInfinity, kInfinity, c.m_weight,
-           warmStartFactor, bodies);
+    setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse,
+           c.m_weight, warmStartFactor, bodies);
     c.m_pushRhs = -c.m_bias * error / timeStep * c.m_constraintRow.m_jacDiagInv;
     return;
   }
@@ -87,7 +87,7 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   const PfxVector3 signedDirection = atLower ? direction : PfxVector3(-direction);
   c.m_rowType = kPfxJointRowLimit;
   setRow(c.m_constraintRow, joint, axis, signedDirection, gap > 0 ? -gap / timeStep : 0, 0,
-         kInfinity, c.m_weight, warmStartFactor, bodies);
+         kUnboundedImpulse, c.m_weight, warmStartFactor, bodies);
   if (gap < 0) c.m_pushRhs = -c.m_bias * gap / timeStep * c.m_constraintRow.m_jacDiagInv;
 }
 
@@ -95,8 +95,8 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
 // limit: that take it no further out). Only for an axis whose limit row measures the
 // drive's own coordinate.
 struct AllowedVelocities {
-  PfxFloat lower = -kInfinity;
-  PfxFloat upper = kInfinity;
+  PfxFloat lower = -kUnboundedImpulse;
+  PfxFloat upper = kUnboundedImpulse;
 };
 
 AllowedVelocities allowedVelocities(const PfxJointConstraint& c, PfxFloat timeStep) {
@@ -118,7 +118,7 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   PfxJointConstraint& c = joint.m_constraints[axis];
   const bool movable = c.m_lock != kPfxJointLockLocked;
   PfxFloat target = 0;
-  PfxFloat bound = kInfinity;
+  PfxFloat bound = kUnboundedImpulse;
   if (movable && c.m_drive == kPfxJointDriveVelocity) {
     target = std::clamp(c.m_driveTarget, allowed.lower, allowed.upper);
     bound = c.m_driveMaxForce * timeStep;
@@ -165,7 +165,7 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
       const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
       position = std::sqrt(s1 * s1 + s2 * s2);
       if (position > PFX_EPSILON) direction = frameA * PfxVector3(0, s1, s2) / position;
-      lower = -kInfinity;
+      lower = -kUnboundedImpulse;
       joint.m_axes[axis] = direction;
     }
     setupLockRow(joint, axis, direction, position, lower, upper, timeStep, warmStartFactor,

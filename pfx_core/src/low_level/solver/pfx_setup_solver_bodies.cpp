@@ -6,7 +6,7 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kBodiesPerTask = 512;
+constexpr PfxUInt32 kSetUpBodiesPerTask = 512;
 
 void setupSolverBody(const PfxRigidState& state, const PfxRigidBody& body,
                      PfxSolverBody& solverBody) {
@@ -38,7 +38,7 @@ PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param,
       err != PFX_OK) {
     return err;
   }
-  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+  pfxParallelFor(taskManager, param.numRigidBodies, kSetUpBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      setupSolverBody(param.states[i], param.bodies[i], param.solverBodies[i]);

@@ -303,7 +303,7 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
   }
 }
 
-constexpr PfxUInt32 kBodiesPerTask = 512;
+constexpr PfxUInt32 kSolvedBodiesPerTask = 512;
 
 // The work buffer: the joints' forest and its bounded rows, the contacts' forest, the bodies' batch words, then
 // the batches of contacts and of joints.
@@ -540,7 +540,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
 
   // Velocities take the solved changes; positions take the split impulses' push over the
   // step, which is then forgotten.
-  pfxParallelFor(taskManager, param.numRigidBodies, kBodiesPerTask,
+  pfxParallelFor(taskManager, param.numRigidBodies, kSolvedBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      PfxRigidState& state = param.offsetRigidStates[i];

@@ -36,7 +36,7 @@ struct EdgeAxis {
   bool found = false;
 };
 
-PfxFloat signOf(PfxFloat x) { return x < 0 ? PfxFloat(-1) : PfxFloat(1); }
+PfxFloat boxAxisSign(PfxFloat x) { return x < 0 ? PfxFloat(-1) : PfxFloat(1); }
 
 // The face axes of a box whose centre sees the other box's centre at `toOther` (in its own
 // frame); `otherReach` is how far the other box reaches along each of the box's axes.
@@ -48,7 +48,7 @@ FaceAxis bestFaceAxis(const PfxVector3& half, const PfxVector3& toOther,
     if (separation > best.separation) {
       best.separation = separation;
       best.axis = i;
-      best.sign = signOf(toOther[i]);
+      best.sign = boxAxisSign(toOther[i]);
       if (separation > threshold) break;
     }
   }
@@ -149,7 +149,7 @@ class BoxBoxContact {
     for (int m = 1; m < 3; ++m) {
       if (std::abs(rotation(k, m)) > std::abs(rotation(k, incAxis))) incAxis = m;
     }
-    const PfxFloat towardsReference = -signOf(face.sign * rotation(k, incAxis));
+    const PfxFloat towardsReference = -boxAxisSign(face.sign * rotation(k, incAxis));
     const PfxVector3 faceCentre =
         centre + rotation.col(incAxis) * (towardsReference * incident.half[incAxis]);
     const int u = (incAxis + 1) % 3;
@@ -207,14 +207,14 @@ class BoxBoxContact {
                    const PfxVector3& translation) {
     PfxVector3 centreA = PfxVector3::Zero();
     for (int k = 0; k < 3; ++k) {
-      if (k != edge.axisA) centreA[k] = m_a.half[k] * signOf(edge.normal[k]);
+      if (k != edge.axisA) centreA[k] = m_a.half[k] * boxAxisSign(edge.normal[k]);
     }
     const PfxVector3 alongA = PfxVector3::Unit(edge.axisA) * m_a.half[edge.axisA];
 
     const PfxVector3 normalInB = rotation.transpose() * edge.normal;
     PfxVector3 centreInB = PfxVector3::Zero();
     for (int k = 0; k < 3; ++k) {
-      if (k != edge.axisB) centreInB[k] = -m_b.half[k] * signOf(normalInB[k]);
+      if (k != edge.axisB) centreInB[k] = -m_b.half[k] * boxAxisSign(normalInB[k]);
     }
     const PfxVector3 centreB = translation + rotation * centreInB;
     const PfxVector3 alongB = rotation.col(edge.axisB) * m_b.half[edge.axisB];

@@ -7,10 +7,10 @@ namespace pfx {
 
 namespace {
 
-constexpr PfxUInt32 kMaxVerts = 128;
-constexpr PfxUInt32 kMaxFaces = 2 * kMaxVerts;
-constexpr PfxUInt32 kMaxHorizon = 3 * kMaxFaces;
-constexpr int kMaxIterations = 124;
+constexpr PfxUInt32 kEpaMaxVertices = 128;
+constexpr PfxUInt32 kEpaMaxFaces = 2 * kEpaMaxVertices;
+constexpr PfxUInt32 kMaxHorizon = 3 * kEpaMaxFaces;
+constexpr int kEpaMaxIterations = 124;
 // Twice a face's area, squared, below which its normal is noise.
 constexpr PfxFloat kMinFaceAreaSq = PfxFloat(1e-24);
 // A face this close to coplanar with a new vertex is replaced too, so that no sliver of
@@ -19,7 +19,7 @@ constexpr PfxFloat kCoplanarSlack = PfxFloat(1e-6);
 // Support points closer than this (squared) to a vertex are that vertex.
 constexpr PfxFloat kSameVertexSq = PfxFloat(1e-12);
 
-struct Face {
+struct EpaFace {
   PfxUInt8 v[3];
   PfxVector3 normal;  // outward, unit
   PfxFloat dist;      // of the origin's projection along the normal
@@ -59,14 +59,14 @@ class Polytope {
   int expand(PfxFloat tolerance, bool& converged) {
     converged = false;
     int best = nearestFace();
-    for (int iter = 0; iter < kMaxIterations && best >= 0; ++iter) {
-      const Face& face = m_faces[best];
+    for (int iter = 0; iter < kEpaMaxIterations && best >= 0; ++iter) {
+      const EpaFace& face = m_faces[best];
       const PfxSimplexVertex s = supportAlong(face.normal);
       if (face.normal.dot(s.w) - face.dist <= tolerance) {
         converged = true;
         break;
       }
-      if (m_numVerts >= kMaxVerts || isKnownVertex(s.w)) break;
+      if (m_numVerts >= kEpaMaxVertices || isKnownVertex(s.w)) break;
       const PfxUInt8 newVert = static_cast<PfxUInt8>(m_numVerts);
       m_verts[m_numVerts++] = s;
       if (!carve(newVert)) break;
@@ -75,7 +75,7 @@ class Polytope {
     return best;
   }
 
-  const Face& face(int i) const { return m_faces[i]; }
+  const EpaFace& face(int i) const { return m_faces[i]; }
 
   // A support point that is already a vertex cannot push the boundary out: round-off has
   // made the nearest face look further in than it is.
@@ -137,12 +137,12 @@ class Polytope {
   }
 
   bool addFace(PfxUInt8 i, PfxUInt8 j, PfxUInt8 k) {
-    if (m_numFaces >= kMaxFaces) return false;
+    if (m_numFaces >= kEpaMaxFaces) return false;
     const PfxVector3& a = m_verts[i].w;
     PfxVector3 n = (m_verts[j].w - a).cross(m_verts[k].w - a);
     if (!(n.squaredNorm() > kMinFaceAreaSq)) return false;
     n.normalize();
-    Face& f = m_faces[m_numFaces++];
+    EpaFace& f = m_faces[m_numFaces++];
     f.v[0] = i;
     f.v[1] = j;
     f.v[2] = k;
@@ -172,12 +172,12 @@ class Polytope {
   // everything before changing anything: on false the polytope is as it was.
   bool carve(PfxUInt8 newVert) {
     const PfxVector3& w = m_verts[newVert].w;
-    bool visible[kMaxFaces];
+    bool visible[kEpaMaxFaces];
     PfxUInt8 horizon[kMaxHorizon][2];
     PfxUInt32 numHorizon = 0;
     PfxUInt32 numVisible = 0;
     for (PfxUInt32 i = 0; i < m_numFaces; ++i) {
-      const Face& f = m_faces[i];
+      const EpaFace& f = m_faces[i];
       visible[i] = f.normal.dot(w - m_verts[f.v[0]].w) > -kCoplanarSlack;
       if (!visible[i]) continue;
       ++numVisible;
@@ -203,7 +203,7 @@ class Polytope {
         }
       }
     }
-    if (numHorizon == 0 || m_numFaces - numVisible + numHorizon > kMaxFaces) return false;
+    if (numHorizon == 0 || m_numFaces - numVisible + numHorizon > kEpaMaxFaces) return false;
     for (PfxUInt32 h = 0; h < numHorizon; ++h) {
       const PfxVector3& a = m_verts[horizon[h][0]].w;
       if ((m_verts[horizon[h][1]].w - a).cross(w - a).squaredNorm() <= kMinFaceAreaSq) {
@@ -221,8 +221,8 @@ class Polytope {
 
   const PfxConvexCore& m_a;
   const PfxConvexCore& m_b;
-  PfxSimplexVertex m_verts[kMaxVerts];
-  Face m_faces[kMaxFaces];
+  PfxSimplexVertex m_verts[kEpaMaxVertices];
+  EpaFace m_faces[kEpaMaxFaces];
   PfxUInt32 m_numVerts = 0;
   PfxUInt32 m_numFaces = 0;
   PfxVector3 m_interior = PfxVector3::Zero();
@@ -241,7 +241,7 @@ bool runEpa(const PfxConvexCore& a, const PfxConvexCore& b, const PfxSimplexVert
   if (!polytope.start(simplex, simplexSize, tolerance)) return false;
   const int best = polytope.expand(tolerance, converged);
   if (best < 0) return false;
-  const Face& face = polytope.face(best);
+  const EpaFace& face = polytope.face(best);
   const PfxSimplexVertex& v0 = polytope.vert(face.v[0]);
   const PfxSimplexVertex& v1 = polytope.vert(face.v[1]);
   const PfxSimplexVertex& v2 = polytope.vert(face.v[2]);

@@ -7,7 +7,7 @@ namespace pfx {
 
 namespace {
 
-constexpr int kMaxIterations = 64;
+constexpr int kGjkMaxIterations = 64;
 // Stop once the lower bound of the distance is within this fraction of the upper bound
 // (squared terms): about 1e-5 relative in distance, near float resolution.
 constexpr PfxFloat kRelativeTolerance = PfxFloat(1e-9);
@@ -161,7 +161,7 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   const PfxFloat toleranceSq = tolerance * tolerance;
   bool overlap = false;
 
-  for (int iter = 0; iter < kMaxIterations; ++iter) {
+  for (int iter = 0; iter < kGjkMaxIterations; ++iter) {
     const PfxFloat vv = v.squaredNorm();
     if (vv <= toleranceSq) {
       overlap = true;
