@@ -550,9 +550,11 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
     const Node& node = m_nodes[bodyNode];
     PfxTreeBlock& response = m_bodyResponses[m_numBodyResponses];
     for (int axis = 0; axis < 6; ++axis) {
-      for (std::size_t n = node.treeBegin; n < node.treeEnd; ++n) m_nodes[n].value.setZero();
+      for (std::size_t n = m_treeStarts[node.tree]; n < m_treeStarts[node.tree + 1]; ++n) {
+        m_nodes[n].value.setZero();
+      }
       m_nodes[bodyNode].value[axis] = 1;
-      pfxSolveBlockTree(m_nodes, node.treeBegin, node.treeEnd);
+      pfxSolveBlockTree(m_nodes, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
       response.col(axis) = m_nodes[bodyNode].value;
     }
     slot = static_cast<PfxInt32>(m_numBodyResponses++);
@@ -565,7 +567,7 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
 void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
   if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
   const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
-  solveTree(push, node.treeBegin, node.treeEnd);
+  solveTree(push, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
 }
 
 void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
