@@ -7,6 +7,7 @@
 #include "high_level/pfx_world_stage_timer.h"
 #include "low_level/pfx_param_checks.h"
 #include "pfx/high_level/pfx_world.h"
+#include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
 #include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
@@ -24,6 +25,32 @@ constexpr PfxUInt32 kInitialContactsPerParticle = 4;
 template <typename T>
 void copyInto(std::vector<T>& to, const T* from, PfxUInt32 count) {
   to.assign(from, from + count);
+}
+
+PfxInt32 batchConstraints(PfxParticleGroup& g) {
+  g.distanceOrder.resize(g.distanceConstraints.size());
+  g.angleOrder.resize(g.angleConstraints.size());
+  g.distanceBatches.order = g.distanceOrder.data();
+  g.angleBatches.order = g.angleOrder.data();
+  const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
+  const PfxUInt32 numConstraints =
+      static_cast<PfxUInt32>(std::max(g.distanceConstraints.size(), g.angleConstraints.size()));
+  std::vector<PfxVector4> work(
+      (pfxGetWorkBytesOfBatchParticleConstraints(numParticles, numConstraints) +
+       sizeof(PfxVector4) - 1) / sizeof(PfxVector4));
+  PfxBatchParticleConstraintsParam param;
+  param.workBuff = work.data();
+  param.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  param.numParticles = numParticles;
+  param.distanceConstraints = g.distanceConstraints.data();
+  param.numDistanceConstraints = static_cast<PfxUInt32>(g.distanceConstraints.size());
+  param.angleConstraints = g.angleConstraints.data();
+  param.numAngleConstraints = static_cast<PfxUInt32>(g.angleConstraints.size());
+  param.distanceBatches = &g.distanceBatches;
+  param.angleBatches = &g.angleBatches;
+  const PfxInt32 err = pfxBatchParticleConstraints(param);
+  g.batched = err == PFX_OK;
+  return err;
 }
 
 bool bodyMoves(const PfxRigidState& s, const PfxWorldParam& param) {
@@ -285,6 +312,11 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     }
     {
       PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      if (!g.batched) {
+        if (const PfxInt32 err = batchConstraints(g); err != PFX_OK) return err;
+      }
+      g.distanceBatches.order = g.distanceOrder.data();
+      g.angleBatches.order = g.angleOrder.data();
       PfxSolveParticleConstraintsParam param;
       param.particles = g.particles.data();
       param.numParticles = numParticles;
@@ -292,6 +324,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.numDistanceConstraints = static_cast<PfxUInt32>(g.distanceConstraints.size());
       param.angleConstraints = g.angleConstraints.data();
       param.numAngleConstraints = static_cast<PfxUInt32>(g.angleConstraints.size());
+      param.distanceBatches = &g.distanceBatches;
+      param.angleBatches = &g.angleBatches;
       param.tethers = g.tethers.data();
       param.numTethers = static_cast<PfxUInt32>(g.tethers.size());
       param.pins = g.pins.data();
@@ -303,7 +337,10 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.numRigidBodies = getNumRigidBodies();
       param.timeStep = timeStep;
       param.iteration = g.iteration;
-      if (const PfxInt32 err = pfxSolveParticleConstraints(param); err != PFX_OK) return err;
+      if (const PfxInt32 err = pfxSolveParticleConstraints(param, &m_taskManager);
+          err != PFX_OK) {
+        return err;
+      }
     }
     {
       PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
