@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "base_level/collision/pfx_contact_checked.h"
 #include "low_level/particle/pfx_particle_checks.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
@@ -70,6 +71,9 @@ struct NearBody {
   PfxUInt32 filterSelf, filterTarget;
   PfxTransform3 transform;
   PfxVector3 lo, hi;  // world bounds
+  // Its pose and shapes passed the narrow phase's checks, which then need not run for
+  // each particle.
+  bool checked;
 };
 
 struct NearBodies {
@@ -103,12 +107,18 @@ void findNearBodies(const PfxDetectParticleContactsParam& param, NearBodies& nea
       near.all = false;
       return;
     }
-    near.bodies[near.count++] = {id, pfxGetSelf(proxy), pfxGetTarget(proxy), transform,
-                                 center - half, center + half};
+    const PfxCollidable& collidable = bodies.offsetCollidables[id];
+    bool checked = pfxIsRigidTransform(transform);
+    for (PfxUInt32 j = 0; j < collidable.getNumShapes(); ++j) {
+      checked = checked && pfxIsContactShape(collidable.getShape(j));
+    }
+    near.bodies[near.count++] = {id,           pfxGetSelf(proxy), pfxGetTarget(proxy), transform,
+                                 center - half, center + half,    checked};
   }
 }
 
-// The particle's contact points with the near bodies, as pfxQueryContacts reports them.
+// The particle's contact points with the near bodies, as pfxQueryContacts reports them. The
+// particle's sphere passes the narrow phase's checks: its particle was checked.
 PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleContactsParam& param,
                             const PfxContactQueryInput& query, PfxFloat radius,
                             PfxQueryContact* found, PfxUInt32 maxFound) {
@@ -124,9 +134,10 @@ PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleConta
       continue;
     }
     PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
-    const PfxUInt32 count = pfxContactCollidables(
-        *query.collidable, query.transform, param.rigidBodies.offsetCollidables[body.id],
-        body.transform, query.contactThreshold, candidates, PFX_MAX_CONTACT_CANDIDATES);
+    const auto contact = body.checked ? pfxContactCheckedCollidables : pfxContactCollidables;
+    const PfxUInt32 count = contact(*query.collidable, query.transform,
+                                    param.rigidBodies.offsetCollidables[body.id], body.transform,
+                                    query.contactThreshold, candidates, PFX_MAX_CONTACT_CANDIDATES);
     for (PfxUInt32 c = 0; c < count && numFound < maxFound; ++c) {
       found[numFound].m_contact = candidates[c];
       found[numFound].m_rigidBodyId = body.id;
