@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "high_level/pfx_world_stage_timer.h"
+#include "low_level/particle/pfx_particle_stages_checked.h"
 #include "low_level/pfx_param_checks.h"
 #include "pfx/high_level/pfx_world.h"
 #include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
@@ -292,7 +293,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.gravity = m_param.gravity;
       param.linearDamping = g.linearDamping;
       param.timeStep = timeStep;
-      if (const PfxInt32 err = pfxIntegrateParticles(param, &m_taskManager); err != PFX_OK) {
+      if (const PfxInt32 err = pfxIntegrateCheckedParticles(param, &m_taskManager);
+          err != PFX_OK) {
         return err;
       }
     }
@@ -337,7 +339,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.numRigidBodies = getNumRigidBodies();
       param.timeStep = timeStep;
       param.iteration = g.iteration;
-      if (const PfxInt32 err = pfxSolveParticleConstraints(param, &m_taskManager);
+      if (const PfxInt32 err = pfxSolveCheckedParticleConstraints(param, &m_taskManager);
           err != PFX_OK) {
         return err;
       }

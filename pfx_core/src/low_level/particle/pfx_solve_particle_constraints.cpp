@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "low_level/particle/pfx_particle_checks.h"
+#include "low_level/particle/pfx_particle_stages_checked.h"
 
 namespace pfx {
 
@@ -438,6 +439,11 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
 PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param,
                                      PfxTaskManager* taskManager) {
   if (const PfxInt32 err = pfxCheckParticleConstraints(param); err != PFX_OK) return err;
+  return pfxSolveCheckedParticleConstraints(param, taskManager);
+}
+
+PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsParam& param,
+                                            PfxTaskManager* taskManager) {
   PfxParticle* particles = param.particles;
   const RigidAccess rigid{param.offsetRigidStates, param.offsetRigidBodies, param.timeStep};
   // XPBD's time-step-scaled compliance, alpha / h^2.
