@@ -13,6 +13,7 @@
 
 #include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
+#include "pfx/low_level/particle/pfx_collide_particle_groups.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
 #include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
@@ -613,4 +614,75 @@ TEST(Particles, BatchingRefusesMissingParticlesAndSmallBuffers) {
   EXPECT_EQ(good.numPhases, 2u);
   EXPECT_EQ(goodOrder[0], 0u);
   EXPECT_EQ(goodOrder[1], 2u);
+}
+
+// Contacts between two groups: a particle of A resting on one of B is found and pushed out;
+// bad input is refused with the output untouched.
+TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
+  std::vector<PfxParticle> a(2), b(3);
+  for (PfxUInt32 i = 0; i < 3; ++i) b[i].m_position = PfxVector3(PfxFloat(i), 0, 0);
+  a[0].m_position = PfxVector3(1, PfxFloat(0.015), 0);  // overlapping b[1] by 5 mm
+  a[1].m_position = PfxVector3(5, 5, 5);
+  for (PfxParticle& p : a) p.m_previousPosition = p.m_position;
+  for (PfxParticle& p : b) p.m_previousPosition = p.m_position;
+  std::vector<PfxVector4> work(pfxGetWorkBytesOfDetectParticleGroupContacts(3) / sizeof(PfxVector4) + 1);
+  std::vector<PfxParticleContact> contacts(4);
+  PfxDetectParticleGroupContactsParam detect;
+  detect.workBuff = work.data();
+  detect.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  detect.particlesA = a.data();
+  detect.numParticlesA = 2;
+  detect.particlesB = b.data();
+  detect.numParticlesB = 3;
+  detect.contacts = contacts.data();
+  detect.maxContacts = 4;
+  PfxDetectParticleGroupContactsResult found;
+  ASSERT_EQ(pfxDetectParticleGroupContacts(detect, found), PFX_OK) << pfxGetLastErrorDetail();
+  ASSERT_EQ(found.numContacts, 1u);
+  EXPECT_EQ(contacts[0].m_particle, 0u);
+  EXPECT_EQ(contacts[0].m_other, 1u);
+
+  PfxSolveParticleGroupContactsParam solve;
+  solve.particlesA = a.data();
+  solve.numParticlesA = 2;
+  solve.particlesB = b.data();
+  solve.numParticlesB = 3;
+  solve.contacts = contacts.data();
+  solve.numContacts = 1;
+  ASSERT_EQ(pfxSolveParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_NEAR((a[0].m_position - b[1].m_position).norm(), a[0].m_radius + b[1].m_radius, 1e-6);
+  EXPECT_NEAR(a[0].m_position.y() + b[1].m_position.y(), 0.015, 1e-6) << "equal masses, equal shares";
+
+  // Filters that do not match: no contact.
+  a[0].m_contactFilterSelf = 2;
+  a[0].m_contactFilterTarget = 2;
+  a[0].m_position = PfxVector3(1, PfxFloat(0.015), 0);
+  ASSERT_EQ(pfxDetectParticleGroupContacts(detect, found), PFX_OK);
+  EXPECT_EQ(found.numContacts, 0u);
+
+  const std::vector<PfxParticleContact> before = contacts;
+  PfxDetectParticleGroupContactsResult untouched;
+  untouched.numContacts = 77;
+  b[2].m_position.x() = std::nanf("");
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "particles[2]"), nullptr) << pfxGetLastErrorDetail();
+  b[2].m_position.x() = 2;
+  detect.workBytes = pfxGetWorkBytesOfDetectParticleGroupContacts(3) - 1;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_OUT_OF_BUFFER);
+  detect.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  detect.contactMargin = -1;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_INVALID_VALUE);
+  detect.contactMargin = PfxFloat(0.01);
+  detect.contacts = nullptr;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(untouched.numContacts, 77u);
+  EXPECT_EQ(std::memcmp(before.data(), contacts.data(), before.size() * sizeof(PfxParticleContact)), 0);
+
+  const std::vector<PfxParticle> beforeA = a;
+  contacts[0].m_other = 3;
+  EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "contacts[0]"), nullptr) << pfxGetLastErrorDetail();
+  solve.particlesB = nullptr;
+  EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(std::memcmp(beforeA.data(), a.data(), a.size() * sizeof(PfxParticle)), 0);
 }

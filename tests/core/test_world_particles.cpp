@@ -150,6 +150,53 @@ TEST(WorldParticles, RigidClothAtOneIterationDrapesOverABox) {
   }
 }
 
+// A small cloth dropped on a larger one lying on the ground rests on it, one particle
+// diameter up; with contact filters that do not match it falls through to the ground.
+TEST(WorldParticles, ClothRestsOnAnotherGroupUnlessTheirFiltersSayNo) {
+  for (const bool filtersMatch : {true, false}) {
+    PfxWorld world;
+    ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);
+    addGround(world);
+    PfxParticleGroupBuilder lower, upper;
+    // Particles wider than their spacing (spheres further apart would let the other cloth's
+    // particles fall between them), so neighbours overlap: no contacts within a group.
+    PfxParticleGroupBuilder::Material material = clothMaterial();
+    material.radius = PfxFloat(0.03);
+    lower.addCloth(PfxVector3(-0.5, 0.03, -0.5), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 24,
+                   24, material);
+    upper.addCloth(PfxVector3(-0.3, 0.3, -0.3), PfxVector3(0.6, 0, 0), PfxVector3(0, 0, 0.6), 12,
+                   12, material);
+    lower.selfCollision = false;
+    upper.selfCollision = false;
+    if (!filtersMatch) {
+      for (PfxParticle& p : upper.particles) {
+        p.m_contactFilterSelf = 2;
+        p.m_contactFilterTarget = 2;
+      }
+    }
+    PfxUInt32 lowerId = 0, upperId = 0;
+    ASSERT_EQ(world.addParticleGroup(lower.desc(), &lowerId), PFX_OK) << pfxGetLastErrorDetail();
+    ASSERT_EQ(world.addParticleGroup(upper.desc(), &upperId), PFX_OK) << pfxGetLastErrorDetail();
+    for (int step = 0; step < 90; ++step) ASSERT_EQ(world.step(), PFX_OK) << pfxGetLastErrorDetail();
+    PfxFloat lowerTop = 0, upperBottom = 10;
+    for (const PfxParticle& p : world.getParticleGroup(lowerId)->particles) {
+      lowerTop = std::max(lowerTop, p.m_position.y());
+    }
+    for (const PfxParticle& p : world.getParticleGroup(upperId)->particles) {
+      upperBottom = std::min(upperBottom, p.m_position.y());
+      EXPECT_TRUE(pfxIsFinite(p.m_position));
+    }
+    const PfxFloat diameter = 2 * material.radius;
+    if (filtersMatch) {
+      EXPECT_GT(upperBottom, lowerTop + 0.8 * diameter) << "the upper cloth sank into the lower";
+      EXPECT_LT(upperBottom, lowerTop + 1.5 * diameter) << "the upper cloth does not rest on it";
+    } else {
+      EXPECT_LT(upperBottom, lowerTop + 0.5 * material.radius)
+          << "filters that do not match let it through to the ground";
+    }
+  }
+}
+
 TEST(WorldParticles, ClothOnALargeMeshAndACompoundStaysAbove) {
   PfxWorld world;
   ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);

@@ -33,7 +33,7 @@ struct PfxParticleGroupDesc {
   // the stiffness the same at any count.
   PfxUInt32 iteration = 1;
   // Contacts between the group's own particles (cloth folding onto itself). Their contact
-  // filters decide further; between groups particles do not collide.
+  // filters decide further. Particles of different groups collide when their filters let them.
   bool selfCollision = true;
 };
 

@@ -5,6 +5,7 @@
 
 #include "low_level/particle/pfx_particle_checks.h"
 #include "low_level/particle/pfx_particle_stages_checked.h"
+#include "low_level/particle/pfx_solve_particle_pair.h"
 
 namespace pfx {
 
@@ -221,9 +222,9 @@ void solveRigidContact(PfxParticleContact& c, PfxParticle* particles, const Rigi
   rigid.applyPositionImpulse(body, point, dLambdaT * t);
 }
 
-void solveParticleContact(PfxParticleContact& c, PfxParticle* particles) {
-  PfxParticle& a = particles[c.m_particle];
-  PfxParticle& b = particles[c.m_other];
+}  // namespace
+
+void pfxSolveParticlePairContact(PfxParticleContact& c, PfxParticle& a, PfxParticle& b) {
   const PfxFloat w = a.m_massInv + b.m_massInv;
   const PfxVector3 d = a.m_position - b.m_position;
   const PfxFloat length = d.norm();
@@ -243,6 +244,8 @@ void solveParticleContact(PfxParticleContact& c, PfxParticle* particles) {
   a.m_position -= a.m_massInv * dLambdaT * t;
   b.m_position += b.m_massInv * dLambdaT * t;
 }
+
+namespace {
 
 PfxInt32 checkParticleIndex(const char* array, PfxUInt32 i, const char* field, PfxUInt32 index,
                             PfxUInt32 numParticles) {
@@ -481,7 +484,9 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
     // left of the sub-step's error is never a particle inside a body.
     for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
       PfxParticleContact& c = param.contacts[i];
-      if (c.m_kind == kPfxParticleContactParticle) solveParticleContact(c, particles);
+      if (c.m_kind == kPfxParticleContactParticle) {
+        pfxSolveParticlePairContact(c, particles[c.m_particle], particles[c.m_other]);
+      }
     }
     for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
       PfxParticleContact& c = param.contacts[i];
