@@ -4,6 +4,7 @@
 // nothing changed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include "pfx/high_level/pfx_particle_group.h"
+#include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
+#include "pfx/low_level/particle/pfx_collide_particle_groups.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
 #include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
@@ -479,4 +482,207 @@ TEST_F(ParticleBadInput, ContactsNamingMissingBodiesOrShapesAreRejected) {
   EXPECT_EQ(contact.m_localNormal, contactBefore.m_localNormal);
   EXPECT_EQ(contact.m_localPoint, contactBefore.m_localPoint);
   expectUnchanged(before);
+}
+
+namespace {
+
+struct Batched {
+  std::vector<PfxUInt32> distanceOrder, angleOrder;
+  PfxParticleConstraintBatches distance, angle;
+  std::vector<PfxVector4> work;
+};
+
+PfxInt32 batchBuilder(const PfxParticleGroupBuilder& b, Batched& out, PfxUInt32 numParticles) {
+  out.distanceOrder.assign(b.distanceConstraints.size(), 0);
+  out.angleOrder.assign(b.angleConstraints.size(), 0);
+  out.distance.order = out.distanceOrder.data();
+  out.angle.order = out.angleOrder.data();
+  const PfxUInt32 bytes = pfxGetWorkBytesOfBatchParticleConstraints(
+      numParticles, static_cast<PfxUInt32>(
+                        std::max(b.distanceConstraints.size(), b.angleConstraints.size())));
+  out.work.resize(bytes / sizeof(PfxVector4) + 1);
+  PfxBatchParticleConstraintsParam param;
+  param.workBuff = out.work.data();
+  param.workBytes = bytes;
+  param.numParticles = numParticles;
+  param.distanceConstraints = b.distanceConstraints.data();
+  param.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+  param.angleConstraints = b.angleConstraints.data();
+  param.numAngleConstraints = static_cast<PfxUInt32>(b.angleConstraints.size());
+  param.distanceBatches = &out.distance;
+  param.angleBatches = &out.angle;
+  return pfxBatchParticleConstraints(param);
+}
+
+}  // namespace
+
+// Phases of a cloth with bending and a hair: each constraint once, no particle twice in a
+// phase; the solve takes them and refuses batches made for other constraints.
+TEST(Particles, BatchesNameEachConstraintOnceAndNoParticleTwiceInAPhase) {
+  PfxParticleGroupBuilder b;
+  PfxParticleGroupBuilder::Material material;
+  material.bendCompliance = PfxFloat(0.1);
+  b.addCloth(PfxVector3::Zero(), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 12, 9, material);
+  b.addRope(PfxVector3(0, 1, 0), PfxVector3(1, 1, 0), 30, material);
+  const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
+  ASSERT_GT(b.angleConstraints.size(), 0u);
+  Batched batched;
+  ASSERT_EQ(batchBuilder(b, batched, n), PFX_OK) << pfxGetLastErrorDetail();
+  const auto checkPhases = [&](const PfxParticleConstraintBatches& batches, PfxUInt32 count,
+                               auto particlesOf) {
+    ASSERT_EQ(batches.numConstraints, count);
+    EXPECT_GT(batches.numPhases, 1u);
+    EXPECT_EQ(batches.phaseStart[batches.numPhases], count) << "nothing left over";
+    std::vector<int> seen(count, 0);
+    for (PfxUInt32 phase = 0; phase < batches.numPhases; ++phase) {
+      std::vector<int> used(n, 0);
+      for (PfxUInt32 k = batches.phaseStart[phase]; k < batches.phaseStart[phase + 1]; ++k) {
+        ++seen[batches.order[k]];
+        for (const PfxUInt32 p : particlesOf(batches.order[k])) {
+          EXPECT_EQ(used[p]++, 0) << "particle " << p << " twice in phase " << phase;
+        }
+      }
+    }
+    for (PfxUInt32 i = 0; i < count; ++i) EXPECT_EQ(seen[i], 1) << "constraint " << i;
+  };
+  checkPhases(batched.distance, static_cast<PfxUInt32>(b.distanceConstraints.size()),
+              [&](PfxUInt32 i) {
+                const auto& c = b.distanceConstraints[i];
+                return std::vector<PfxUInt32>{c.m_particleA, c.m_particleB};
+              });
+  checkPhases(batched.angle, static_cast<PfxUInt32>(b.angleConstraints.size()), [&](PfxUInt32 i) {
+    const auto& c = b.angleConstraints[i];
+    return std::vector<PfxUInt32>{c.m_particleA, c.m_particleB, c.m_particleC};
+  });
+
+  PfxSolveParticleConstraintsParam solve;
+  solve.particles = b.particles.data();
+  solve.numParticles = n;
+  solve.distanceConstraints = b.distanceConstraints.data();
+  solve.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+  solve.angleConstraints = b.angleConstraints.data();
+  solve.numAngleConstraints = static_cast<PfxUInt32>(b.angleConstraints.size());
+  solve.distanceBatches = &batched.distance;
+  solve.angleBatches = &batched.angle;
+  EXPECT_EQ(pfxSolveParticleConstraints(solve), PFX_OK) << pfxGetLastErrorDetail();
+  // Batches made for other constraints are refused, and nothing moves.
+  const std::vector<PfxParticle> before = b.particles;
+  --batched.distance.numConstraints;
+  EXPECT_EQ(pfxSolveParticleConstraints(solve), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "distanceBatches"), nullptr)
+      << pfxGetLastErrorDetail();
+  ++batched.distance.numConstraints;
+  solve.angleBatches = nullptr;
+  EXPECT_EQ(pfxSolveParticleConstraints(solve), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(std::memcmp(before.data(), b.particles.data(), n * sizeof(PfxParticle)), 0);
+}
+
+TEST(Particles, BatchingRefusesMissingParticlesAndSmallBuffers) {
+  PfxParticleGroupBuilder b;
+  b.addRope(PfxVector3::Zero(), PfxVector3(1, 0, 0), 10, PfxParticleGroupBuilder::Material());
+  const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
+  Batched batched;
+  ASSERT_EQ(batchBuilder(b, batched, n), PFX_OK);
+  const PfxParticleConstraintBatches good = batched.distance;
+  const std::vector<PfxUInt32> goodOrder = batched.distanceOrder;
+
+  b.distanceConstraints[3].m_particleB = n;
+  EXPECT_EQ(batchBuilder(b, batched, n), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "distanceConstraints[3].particleB is 10"),
+            nullptr)
+      << pfxGetLastErrorDetail();
+  b.distanceConstraints[3].m_particleB = 4;
+
+  PfxBatchParticleConstraintsParam param;
+  param.workBuff = batched.work.data();
+  param.workBytes = pfxGetWorkBytesOfBatchParticleConstraints(n, 9) - 1;
+  param.numParticles = n;
+  param.distanceConstraints = b.distanceConstraints.data();
+  param.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+  param.distanceBatches = &batched.distance;
+  param.angleBatches = &batched.angle;
+  std::vector<PfxUInt32> order(b.distanceConstraints.size(), 0);
+  batched.distance.order = order.data();
+  batched.distance.numPhases = 7;
+  EXPECT_EQ(pfxBatchParticleConstraints(param), PFX_ERR_OUT_OF_BUFFER);
+  param.workBytes += 1;
+  param.distanceBatches = nullptr;
+  EXPECT_EQ(pfxBatchParticleConstraints(param), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(batched.distance.numPhases, 7u) << "untouched after a refusal";
+  EXPECT_EQ(order, std::vector<PfxUInt32>(b.distanceConstraints.size(), 0));
+  // A rope is a chain: two phases, alternate links.
+  EXPECT_EQ(good.numPhases, 2u);
+  EXPECT_EQ(goodOrder[0], 0u);
+  EXPECT_EQ(goodOrder[1], 2u);
+}
+
+// Contacts between two groups: a particle of A resting on one of B is found and pushed out;
+// bad input is refused with the output untouched.
+TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
+  std::vector<PfxParticle> a(2), b(3);
+  for (PfxUInt32 i = 0; i < 3; ++i) b[i].m_position = PfxVector3(PfxFloat(i), 0, 0);
+  a[0].m_position = PfxVector3(1, PfxFloat(0.015), 0);  // overlapping b[1] by 5 mm
+  a[1].m_position = PfxVector3(5, 5, 5);
+  for (PfxParticle& p : a) p.m_previousPosition = p.m_position;
+  for (PfxParticle& p : b) p.m_previousPosition = p.m_position;
+  std::vector<PfxVector4> work(pfxGetWorkBytesOfDetectParticleGroupContacts(3) / sizeof(PfxVector4) + 1);
+  std::vector<PfxParticleContact> contacts(4);
+  PfxDetectParticleGroupContactsParam detect;
+  detect.workBuff = work.data();
+  detect.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  detect.particlesA = a.data();
+  detect.numParticlesA = 2;
+  detect.particlesB = b.data();
+  detect.numParticlesB = 3;
+  detect.contacts = contacts.data();
+  detect.maxContacts = 4;
+  PfxDetectParticleGroupContactsResult found;
+  ASSERT_EQ(pfxDetectParticleGroupContacts(detect, found), PFX_OK) << pfxGetLastErrorDetail();
+  ASSERT_EQ(found.numContacts, 1u);
+  EXPECT_EQ(contacts[0].m_particle, 0u);
+  EXPECT_EQ(contacts[0].m_other, 1u);
+
+  PfxSolveParticleGroupContactsParam solve;
+  solve.particlesA = a.data();
+  solve.numParticlesA = 2;
+  solve.particlesB = b.data();
+  solve.numParticlesB = 3;
+  solve.contacts = contacts.data();
+  solve.numContacts = 1;
+  ASSERT_EQ(pfxSolveParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_NEAR((a[0].m_position - b[1].m_position).norm(), a[0].m_radius + b[1].m_radius, 1e-6);
+  EXPECT_NEAR(a[0].m_position.y() + b[1].m_position.y(), 0.015, 1e-6) << "equal masses, equal shares";
+
+  // Filters that do not match: no contact.
+  a[0].m_contactFilterSelf = 2;
+  a[0].m_contactFilterTarget = 2;
+  a[0].m_position = PfxVector3(1, PfxFloat(0.015), 0);
+  ASSERT_EQ(pfxDetectParticleGroupContacts(detect, found), PFX_OK);
+  EXPECT_EQ(found.numContacts, 0u);
+
+  const std::vector<PfxParticleContact> before = contacts;
+  PfxDetectParticleGroupContactsResult untouched;
+  untouched.numContacts = 77;
+  b[2].m_position.x() = std::nanf("");
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "particles[2]"), nullptr) << pfxGetLastErrorDetail();
+  b[2].m_position.x() = 2;
+  detect.workBytes = pfxGetWorkBytesOfDetectParticleGroupContacts(3) - 1;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_OUT_OF_BUFFER);
+  detect.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  detect.contactMargin = -1;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_INVALID_VALUE);
+  detect.contactMargin = PfxFloat(0.01);
+  detect.contacts = nullptr;
+  EXPECT_EQ(pfxDetectParticleGroupContacts(detect, untouched), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(untouched.numContacts, 77u);
+  EXPECT_EQ(std::memcmp(before.data(), contacts.data(), before.size() * sizeof(PfxParticleContact)), 0);
+
+  const std::vector<PfxParticle> beforeA = a;
+  contacts[0].m_other = 3;
+  EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "contacts[0]"), nullptr) << pfxGetLastErrorDetail();
+  solve.particlesB = nullptr;
+  EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(std::memcmp(beforeA.data(), a.data(), a.size() * sizeof(PfxParticle)), 0);
 }

@@ -5,8 +5,11 @@
 #include <limits>
 
 #include "high_level/pfx_world_stage_timer.h"
+#include "low_level/particle/pfx_particle_stages_checked.h"
 #include "low_level/pfx_param_checks.h"
 #include "pfx/high_level/pfx_world.h"
+#include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
+#include "pfx/low_level/particle/pfx_collide_particle_groups.h"
 #include "pfx/low_level/particle/pfx_detect_particle_contacts.h"
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
 #include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
@@ -26,10 +29,51 @@ void copyInto(std::vector<T>& to, const T* from, PfxUInt32 count) {
   to.assign(from, from + count);
 }
 
+PfxInt32 batchConstraints(PfxParticleGroup& g) {
+  g.distanceOrder.resize(g.distanceConstraints.size());
+  g.angleOrder.resize(g.angleConstraints.size());
+  g.distanceBatches.order = g.distanceOrder.data();
+  g.angleBatches.order = g.angleOrder.data();
+  const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
+  const PfxUInt32 numConstraints =
+      static_cast<PfxUInt32>(std::max(g.distanceConstraints.size(), g.angleConstraints.size()));
+  std::vector<PfxVector4> work(
+      (pfxGetWorkBytesOfBatchParticleConstraints(numParticles, numConstraints) +
+       sizeof(PfxVector4) - 1) / sizeof(PfxVector4));
+  PfxBatchParticleConstraintsParam param;
+  param.workBuff = work.data();
+  param.workBytes = static_cast<PfxUInt32>(work.size() * sizeof(PfxVector4));
+  param.numParticles = numParticles;
+  param.distanceConstraints = g.distanceConstraints.data();
+  param.numDistanceConstraints = static_cast<PfxUInt32>(g.distanceConstraints.size());
+  param.angleConstraints = g.angleConstraints.data();
+  param.numAngleConstraints = static_cast<PfxUInt32>(g.angleConstraints.size());
+  param.distanceBatches = &g.distanceBatches;
+  param.angleBatches = &g.angleBatches;
+  const PfxInt32 err = pfxBatchParticleConstraints(param);
+  g.batched = err == PFX_OK;
+  return err;
+}
+
 bool bodyMoves(const PfxRigidState& s, const PfxWorldParam& param) {
   return s.isAwake() && s.getMotionType() != kPfxMotionTypeFixed &&
          (s.getLinearVelocity().norm() > param.sleepLinearVelocity ||
           s.getAngularVelocity().norm() > param.sleepAngularVelocity);
+}
+
+// The group's particles' bounds, each widened by its radius and `margin`.
+void boundsOf(const PfxParticleGroup& group, PfxFloat margin, PfxVector3& lo, PfxVector3& hi) {
+  lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
+  hi = -lo;
+  for (const PfxParticle& p : group.particles) {
+    lo = lo.cwiseMin(p.m_position - PfxVector3::Constant(p.m_radius + margin));
+    hi = hi.cwiseMax(p.m_position + PfxVector3::Constant(p.m_radius + margin));
+  }
+}
+
+bool boundsMeet(const PfxVector3& loA, const PfxVector3& hiA, const PfxVector3& loB,
+                const PfxVector3& hiB) {
+  return (loA.array() <= hiB.array()).all() && (loB.array() <= hiA.array()).all();
 }
 
 }  // namespace
@@ -112,6 +156,7 @@ PfxInt32 PfxWorld::addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32*
 PfxInt32 PfxWorld::removeParticleGroup(PfxUInt32 id) {
   if (!getParticleGroup(id)) return PFX_ERR_OUT_OF_RANGE;
   m_particleGroups[id].reset();
+  m_numParticleGroupPairs = 0;
   while (!m_particleGroups.empty() && !m_particleGroups.back()) m_particleGroups.pop_back();
   m_rayProxiesStale = true;
   return PFX_OK;
@@ -157,11 +202,14 @@ void PfxWorld::wakeSleepingParticleGroups() {
                       bodyMoves(m_states[pin.m_rigidBodyId], m_param));
     }
     if (!wake && !group->particles.empty()) {
-      PfxVector3 lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
-      PfxVector3 hi = -lo;
-      for (const PfxParticle& p : group->particles) {
-        lo = lo.cwiseMin(p.m_position - PfxVector3::Constant(p.m_radius + margin));
-        hi = hi.cwiseMax(p.m_position + PfxVector3::Constant(p.m_radius + margin));
+      PfxVector3 lo, hi;
+      boundsOf(*group, margin, lo, hi);
+      // An awake group coming near wakes it, so that the two can collide.
+      for (const auto& other : m_particleGroups) {
+        if (wake || !other || other->asleep || other->particles.empty()) continue;
+        PfxVector3 otherLo, otherHi;
+        boundsOf(*other, margin, otherLo, otherHi);
+        wake = boundsMeet(lo, hi, otherLo, otherHi);
       }
       for (PfxUInt32 id = 0; id < getNumRigidBodies() && !wake; ++id) {
         if (!bodyMoves(m_states[id], m_param)) continue;
@@ -215,6 +263,7 @@ PfxInt32 PfxWorld::detectGroupContacts(PfxParticleGroup& group, PfxFloat bodyRea
 }
 
 PfxInt32 PfxWorld::detectParticleContacts() {
+  m_numParticleGroupPairs = 0;
   if (m_particleGroups.empty()) return PFX_OK;
   wakeSleepingParticleGroups();
   const bool anyAwake = std::any_of(m_particleGroups.begin(), m_particleGroups.end(),
@@ -249,6 +298,58 @@ PfxInt32 PfxWorld::detectParticleContacts() {
       }
     }
   }
+  return detectContactsBetweenGroups();
+}
+
+PfxInt32 PfxWorld::detectContactsBetweenGroups() {
+  m_numParticleGroupPairs = 0;
+  const PfxUInt32 numGroups = getParticleGroupCapacity();
+  for (PfxUInt32 a = 0; a < numGroups; ++a) {
+    const PfxParticleGroup* groupA = getParticleGroup(a);
+    if (!groupA || groupA->asleep || groupA->particles.empty()) continue;
+    PfxVector3 loA, hiA;
+    boundsOf(*groupA, m_param.contactMargin, loA, hiA);
+    for (PfxUInt32 b = a + 1; b < numGroups; ++b) {
+      const PfxParticleGroup* groupB = getParticleGroup(b);
+      if (!groupB || groupB->asleep || groupB->particles.empty()) continue;
+      PfxVector3 loB, hiB;
+      boundsOf(*groupB, m_param.contactMargin, loB, hiB);
+      if (!boundsMeet(loA, hiA, loB, hiB)) continue;
+      if (m_numParticleGroupPairs == m_particleGroupPairs.size()) {
+        m_particleGroupPairs.emplace_back();
+      }
+      ParticleGroupPair& pair = m_particleGroupPairs[m_numParticleGroupPairs];
+      pair.groupA = a;
+      pair.groupB = b;
+      const PfxUInt32 numB = static_cast<PfxUInt32>(groupB->particles.size());
+      pair.work.resize((pfxGetWorkBytesOfDetectParticleGroupContacts(numB) + sizeof(PfxVector4) -
+                        1) / sizeof(PfxVector4));
+      if (pair.contacts.empty()) pair.contacts.resize(kInitialContactsPerParticle * numB);
+      PfxDetectParticleGroupContactsParam param;
+      param.workBuff = pair.work.data();
+      param.workBytes = static_cast<PfxUInt32>(pair.work.size() * sizeof(PfxVector4));
+      param.particlesA = groupA->particles.data();
+      param.numParticlesA = static_cast<PfxUInt32>(groupA->particles.size());
+      param.particlesB = groupB->particles.data();
+      param.numParticlesB = numB;
+      param.contactMargin = m_param.contactMargin;
+      param.timeStep = m_param.timeStep;
+      for (;;) {
+        param.contacts = pair.contacts.data();
+        param.maxContacts = static_cast<PfxUInt32>(pair.contacts.size());
+        PfxDetectParticleGroupContactsResult result;
+        if (const PfxInt32 err = pfxDetectParticleGroupContacts(param, result); err != PFX_OK) {
+          return err;
+        }
+        if (!result.truncated) {
+          pair.numContacts = result.numContacts;
+          break;
+        }
+        pair.contacts.resize(pair.contacts.size() * 2);
+      }
+      if (pair.numContacts > 0) ++m_numParticleGroupPairs;
+    }
+  }
   return PFX_OK;
 }
 
@@ -265,7 +366,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.gravity = m_param.gravity;
       param.linearDamping = g.linearDamping;
       param.timeStep = timeStep;
-      if (const PfxInt32 err = pfxIntegrateParticles(param, &m_taskManager); err != PFX_OK) {
+      if (const PfxInt32 err = pfxIntegrateCheckedParticles(param, &m_taskManager);
+          err != PFX_OK) {
         return err;
       }
     }
@@ -285,6 +387,11 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     }
     {
       PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      if (!g.batched) {
+        if (const PfxInt32 err = batchConstraints(g); err != PFX_OK) return err;
+      }
+      g.distanceBatches.order = g.distanceOrder.data();
+      g.angleBatches.order = g.angleOrder.data();
       PfxSolveParticleConstraintsParam param;
       param.particles = g.particles.data();
       param.numParticles = numParticles;
@@ -292,6 +399,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.numDistanceConstraints = static_cast<PfxUInt32>(g.distanceConstraints.size());
       param.angleConstraints = g.angleConstraints.data();
       param.numAngleConstraints = static_cast<PfxUInt32>(g.angleConstraints.size());
+      param.distanceBatches = &g.distanceBatches;
+      param.angleBatches = &g.angleBatches;
       param.tethers = g.tethers.data();
       param.numTethers = static_cast<PfxUInt32>(g.tethers.size());
       param.pins = g.pins.data();
@@ -303,8 +412,32 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.numRigidBodies = getNumRigidBodies();
       param.timeStep = timeStep;
       param.iteration = g.iteration;
-      if (const PfxInt32 err = pfxSolveParticleConstraints(param); err != PFX_OK) return err;
+      if (const PfxInt32 err = pfxSolveCheckedParticleConstraints(param, &m_taskManager);
+          err != PFX_OK) {
+        return err;
+      }
     }
+  }
+  // Between groups once per sub-step: after every group's own constraints, before any
+  // group's velocities are taken from its positions.
+  for (PfxUInt32 k = 0; k < m_numParticleGroupPairs; ++k) {
+    ParticleGroupPair& pair = m_particleGroupPairs[k];
+    PfxParticleGroup& a = *m_particleGroups[pair.groupA];
+    PfxParticleGroup& b = *m_particleGroups[pair.groupB];
+    PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+    PfxSolveParticleGroupContactsParam param;
+    param.particlesA = a.particles.data();
+    param.numParticlesA = static_cast<PfxUInt32>(a.particles.size());
+    param.particlesB = b.particles.data();
+    param.numParticlesB = static_cast<PfxUInt32>(b.particles.size());
+    param.contacts = pair.contacts.data();
+    param.numContacts = pair.numContacts;
+    if (const PfxInt32 err = pfxSolveParticleGroupContacts(param); err != PFX_OK) return err;
+  }
+  for (const auto& group : m_particleGroups) {
+    if (!group || group->asleep) continue;
+    PfxParticleGroup& g = *group;
+    const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
     {
       PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
       PfxUpdateParticlesParam param;

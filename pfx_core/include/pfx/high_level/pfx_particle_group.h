@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pfx/base_level/particle/pfx_particle.h"
+#include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
 
 namespace pfx {
 
@@ -32,7 +33,7 @@ struct PfxParticleGroupDesc {
   // the stiffness the same at any count.
   PfxUInt32 iteration = 1;
   // Contacts between the group's own particles (cloth folding onto itself). Their contact
-  // filters decide further; between groups particles do not collide.
+  // filters decide further. Particles of different groups collide when their filters let them.
   bool selfCollision = true;
 };
 
@@ -51,6 +52,12 @@ struct PfxParticleGroup {
   std::vector<PfxParticleContact> contacts;
   PfxUInt32 numContacts = 0;
   std::vector<PfxVector4> detectWork;  // 16-byte elements, so that the buffer is aligned
+  // The solve's phases (pfxBatchParticleConstraints), made on the group's first sub-step
+  // from the constraints alone, so that a loaded group solves in the same order. Their
+  // order pointers are set to the two vectors before each use.
+  std::vector<PfxUInt32> distanceOrder, angleOrder;
+  PfxParticleConstraintBatches distanceBatches, angleBatches;
+  bool batched = false;
   // Sleep: steps the group has been still, and whether it sleeps (skipped by the step).
   PfxUInt32 sleepCount = 0;
   bool asleep = false;

@@ -421,6 +421,7 @@ class PfxWorld {
   // Particles (pfx_world_particles.cpp).
   PfxInt32 detectParticleContacts();
   PfxInt32 detectGroupContacts(PfxParticleGroup& group, PfxFloat bodyReach);
+  PfxInt32 detectContactsBetweenGroups();
   PfxInt32 particleSubStep(PfxFloat timeStep);
   void updateParticleSleep();
   void wakeSleepingParticleGroups();
@@ -516,6 +517,16 @@ class PfxWorld {
 
   // Particle groups by id; null for a removed group's id.
   std::vector<std::unique_ptr<PfxParticleGroup>> m_particleGroups;
+  // The contacts between two awake groups' particles found this step, the first
+  // m_numGroupPairs entries; the others keep their buffers for later steps.
+  struct ParticleGroupPair {
+    PfxUInt32 groupA = 0, groupB = 0;
+    std::vector<PfxParticleContact> contacts;
+    PfxUInt32 numContacts = 0;
+    std::vector<PfxVector4> work;
+  };
+  std::vector<ParticleGroupPair> m_particleGroupPairs;
+  PfxUInt32 m_numParticleGroupPairs = 0;
 };
 
 }  // namespace pfx

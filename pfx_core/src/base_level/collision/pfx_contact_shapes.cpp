@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "base_level/collision/contact/pfx_contact_pairs.h"
+#include "base_level/collision/pfx_contact_checked.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 
@@ -55,12 +56,6 @@ bool isConvexShape(const PfxShape& shape) {
 bool isLargeMeshShape(const PfxShape& shape) {
   return shape.getType() == kPfxShapeLargeTriMesh && shape.validate() == PFX_OK &&
          shape.getLargeTriMesh()->m_numNodes > 0;
-}
-
-bool isRigidTransform(const PfxTransform3& t) {
-  return pfxIsFinite(PfxVector3(t.translation())) && pfxIsFinite(PfxMatrix3(t.linear())) &&
-         (t.linear() * t.linear().transpose() - PfxMatrix3::Identity()).cwiseAbs().maxCoeff() <
-             PfxFloat(1e-3);
 }
 
 // The segment of a sphere (both ends at the centre) or a capsule, in the world.
@@ -130,31 +125,38 @@ PfxUInt32 pfxContactConvexShapes(const PfxShape& shapeA, const PfxTransform3& tr
   // (null output, NaN poses or sizes, a negative threshold, a large mesh) gives no contact.
   if (!out || maxOut == 0 || !(contactThreshold >= 0) || !pfxIsFinite(contactThreshold)) return 0;
   if (!isConvexShape(shapeA) || !isConvexShape(shapeB)) return 0;
-  if (!isRigidTransform(transformA) || !isRigidTransform(transformB)) return 0;
+  if (!pfxIsRigidTransform(transformA) || !pfxIsRigidTransform(transformB)) return 0;
   PfxContactSink sink(out, std::min(maxOut, PFX_MAX_CONTACT_CANDIDATES), contactThreshold);
   contactPair(shapeA, transformA, shapeB, transformB, sink);
   return sink.getCount();
 }
 
-PfxUInt32 pfxContactCollidables(const PfxCollidable& collidableA, const PfxTransform3& transformA,
-                                const PfxCollidable& collidableB, const PfxTransform3& transformB,
-                                PfxFloat contactThreshold, PfxContactCandidate* out,
-                                PfxUInt32 maxOut) {
-  if (!out || maxOut == 0 || !(contactThreshold >= 0) || !pfxIsFinite(contactThreshold)) return 0;
-  if (!isRigidTransform(transformA) || !isRigidTransform(transformB)) return 0;
+namespace {
+
+// With `shapesChecked`, every shape passed pfxIsContactShape already.
+PfxUInt32 contactCollidables(const PfxCollidable& collidableA, const PfxTransform3& transformA,
+                             const PfxCollidable& collidableB, const PfxTransform3& transformB,
+                             PfxFloat contactThreshold, PfxContactCandidate* out,
+                             PfxUInt32 maxOut, bool shapesChecked) {
+  const auto isMesh = [&](const PfxShape& shape) {
+    return shapesChecked ? shape.getType() == kPfxShapeLargeTriMesh : isLargeMeshShape(shape);
+  };
+  const auto isConvex = [&](const PfxShape& shape, bool mesh) {
+    return shapesChecked ? !mesh : isConvexShape(shape);
+  };
   // One sink for all shape pairs: when more contacts come than fit, the deepest stay.
   PfxContactSink sink(out, maxOut, contactThreshold);
   // A large mesh meets convex shapes only: two meshes have no inside to push apart.
   for (PfxUInt32 i = 0; i < collidableA.getNumShapes(); ++i) {
     const PfxShape& shapeA = collidableA.getShape(i);
-    const bool meshA = isLargeMeshShape(shapeA);
-    if (!meshA && !isConvexShape(shapeA)) continue;
+    const bool meshA = isMesh(shapeA);
+    if (!meshA && !isConvex(shapeA, meshA)) continue;
     const PfxTransform3 poseA = transformA * shapeA.getOffsetTransform();
     for (PfxUInt32 j = 0; j < collidableB.getNumShapes(); ++j) {
       const PfxShape& shapeB = collidableB.getShape(j);
-      const bool meshB = isLargeMeshShape(shapeB);
+      const bool meshB = isMesh(shapeB);
       if (meshA && meshB) continue;
-      if (!meshB && !isConvexShape(shapeB)) continue;
+      if (!meshB && !isConvex(shapeB, meshB)) continue;
       if (!boundsOverlap(shapeA, transformA, shapeB, transformB, contactThreshold)) continue;
       sink.setShapeIds(static_cast<PfxUInt8>(i), static_cast<PfxUInt8>(j));
       const PfxTransform3 poseB = transformB * shapeB.getOffsetTransform();
@@ -170,6 +172,37 @@ PfxUInt32 pfxContactCollidables(const PfxCollidable& collidableA, const PfxTrans
     }
   }
   return sink.getCount();
+}
+
+}  // namespace
+
+PfxUInt32 pfxContactCollidables(const PfxCollidable& collidableA, const PfxTransform3& transformA,
+                                const PfxCollidable& collidableB, const PfxTransform3& transformB,
+                                PfxFloat contactThreshold, PfxContactCandidate* out,
+                                PfxUInt32 maxOut) {
+  if (!out || maxOut == 0 || !(contactThreshold >= 0) || !pfxIsFinite(contactThreshold)) return 0;
+  if (!pfxIsRigidTransform(transformA) || !pfxIsRigidTransform(transformB)) return 0;
+  return contactCollidables(collidableA, transformA, collidableB, transformB, contactThreshold,
+                            out, maxOut, false);
+}
+
+PfxUInt32 pfxContactCheckedCollidables(const PfxCollidable& collidableA,
+                                       const PfxTransform3& transformA,
+                                       const PfxCollidable& collidableB,
+                                       const PfxTransform3& transformB, PfxFloat contactThreshold,
+                                       PfxContactCandidate* out, PfxUInt32 maxOut) {
+  return contactCollidables(collidableA, transformA, collidableB, transformB, contactThreshold,
+                            out, maxOut, true);
+}
+
+bool pfxIsRigidTransform(const PfxTransform3& t) {
+  return pfxIsFinite(PfxVector3(t.translation())) && pfxIsFinite(PfxMatrix3(t.linear())) &&
+         (t.linear() * t.linear().transpose() - PfxMatrix3::Identity()).cwiseAbs().maxCoeff() <
+             PfxFloat(1e-3);
+}
+
+bool pfxIsContactShape(const PfxShape& shape) {
+  return isConvexShape(shape) || isLargeMeshShape(shape);
 }
 
 }  // namespace pfx

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "base_level/collision/pfx_contact_checked.h"
 #include "low_level/particle/pfx_particle_checks.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
@@ -58,7 +60,95 @@ PfxFloat reachOf(const PfxParticle& p, const PfxDetectParticleContactsParam& par
   return p.m_radius + p.m_velocity.norm() * param.timeStep + param.contactMargin / 2;
 }
 
-void detectRigid(const PfxDetectParticleContactsParam& param, PfxUInt32 i, const Work& work) {
+// The bodies near the group, found once per call: each particle then meets only these, by
+// their bounds and then the narrow phase, instead of descending the bodies' hierarchy and
+// having its query checked on its own. A group near more bodies than this asks the
+// hierarchy particle by particle.
+constexpr PfxUInt32 kMaxNearBodies = 32;
+
+struct NearBody {
+  PfxUInt32 id;
+  PfxUInt32 filterSelf, filterTarget;
+  PfxTransform3 transform;
+  PfxVector3 lo, hi;  // world bounds
+  // Its pose and shapes passed the narrow phase's checks, which then need not run for
+  // each particle.
+  bool checked;
+};
+
+struct NearBodies {
+  NearBody bodies[kMaxNearBodies];
+  PfxUInt32 count = 0;
+  bool all = true;  // false: too many, query the hierarchy instead
+};
+
+void findNearBodies(const PfxDetectParticleContactsParam& param, NearBodies& near) {
+  PfxVector3 lo = PfxVector3::Constant(std::numeric_limits<PfxFloat>::max());
+  PfxVector3 hi = -lo;
+  for (PfxUInt32 i = 0; i < param.numParticles; ++i) {
+    const PfxParticle& p = param.particles[i];
+    const PfxVector3 reach = PfxVector3::Constant(p.m_radius + p.m_velocity.norm() * param.timeStep +
+                                                  param.contactMargin);
+    lo = lo.cwiseMin(p.m_position - reach);
+    hi = hi.cwiseMax(p.m_position + reach);
+  }
+  const PfxQueryContactsParam& bodies = param.rigidBodies;
+  for (PfxUInt32 k = 0; k < bodies.numProxies; ++k) {
+    const PfxBroadphaseProxy& proxy = bodies.bvhProxies[k];
+    const PfxUInt32 id = pfxGetObjectId(proxy);
+    const PfxTransform3 transform = bodies.offsetRigidStates[id].getTransform();
+    PfxVector3 center, half;
+    bodies.offsetCollidables[id].getWorldAabb(transform, center, half);
+    if (((center + half).array() < lo.array()).any() ||
+        ((center - half).array() > hi.array()).any()) {
+      continue;
+    }
+    if (near.count == kMaxNearBodies) {
+      near.all = false;
+      return;
+    }
+    const PfxCollidable& collidable = bodies.offsetCollidables[id];
+    bool checked = pfxIsRigidTransform(transform);
+    for (PfxUInt32 j = 0; j < collidable.getNumShapes(); ++j) {
+      checked = checked && pfxIsContactShape(collidable.getShape(j));
+    }
+    near.bodies[near.count++] = {id,           pfxGetSelf(proxy), pfxGetTarget(proxy), transform,
+                                 center - half, center + half,    checked};
+  }
+}
+
+// The particle's contact points with the near bodies, as pfxQueryContacts reports them. The
+// particle's sphere passes the narrow phase's checks: its particle was checked.
+PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleContactsParam& param,
+                            const PfxContactQueryInput& query, PfxFloat radius,
+                            PfxQueryContact* found, PfxUInt32 maxFound) {
+  const PfxVector3 center = query.transform.translation();
+  const PfxVector3 reach = PfxVector3::Constant(radius + query.contactThreshold);
+  PfxUInt32 numFound = 0;
+  for (PfxUInt32 k = 0; k < near.count && numFound < maxFound; ++k) {
+    const NearBody& body = near.bodies[k];
+    if (((center + reach).array() < body.lo.array()).any() ||
+        ((center - reach).array() > body.hi.array()).any() ||
+        !pfxContactFiltersMatch(query.contactFilterSelf, query.contactFilterTarget,
+                                body.filterSelf, body.filterTarget)) {
+      continue;
+    }
+    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+    const auto contact = body.checked ? pfxContactCheckedCollidables : pfxContactCollidables;
+    const PfxUInt32 count = contact(*query.collidable, query.transform,
+                                    param.rigidBodies.offsetCollidables[body.id], body.transform,
+                                    query.contactThreshold, candidates, PFX_MAX_CONTACT_CANDIDATES);
+    for (PfxUInt32 c = 0; c < count && numFound < maxFound; ++c) {
+      found[numFound].m_contact = candidates[c];
+      found[numFound].m_rigidBodyId = body.id;
+      ++numFound;
+    }
+  }
+  return numFound;
+}
+
+void detectRigid(const PfxDetectParticleContactsParam& param, const NearBodies& near,
+                 PfxUInt32 i, const Work& work) {
   const PfxParticle& p = param.particles[i];
   PfxUInt32& count = work.rigidCounts[i];
   count = 0;
@@ -79,17 +169,20 @@ void detectRigid(const PfxDetectParticleContactsParam& param, PfxUInt32 i, const
   // Room for two bodies' worth of points; a particle touching more keeps what fits.
   constexpr PfxUInt32 kMaxFound = 2 * PFX_MAX_CONTACT_CANDIDATES;
   PfxQueryContact found[kMaxFound];
-  PfxQueryContactsResult result;
-  if (pfxQueryContacts(query, param.rigidBodies, found, kMaxFound, result) !=
-      PFX_OK) {
-    return;
+  PfxUInt32 numFound = 0;
+  if (near.all) {
+    numFound = contactNearBodies(near, param, query, p.m_radius, found, kMaxFound);
+  } else {
+    PfxQueryContactsResult result;
+    if (pfxQueryContacts(query, param.rigidBodies, found, kMaxFound, result) != PFX_OK) return;
+    numFound = result.numContacts;
   }
   // The deepest first, so that a particle among many triangles keeps those that hold it.
-  std::sort(found, found + result.numContacts, [](const PfxQueryContact& a, const PfxQueryContact& b) {
+  std::sort(found, found + numFound, [](const PfxQueryContact& a, const PfxQueryContact& b) {
     return a.m_contact.m_distance < b.m_contact.m_distance ||
            (a.m_contact.m_distance == b.m_contact.m_distance && a.m_rigidBodyId < b.m_rigidBodyId);
   });
-  for (PfxUInt32 k = 0; k < result.numContacts && count < PFX_MAX_PARTICLE_RIGID_CONTACTS; ++k) {
+  for (PfxUInt32 k = 0; k < numFound && count < PFX_MAX_PARTICLE_RIGID_CONTACTS; ++k) {
     const PfxQueryContact& q = found[k];
     const PfxRigidState& state = param.rigidBodies.offsetRigidStates[q.m_rigidBodyId];
     if (state.getMotionType() == kPfxMotionTypeTrigger) continue;
@@ -203,9 +296,11 @@ PfxInt32 pfxDetectParticleContacts(const PfxDetectParticleContactsParam& param,
     }
   };
   if (withBodies) {
+    NearBodies near;
+    findNearBodies(param, near);
     err = pfxParallelFor(taskManager, param.numParticles, kDetectedParticlesPerTask,
                          [&](PfxUInt32 begin, PfxUInt32 end) {
-                           for (PfxUInt32 i = begin; i < end; ++i) detectRigid(param, i, work);
+                           for (PfxUInt32 i = begin; i < end; ++i) detectRigid(param, near, i, work);
                          });
     if (err != PFX_OK) return err;
     for (PfxUInt32 i = 0; i < param.numParticles; ++i) {

@@ -1,6 +1,7 @@
 #include "pfx/low_level/particle/pfx_integrate_particles.h"
 
 #include "low_level/particle/pfx_particle_checks.h"
+#include "low_level/particle/pfx_particle_stages_checked.h"
 
 namespace pfx {
 
@@ -24,6 +25,11 @@ PfxInt32 pfxIntegrateParticles(const PfxIntegrateParticlesParam& param,
                           "pfxIntegrateParticles: PfxIntegrateParticlesParam::gravity is not "
                           "finite");
   }
+  return pfxIntegrateCheckedParticles(param, taskManager);
+}
+
+PfxInt32 pfxIntegrateCheckedParticles(const PfxIntegrateParticlesParam& param,
+                                      PfxTaskManager* taskManager) {
   const PfxFloat h = param.timeStep;
   const PfxFloat keep = 1 / (1 + param.linearDamping * h);
   return pfxParallelFor(taskManager, param.numParticles, kIntegratedParticlesPerTask,

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "low_level/particle/pfx_particle_checks.h"
+#include "low_level/particle/pfx_particle_stages_checked.h"
+#include "low_level/particle/pfx_solve_particle_pair.h"
 
 namespace pfx {
 
@@ -12,6 +14,8 @@ namespace {
 constexpr PfxFloat kPi = PfxFloat(3.14159265358979323846);
 // Below this length (m) a direction is not defined and the constraint waits for the others.
 constexpr PfxFloat kMinLength = PfxFloat(1e-9);
+// Constraints of one phase per task: enough work to pay for handing it to a thread.
+constexpr PfxUInt32 kConstraintsPerTask = 256;
 
 const PfxParamNames kSolveParticleConstraintsAt{"pfxSolveParticleConstraints",
                                                 "PfxSolveParticleConstraintsParam"};
@@ -221,9 +225,9 @@ void solveRigidContact(PfxParticleContact& c, PfxParticle* particles, const Rigi
   rigid.applyPositionImpulse(body, point, dLambdaT * t);
 }
 
-void solveParticleContact(PfxParticleContact& c, PfxParticle* particles) {
-  PfxParticle& a = particles[c.m_particle];
-  PfxParticle& b = particles[c.m_other];
+}  // namespace
+
+void pfxSolveParticlePairContact(PfxParticleContact& c, PfxParticle& a, PfxParticle& b) {
   const PfxFloat w = a.m_massInv + b.m_massInv;
   const PfxVector3 d = a.m_position - b.m_position;
   const PfxFloat length = d.norm();
@@ -243,6 +247,8 @@ void solveParticleContact(PfxParticleContact& c, PfxParticle* particles) {
   a.m_position -= a.m_massInv * dLambdaT * t;
   b.m_position += b.m_massInv * dLambdaT * t;
 }
+
+namespace {
 
 PfxInt32 checkParticleIndex(const char* array, PfxUInt32 i, const char* field, PfxUInt32 index,
                             PfxUInt32 numParticles) {
@@ -272,6 +278,45 @@ PfxInt32 checkDistinct(const char* array, PfxUInt32 i, PfxUInt32 a, PfxUInt32 b)
                         i, a);
 }
 
+// Batches from pfxBatchParticleConstraints for as many constraints; that they name each
+// constraint once and phases share no particle is the batching stage's promise, not
+// checked each sub-step.
+PfxInt32 checkBatches(const char* field, const PfxParticleConstraintBatches* batches,
+                      PfxUInt32 numConstraints) {
+  if (!batches) return PFX_OK;
+  if (batches->numConstraints != numConstraints || batches->numPhases > PFX_MAX_PARTICLE_PHASES ||
+      (numConstraints > 0 && !batches->order) ||
+      batches->phaseStart[batches->numPhases] > numConstraints) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "%s: %s::%s were made for %u constraints in %u phases, but there are "
+                          "%u (pfxBatchParticleConstraints)",
+                          kAt.stage, kAt.param, field, batches->numConstraints,
+                          batches->numPhases, numConstraints);
+  }
+  return PFX_OK;
+}
+
+// Each phase in parallel, then the left-over constraints one by one.
+template <typename Solve>
+PfxInt32 solveInPhases(const PfxParticleConstraintBatches& batches, PfxTaskManager* taskManager,
+                       const Solve& solve) {
+  for (PfxUInt32 phase = 0; phase < batches.numPhases; ++phase) {
+    const PfxUInt32 first = batches.phaseStart[phase];
+    const PfxUInt32 count = batches.phaseStart[phase + 1] - first;
+    const PfxInt32 err = pfxParallelFor(taskManager, count, kConstraintsPerTask,
+                                        [&](PfxUInt32 begin, PfxUInt32 end) {
+                                          for (PfxUInt32 k = begin; k < end; ++k) {
+                                            solve(batches.order[first + k]);
+                                          }
+                                        });
+    if (err != PFX_OK) return err;
+  }
+  for (PfxUInt32 k = batches.phaseStart[batches.numPhases]; k < batches.numConstraints; ++k) {
+    solve(batches.order[k]);
+  }
+  return PFX_OK;
+}
+
 }  // namespace
 
 PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& param) {
@@ -294,6 +339,17 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
       (err = pfxCheckRequired(kSolveParticleConstraintsAt, {{param.contacts, "contacts"}},
                               "numContacts", param.numContacts)) != PFX_OK) {
     return err;
+  }
+  if ((err = checkBatches("distanceBatches", param.distanceBatches,
+                          param.numDistanceConstraints)) != PFX_OK ||
+      (err = checkBatches("angleBatches", param.angleBatches, param.numAngleConstraints)) !=
+          PFX_OK) {
+    return err;
+  }
+  if (!param.distanceBatches != !param.angleBatches) {
+    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                          "%s: %s::distanceBatches and angleBatches must be given both or neither",
+                          kAt.stage, kAt.param);
   }
   for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
     const PfxParticleDistanceConstraint& c = param.distanceConstraints[i];
@@ -394,8 +450,14 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
   return PFX_OK;
 }
 
-PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param) {
+PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param,
+                                     PfxTaskManager* taskManager) {
   if (const PfxInt32 err = pfxCheckParticleConstraints(param); err != PFX_OK) return err;
+  return pfxSolveCheckedParticleConstraints(param, taskManager);
+}
+
+PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsParam& param,
+                                            PfxTaskManager* taskManager) {
   PfxParticle* particles = param.particles;
   const RigidAccess rigid{param.offsetRigidStates, param.offsetRigidBodies, param.timeStep};
   // XPBD's time-step-scaled compliance, alpha / h^2.
@@ -408,11 +470,21 @@ PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& par
     param.contacts[i].m_lambdaTangent = 0;
   }
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
-    for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
+    const auto distance = [&](PfxUInt32 i) {
       solveDistance(param.distanceConstraints[i], particles, alphaScale);
-    }
-    for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) {
+    };
+    const auto angle = [&](PfxUInt32 i) {
       solveAngle(param.angleConstraints[i], particles, alphaScale);
+    };
+    if (param.distanceBatches) {
+      PfxInt32 err = PFX_OK;
+      if ((err = solveInPhases(*param.distanceBatches, taskManager, distance)) != PFX_OK ||
+          (err = solveInPhases(*param.angleBatches, taskManager, angle)) != PFX_OK) {
+        return err;
+      }
+    } else {
+      for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) distance(i);
+      for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) angle(i);
     }
     // Tethers after the chain: they take out what the chain's unconverged solve stretched.
     for (PfxUInt32 i = 0; i < param.numTethers; ++i) {
@@ -423,7 +495,9 @@ PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& par
     // left of the sub-step's error is never a particle inside a body.
     for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
       PfxParticleContact& c = param.contacts[i];
-      if (c.m_kind == kPfxParticleContactParticle) solveParticleContact(c, particles);
+      if (c.m_kind == kPfxParticleContactParticle) {
+        pfxSolveParticlePairContact(c, particles[c.m_particle], particles[c.m_other]);
+      }
     }
     for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
       PfxParticleContact& c = param.contacts[i];

@@ -15,6 +15,8 @@
 #include "pfx/base_level/particle/pfx_particle.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+#include "pfx/base_level/task/pfx_task_manager.h"
+#include "pfx/low_level/particle/pfx_batch_particle_constraints.h"
 
 namespace pfx {
 
@@ -25,6 +27,12 @@ struct PfxSolveParticleConstraintsParam {
   PfxUInt32 numDistanceConstraints = 0;
   PfxParticleAngleConstraint* angleConstraints = nullptr;
   PfxUInt32 numAngleConstraints = 0;
+  // Optional, both or neither: the phases of pfxBatchParticleConstraints for these
+  // constraints. Without them the constraints are solved one after another in the order
+  // given; with them phase by phase, each phase's constraints in parallel on the task
+  // manager, the same bits whatever the thread count.
+  const PfxParticleConstraintBatches* distanceBatches = nullptr;
+  const PfxParticleConstraintBatches* angleBatches = nullptr;
   const PfxParticleTether* tethers = nullptr;
   PfxUInt32 numTethers = 0;
   PfxParticlePin* pins = nullptr;
@@ -43,10 +51,12 @@ struct PfxSolveParticleConstraintsParam {
 // contact naming a particle or body beyond the counts, or a particle twice
 // (PFX_ERR_OUT_OF_RANGE / PFX_ERR_INVALID_VALUE); a negative or non-finite rest length,
 // rest angle outside [0, pi], compliance or distance, a non-finite anchor, a time step that
-// is not positive and finite and an iteration count of 0 (PFX_ERR_INVALID_VALUE). The
-// detail names the array, the index and the field. Nothing changes then. Serial, so that
-// the result is the same bits run after run; allocates nothing.
-PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param);
+// is not positive and finite, an iteration count of 0 and batches made for other
+// constraints (PFX_ERR_INVALID_VALUE). The detail names the array, the index and the field.
+// Nothing changes then. Tethers, pins and contacts are solved serially, after the phases;
+// the result is the same bits run after run. Allocates nothing.
+PfxInt32 pfxSolveParticleConstraints(const PfxSolveParticleConstraintsParam& param,
+                                     PfxTaskManager* taskManager = nullptr);
 
 // The same checks, without solving: what a caller storing constraints runs once up front.
 PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& param);
