@@ -66,18 +66,10 @@ case ${1:-} in
   all)
     seconds=${2:?usage: fuzz.sh all SECONDS}
     failed=0
-    # fuzz_world_file finds, within a minute, saved worlds whose first step turns a state
-    # non-finite (inputs in tests/fuzz/open/world_file/, still to be fixed in the core): it
-    # stays out of these runs until then, so that they fail on what is new. Run it by hand.
-    echo "fuzz.sh: fuzz_world_file left out (open defect: tests/fuzz/open/world_file/)"
-    runs=()
-    for target in "${targets[@]}"; do
-      [ "$target" = fuzz_world_file ] || runs+=("$target")
-    done
     # Two at a time, for two cores: each pair's slower run sets the pace.
-    for ((i = 0; i < ${#runs[@]}; i += 2)); do
+    for ((i = 0; i < ${#targets[@]}; i += 2)); do
       pids=()
-      for target in "${runs[@]:i:2}"; do
+      for target in "${targets[@]:i:2}"; do
         run_target "$target" "$seconds" &
         pids+=($!)
       done

@@ -2,12 +2,16 @@
 // sequence of calls that showed it, asserting the refusal or the behaviour that holds now.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx_serialize_test_world.h"
 
 using namespace pfx;
+using namespace pfx_test;
 
 namespace {
 
@@ -132,4 +136,97 @@ TEST(FuzzRegressions, ShapeWhoseBoundsOverflowIsRefusedWithNothingChanged) {
 
   shape.setOffsetPosition(PfxVector3(-1e6f, 0, 0));
   EXPECT_EQ(shape.validate(), PFX_OK);
+}
+
+namespace {
+
+// A bar 0.8 m long on a hinge about Z at its end, on a fixed body; returns the bar.
+PfxUInt32 addPendulum(PfxWorld& world, PfxUInt32* jointId) {
+  PfxBodyInit fixed;
+  fixed.position = PfxVector3(1, 2, 0);
+  fixed.motionType = kPfxMotionTypeFixed;
+  PfxUInt32 anchor = 0, bar = 0;
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(PfxFloat(0.05))), fixed, &anchor), PFX_OK);
+  PfxBodyInit swinging;
+  swinging.position = PfxVector3(PfxFloat(1.4), 2, 0);
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.4f, 0.05f, 0.05f)), swinging, &bar), PFX_OK);
+  PfxHingeJointInitParam hinge;
+  hinge.anchorPoint = fixed.position;
+  PfxJoint joint;
+  EXPECT_EQ(pfxInitializeHingeJoint(joint, world.getRigidState(anchor), world.getRigidState(bar),
+                                    hinge),
+            PFX_OK);
+  EXPECT_EQ(world.addJoint(joint, jointId), PFX_OK);
+  return bar;
+}
+
+}  // namespace
+
+// fuzz_world_file: a saved pendulum whose joint row carried an impulse of 2.3e15 N s (a
+// velocity's square is still finite there) turned NaN in its first step: the joint's
+// geometric stiffness added the impulse times the arm to the bar's inertia, and the joint
+// tree solver's factors of that inertia overflowed. The extra inertia is bounded now, and a
+// bar flung as fast steps to finite states (off its hinge: at 1e15 m/s the rounding of the
+// velocities alone is metres per step).
+TEST(FuzzRegressions, JointedBarFlungAtHugeSpeedStepsToFiniteStates) {
+  for (const PfxFloat speed : {PfxFloat(2e15), PfxFloat(1e18)}) {
+    PfxWorld world;
+    ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+    PfxUInt32 jointId = 0;
+    const PfxUInt32 bar = addPendulum(world, &jointId);
+    PfxRigidState state = world.getRigidState(bar);
+    state.setLinearVelocity(PfxVector3(speed, speed, 0));
+    ASSERT_EQ(world.setRigidState(bar, state), PFX_OK);
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(world.step(), PFX_OK);
+      ASSERT_TRUE(world.getRigidState(bar).isValid()) << speed << " m/s, step " << i;
+    }
+  }
+}
+
+// fuzz_world_file: a saved joint row whose impulse was 1e200 N s (read into float as 3.4e38,
+// finite, so it was accepted) made the pendulum's velocities infinite when the first step
+// warm started with it. A row impulse whose square overflows, the rule of body velocities,
+// is refused now: by the file reader for every saved row, and by pfxCheckJoint, which
+// addJoint and setJoint apply (a joint passes its rows' impulses on).
+TEST(FuzzRegressions, WarmStartImpulseWhoseSquareOverflowsIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxUInt32 jointId = 0;
+  addPendulum(world, &jointId);
+  ASSERT_EQ(world.step(), PFX_OK);
+  const PfxJoint before = world.getJoint(jointId);
+  PfxJoint flung = before;
+  flung.m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse = kLargestFloat;
+  EXPECT_EQ(pfxCheckJoint(flung), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setJoint(jointId, flung), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.addJoint(flung), PFX_ERR_INVALID_VALUE);
+  flung = before;
+  flung.m_constraints[kPfxJointAxisTwist].m_driveRow.m_accumImpulse = -kLargestFloat;
+  EXPECT_EQ(world.setJoint(jointId, flung), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumJoints(), 1u);
+  EXPECT_EQ(world.getJoint(jointId).m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse,
+            before.m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse);
+
+  // A file carrying such an impulse is refused by the reader, with the row named.
+  PfxWorld saved;
+  ASSERT_EQ(saved.initialize(PfxWorldParam()), PFX_OK);
+  addPendulum(saved, &jointId);
+  ASSERT_EQ(saved.step(), PFX_OK);
+  Bytes bytes = saveWorld(saved);
+  // The impulse is the last real of the Y row's constraint row; found by its value.
+  const PfxFloat impulse =
+      saved.getJoint(jointId).m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse;
+  ASSERT_NE(impulse, 0);
+  const PfxUInt8* value = reinterpret_cast<const PfxUInt8*>(&impulse);
+  const auto at = std::search(bytes.begin(), bytes.end(), value, value + sizeof impulse);
+  ASSERT_NE(at, bytes.end());
+  std::memcpy(&*at, &kLargestFloat, sizeof kLargestFloat);
+  resealChecksum(bytes);
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  std::string error;
+  EXPECT_EQ(loadWorld(loaded, meshes, bytes, &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("constraintRow: has an impulse of"), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }

@@ -317,6 +317,41 @@ TEST(SerializeReader, NaNAndInfinityAreRejectedWhereTheyStand) {
   EXPECT_EQ(error.rfind("parameters/timeStep: is inf", 0), 0u) << error;
 }
 
+TEST(SerializeReader, SubStepsOrIterationsAboveTheirMaximumsAreRejected) {
+  const Bytes& bytes = smallFile();
+  // After worldCenter, worldExtent, gravity and timeStep: subStep, then iteration.
+  const std::size_t subStep = sectionPayload(bytes, "PARM") + 10 * bytes[12];
+  const struct {
+    std::size_t at;
+    PfxUInt32 value;
+    const char* message;
+  } cases[] = {
+      {subStep, PFX_MAX_SUB_STEPS + 1, "parameters/subStep: 101 above 100"},
+      {subStep, 0xffffffffu, "parameters/subStep: 4294967295 above 100"},
+      {subStep + 4, PFX_MAX_ITERATIONS + 1, "parameters/iteration: 1001 above 1000"},
+      {subStep + 4, 3000000000u, "parameters/iteration: 3000000000 above 1000"},
+  };
+  Target target;
+  for (const auto& c : cases) {
+    Bytes changed = bytes;
+    putU32(changed, c.at, c.value);
+    resealChecksum(changed);
+    std::string error;
+    EXPECT_EQ(loadError(changed, error), PFX_ERR_OUT_OF_RANGE);
+    EXPECT_EQ(error.rfind(c.message, 0), 0u) << error;
+    EXPECT_EQ(target.load(changed, true), PFX_ERR_OUT_OF_RANGE);
+  }
+  Bytes most = bytes;
+  putU32(most, subStep, PFX_MAX_SUB_STEPS);
+  putU32(most, subStep + 4, PFX_MAX_ITERATIONS);
+  resealChecksum(most);
+  PfxWorld world;
+  PfxSerializedMeshes meshes;
+  ASSERT_EQ(loadWorld(world, meshes, most), PFX_OK);
+  EXPECT_EQ(world.getParam().subStep, PFX_MAX_SUB_STEPS);
+  EXPECT_EQ(world.getParam().iteration, PFX_MAX_ITERATIONS);
+}
+
 TEST(SerializeReader, TheSeedsReadReportsTagsAndLeavesTheBuffersAlone) {
   Bytes changed = smallFile();
   putReal(changed, sectionPayload(changed, "BODY") + 4, std::numeric_limits<double>::quiet_NaN());

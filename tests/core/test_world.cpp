@@ -202,6 +202,21 @@ TEST(World, InitializeRejectsBadParameters) {
   p.timeStep = good.timeStep * 2;
   rejects(p, PFX_ERR_OUT_OF_RANGE);
   EXPECT_EQ(world.getTaskManager()->getNumThreads(), 1u);
+  p = good;
+  p.timeStep = good.timeStep * 2;
+  p.subStep = PFX_MAX_SUB_STEPS + 1;
+  rejects(p, PFX_ERR_OUT_OF_RANGE);
+  p.subStep = 0xffffffffu;
+  rejects(p, PFX_ERR_OUT_OF_RANGE);
+  p = good;
+  p.timeStep = good.timeStep * 2;
+  p.iteration = PFX_MAX_ITERATIONS + 1;
+  rejects(p, PFX_ERR_OUT_OF_RANGE);
+  p.iteration = 0xffffffffu;
+  rejects(p, PFX_ERR_OUT_OF_RANGE);
+  p.subStep = PFX_MAX_SUB_STEPS;
+  p.iteration = PFX_MAX_ITERATIONS;
+  EXPECT_EQ(world.initialize(p), PFX_OK);
 }
 
 TEST(World, SetStepParamKeepsTheBodiesAndRejectsBadValues) {
@@ -216,6 +231,9 @@ TEST(World, SetStepParamKeepsTheBodiesAndRejectsBadValues) {
   EXPECT_EQ(world.setStepParam(0.01f, 0, 5, down), PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(world.setStepParam(0.01f, 2, 0, down), PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(world.setStepParam(0.01f, 2, 5, PfxVector3(0, kInf, 0)), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setStepParam(0.01f, PFX_MAX_SUB_STEPS + 1, 5, down), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(world.setStepParam(0.01f, 2, PFX_MAX_ITERATIONS + 1, down), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(world.setStepParam(0.01f, 0xffffffffu, 0xffffffffu, down), PFX_ERR_OUT_OF_RANGE);
   EXPECT_EQ(world.getParam().timeStep, before.timeStep);
   EXPECT_EQ(world.getParam().subStep, before.subStep);
   EXPECT_EQ(world.getParam().iteration, before.iteration);

@@ -42,9 +42,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   pfx_fuzz::checkStatesFinite(world, "world file load");
 
   pfx_fuzz::checkSaveLoadRoundTrip(world);
-  // A file may ask for billions of sub-steps or iterations, which the world honours: its
-  // step then takes as long as it asked for (one such input ran past a minute), which is not
-  // a hang. Such a world is loaded and saved again above but not stepped here.
+  // Up to PFX_MAX_SUB_STEPS times PFX_MAX_ITERATIONS solver sweeps a step, which a file may
+  // ask for: a world asking for more than a few hundred is loaded and saved again above but
+  // not stepped, so that the run spends its time on many inputs rather than long steps.
   const PfxWorldParam& param = world.getParam();
   if (std::uint64_t(param.subStep) * param.iteration > 256) return 0;
   pfx_fuzz::stepAndCheck(world, 1, "world file step");

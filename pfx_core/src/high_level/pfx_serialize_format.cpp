@@ -130,6 +130,14 @@ PfxConstraintRow PfxByteReader::row(const char* field) {
   row.m_lowerLimit = real(field);
   row.m_upperLimit = real(field);
   row.m_accumImpulse = real(field);
+  // The impulse the next step warm starts with, held to the rule of body velocities
+  // (PfxRigidState::isValid): no step leaves one whose square overflows, and one of 1e200
+  // N s made its bodies' velocities infinite in the first step.
+  if (ok() && !pfxIsFinite(row.m_accumImpulse * row.m_accumImpulse)) {
+    fail(PFX_ERR_INVALID_VALUE, field,
+         "has an impulse of " + std::to_string(row.m_accumImpulse) +
+             " N s, whose square overflows");
+  }
   return row;
 }
 

@@ -85,6 +85,14 @@ bool Parser::param() {
   p.numThreads = r.u32("numThreads");
   m_image.simulatedTime = r.f64("simulatedTime");
   if (!r.ok()) return false;
+  if (p.subStep > PFX_MAX_SUB_STEPS) {
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "subStep",
+                  std::to_string(p.subStep) + " above " + std::to_string(PFX_MAX_SUB_STEPS));
+  }
+  if (p.iteration > PFX_MAX_ITERATIONS) {
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "iteration",
+                  std::to_string(p.iteration) + " above " + std::to_string(PFX_MAX_ITERATIONS));
+  }
   if (const PfxInt32 err = PfxSerializeAccess::checkWorldParam(p); err != PFX_OK) {
     return r.fail(err, nullptr, "PfxWorld::initialize rejects these parameters");
   }

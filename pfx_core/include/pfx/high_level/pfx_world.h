@@ -33,6 +33,13 @@ enum PfxPipelineType : PfxUInt8 {
   kPfxPipelineStable,
 };
 
+// Bounds on PfxWorldParam::subStep and ::iteration, refused above with PFX_ERR_OUT_OF_RANGE:
+// a robot needs a few sub-steps of tens of iterations, and a file or call asking for
+// billions would make one step run for minutes. At both maximums a step solves 100000
+// times.
+constexpr PfxUInt32 PFX_MAX_SUB_STEPS = 100;
+constexpr PfxUInt32 PFX_MAX_ITERATIONS = 1000;
+
 struct PfxWorldParam {
   PfxVector3 worldCenter = PfxVector3::Zero();
   PfxVector3 worldExtent = PfxVector3::Constant(1000);
@@ -41,8 +48,8 @@ struct PfxWorldParam {
   // The solver and the integrator run subStep times per step, at timeStep / subStep, on
   // the contacts found once per step: small steps converge stacks and chains far better
   // than more iterations of one large step.
-  PfxUInt32 subStep = 1;
-  PfxUInt32 iteration = 10;  // per sub-step
+  PfxUInt32 subStep = 1;      // 1 .. PFX_MAX_SUB_STEPS
+  PfxUInt32 iteration = 10;  // per sub-step, 1 .. PFX_MAX_ITERATIONS
   PfxPipelineType pipeline = kPfxPipelineStable;
   PfxFloat separateBias = PfxFloat(0.2);
   // Overlap tolerated without correction, so that resting contacts do not jitter.
@@ -159,7 +166,11 @@ class PfxWorld {
   PfxWorld(const PfxWorld&) = delete;
   PfxWorld& operator=(const PfxWorld&) = delete;
 
-  // Validates and takes the parameters; removes every body.
+  // Validates and takes the parameters; removes every body. PFX_ERR_INVALID_VALUE for a
+  // value that is not finite, not positive or not within its rule above; PFX_ERR_OUT_OF_RANGE
+  // for more threads, sub-steps or iterations than PFX_MAX_THREADS, PFX_MAX_SUB_STEPS,
+  // PFX_MAX_ITERATIONS; PFX_ERR_INVALID_FLAG for an unknown pipeline or behaviour. On error
+  // nothing changes.
   PfxInt32 initialize(const PfxWorldParam& param);
   // Between steps: a new time step, sub-steps, iterations and gravity, with the bodies,
   // joints, contacts and sleep kept. Checked as initialize() checks them; on error

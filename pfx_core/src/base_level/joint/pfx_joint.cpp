@@ -88,9 +88,15 @@ PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
     if (c.m_lock > kPfxJointLockLimit || c.m_drive > kPfxJointDriveEffort) {
       return PFX_ERR_INVALID_FLAG;
     }
+    // The rows' impulses are what the next step warm starts with: held to the rule of body
+    // velocities (PfxRigidState::isValid), as one of 3.4e38 N s made its bodies infinite.
+    const PfxFloat warmStartLock = c.m_constraintRow.m_accumImpulse;
+    const PfxFloat warmStartDrive = c.m_driveRow.m_accumImpulse;
     const bool finite = pfxIsFinite(c.m_movableLowerLimit) && pfxIsFinite(c.m_movableUpperLimit) &&
                         pfxIsFinite(c.m_driveTarget) && pfxIsFinite(c.m_driveMaxForce) &&
-                        pfxIsFinite(c.m_friction);
+                        pfxIsFinite(c.m_friction) &&
+                        pfxIsFinite(warmStartLock * warmStartLock) &&
+                        pfxIsFinite(warmStartDrive * warmStartDrive);
     if (!finite || !inUnitRange(c.m_bias) || !inUnitRange(c.m_weight) ||
         !inUnitRange(c.m_damping) || c.m_friction < 0 || c.m_driveMaxForce < 0) {
       return PFX_ERR_INVALID_VALUE;

@@ -183,11 +183,17 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
 // overshoots it, and the chain shakes itself apart; adding h^2 F r = h |impulse| r to the
 // body's inertia in the solve, as an implicit step would, keeps it stable. The impulse is
 // last step's, so a joint that starts to pull gets the extra inertia one step later.
+// The extra inertia is held to a million times the body's own: a joint holding a heavy robot
+// by a light link adds a few hundred times, and one whose impulse came from a body flung at
+// 1e15 m/s made the inertia so large that the joint tree solver's factors overflowed to NaN.
+constexpr PfxFloat kMaxStiffnessBoost = PfxFloat(1e6);
 void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& arm,
                            PfxFloat timeStep) {
-  const PfxFloat boost = timeStep * impulse * arm.norm();
-  if (!(boost > 0) || body.m_massInv == 0) return;
+  if (body.m_massInv == 0) return;
   const PfxMatrix3 inertia = body.m_inertiaInv.inverse();
+  const PfxFloat boost = std::min(timeStep * impulse * arm.norm(),
+                                  kMaxStiffnessBoost * inertia.diagonal().maxCoeff());
+  if (!(boost > 0)) return;
   body.m_inertiaInv = (inertia + boost * PfxMatrix3::Identity()).inverse();
 }
 

@@ -10,6 +10,7 @@
 #include "base_level/collision/contact/pfx_clip_polygon.h"
 #include "base_level/collision/contact/pfx_closest_points.h"
 #include "base_level/collision/contact/pfx_contact_pairs.h"
+#include "base_level/collision/contact/pfx_gjk.h"
 
 namespace pfx {
 
@@ -106,12 +107,18 @@ class BoxBoxContact {
     const EdgeAxis edge = bestEdgeAxis(m_a.half, m_b.half, rotation, translation, threshold);
     if (edge.found && edge.separation >= threshold) return;
 
+    const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
+    const PfxFloat separation = edge.found ? std::max(bestFace, edge.separation) : bestFace;
+    // Apart, the closest points as pfxContactPolyhedra finds them (see there why).
+    PfxCoreGap gap;
+    const bool apart = separation > 0 && pfxGjkGap(core(m_a), core(m_b), gap);
+    if (apart && gap.distance >= threshold) return;
+
     const PfxFloat faceTolerance =
         PfxFloat(1e-3) * std::min(m_a.half.maxCoeff(), m_b.half.maxCoeff()) + PfxFloat(1e-5);
     m_mergeDistance = PfxFloat(1e-2) * faceTolerance;
     // Faces are preferred within a tolerance: they give full manifolds for resting
     // contact, and an edge pair that only ties a face adds nothing but jitter.
-    const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
     if (edge.found && edge.separation > bestFace + faceTolerance &&
         edgeContact(edge, rotation, translation)) {
       return;
@@ -121,23 +128,36 @@ class BoxBoxContact {
       // A tie: the larger face is the reference, so that the smaller one is clipped to it.
       referenceIsA = faceArea(m_a.half, faceA.axis) >= faceArea(m_b.half, faceB.axis);
     }
-    if (referenceIsA) {
-      faceContact(m_a, faceA, m_b, true);
-    } else {
-      faceContact(m_b, faceB, m_a, false);
+    const PfxFloat nearest = referenceIsA ? faceContact(m_a, faceA, m_b, true, apart)
+                                          : faceContact(m_b, faceB, m_a, false, apart);
+    if (apart && nearest > gap.distance + faceTolerance) {
+      m_sink.add(gap.normal, gap.pointA, gap.pointB, gap.distance);
     }
   }
 
  private:
+  static PfxConvexCore core(const BoxPose& box) {
+    PfxConvexCore c;
+    c.m_type = kPfxShapeBox;
+    c.m_size = box.half;
+    c.m_mesh = nullptr;
+    c.m_radius = 0;
+    c.m_rotation = box.transform->linear();
+    c.m_position = box.transform->translation();
+    return c;
+  }
+
   static PfxFloat faceArea(const PfxVector3& half, int axis) {
     return half[(axis + 1) % 3] * half[(axis + 2) % 3];
   }
 
   // Clips the face of `incident` that most opposes the reference face to the reference
   // face's rectangle; every clipped point within the threshold is a contact. Works in the
-  // reference box's frame, where the rectangle's sides are axis planes.
-  void faceContact(const BoxPose& reference, const FaceAxis& face, const BoxPose& incident,
-                   bool referenceIsA) {
+  // reference box's frame, where the rectangle's sides are axis planes. Returns the nearest
+  // distance reported (the largest float when none); for boxes `apart`, as
+  // pfxContactPolyhedra does, nothing stands for a face clipped away entirely.
+  PfxFloat faceContact(const BoxPose& reference, const FaceAxis& face, const BoxPose& incident,
+                       bool referenceIsA, bool apart) {
     const PfxTransform3& refTransform = *reference.transform;
     const PfxMatrix3 rotation = refTransform.linear().transpose() * incident.transform->linear();
     const PfxVector3 centre = refTransform.linear().transpose() *
@@ -177,7 +197,7 @@ class BoxBoxContact {
     }
 
     count = pfxRemoveDuplicatePoints(polygon, count, m_mergeDistance);
-    if (count == 0) {
+    if (count == 0 && !apart) {
       // Round-off clipped everything away: the deepest incident corner stands for the face.
       const PfxVector3 corners[4] = {faceCentre + edgeU + edgeV, faceCentre - edgeU + edgeV,
                                      faceCentre - edgeU - edgeV, faceCentre + edgeU - edgeV};
@@ -187,6 +207,7 @@ class BoxBoxContact {
       count = 1;
     }
     const PfxVector3 worldNormal = refTransform.linear() * normal;
+    PfxFloat nearest = std::numeric_limits<PfxFloat>::max();
     for (PfxUInt32 i = 0; i < count; ++i) {
       const PfxVector3& p = polygon[i];
       const PfxFloat distance = normal.dot(p) - reference.half[k];
@@ -197,7 +218,9 @@ class BoxBoxContact {
       } else {
         m_sink.add(-worldNormal, onIncident, onReference, distance);
       }
+      nearest = std::min(nearest, distance);
     }
+    return nearest;
   }
 
   // The edge of each box parallel to the axis pair that reaches furthest towards the other

@@ -63,17 +63,16 @@ bool deepestContact(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat sca
                     PfxFloat threshold, Contact& contact) {
   const PfxFloat radii = a.m_radius + b.m_radius;
   const PfxFloat touching = PfxFloat(1e-5) * scale;
-  const PfxGjkResult gjk = pfxGjkDistance(a, b, touching);
+  PfxGjkResult gjk;
+  PfxCoreGap gap;
+  const bool apart = pfxGjkGap(a, b, touching, gjk, gap);
   if (gjk.distance - radii >= threshold) return false;
 
-  const PfxVector3 gap = gjk.pointB - gjk.pointA;
-  if (gjk.distance > touching && gap.squaredNorm() > touching * touching) {
-    // The points are rebuilt from the simplex separately, so their gap, not the simplex
-    // distance, gives the unit normal.
-    contact.normal = gap.normalized();
-    contact.pointA = gjk.pointA;
-    contact.pointB = gjk.pointB;
-    contact.distance = gjk.distance;
+  if (apart) {
+    contact.normal = gap.normal;
+    contact.pointA = gap.pointA;
+    contact.pointB = gap.pointB;
+    contact.distance = gap.distance;
   } else {
     PfxEpaResult epa;
     if (pfxEpaPenetration(a, b, gjk.simplex, gjk.simplexSize, PfxFloat(1e-5) * scale, epa)) {

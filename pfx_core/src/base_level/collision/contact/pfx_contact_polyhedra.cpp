@@ -5,6 +5,7 @@
 #include "base_level/collision/contact/pfx_clip_polygon.h"
 #include "base_level/collision/contact/pfx_closest_points.h"
 #include "base_level/collision/contact/pfx_contact_pairs.h"
+#include "base_level/collision/contact/pfx_gjk.h"
 #include "base_level/collision/contact/pfx_polyhedron.h"
 
 namespace pfx {
@@ -145,7 +146,8 @@ class PolyhedraContact {
                    const PfxTransform3& transformA, PfxContactSink& sink)
       : m_a(a), m_b(b), m_transformA(transformA), m_sink(sink) {}
 
-  void run(PfxFloat faceTolerance) {
+  // coreA, coreB: the two shapes in the world, for their gap once they are apart.
+  void run(PfxFloat faceTolerance, const PfxConvexCore& coreA, const PfxConvexCore& coreB) {
     m_mergeDistance = PfxFloat(1e-2) * faceTolerance;
     const PfxFloat threshold = m_sink.getThreshold();
     const FaceQuery faceA = queryFaces(m_a, m_b, threshold);
@@ -155,27 +157,41 @@ class PolyhedraContact {
     const EdgeQuery edge = queryEdges(m_a, m_b, threshold);
     if (edge.found && edge.separation >= threshold) return;
 
+    const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
+    const PfxFloat separation = edge.found ? std::max(bestFace, edge.separation) : bestFace;
+    // Apart, the best separating axis gives only a lower bound of the gap (exact where a face
+    // or an edge pair is closest, short of it where a vertex meets an edge or a vertex), and
+    // the faces clipped along it may lie beside the closest points: a gap reported larger
+    // than there is, none at all, or a vertex beside the reference face taken for an
+    // overlap. GJK's closest points are exact there; they join the clipped face when it does
+    // not reach as close.
+    PfxCoreGap gap;
+    const bool apart = separation > 0 && pfxGjkGap(coreA, coreB, gap);
+    if (apart && gap.distance >= threshold) return;
+
     // Faces are preferred within a tolerance: they give full manifolds for resting
     // contact, and an edge pair that only ties a face adds nothing but jitter.
-    const PfxFloat bestFace = std::max(faceA.separation, faceB.separation);
     if (edge.found && edge.separation > bestFace + faceTolerance && edgeContact(edge)) return;
     bool referenceIsA = faceA.separation + faceTolerance >= faceB.separation;
     if (std::abs(faceA.separation - faceB.separation) <= faceTolerance) {
       // A tie: the larger face is the reference, so that the smaller one is clipped to it.
       referenceIsA = m_a.faceArea(faceA.face) >= m_b.faceArea(faceB.face);
     }
-    if (referenceIsA) {
-      faceContact(m_a, faceA.face, m_b, true);
-    } else {
-      faceContact(m_b, faceB.face, m_a, false);
+    const PfxFloat nearest = referenceIsA ? faceContact(m_a, faceA.face, m_b, true, apart)
+                                          : faceContact(m_b, faceB.face, m_a, false, apart);
+    if (apart && nearest > gap.distance + faceTolerance) {
+      m_sink.add(gap.normal, gap.pointA, gap.pointB, gap.distance);
     }
   }
 
  private:
   // Clips the face of `incident` that most opposes the reference face against the
   // reference face's side planes; every clipped point within the threshold is a contact.
-  void faceContact(const PosedPolyhedron& reference, PfxUInt32 refFace,
-                   const PosedPolyhedron& incident, bool referenceIsA) {
+  // Returns the nearest distance reported (the largest float when none). For shapes
+  // `apart`, a face clipped away entirely has nothing to report: its vertices lie beside the
+  // reference face, where their height over its plane is no distance between the shapes.
+  PfxFloat faceContact(const PosedPolyhedron& reference, PfxUInt32 refFace,
+                       const PosedPolyhedron& incident, bool referenceIsA, bool apart) {
     const PfxVector3 refNormal = reference.normals[refFace];
     const PfxFloat refDist = reference.planeDist[refFace];
 
@@ -213,7 +229,7 @@ class PolyhedraContact {
     }
 
     count = pfxRemoveDuplicatePoints(polygon, count, m_mergeDistance);
-    if (count == 0) {
+    if (count == 0 && !apart) {
       // Round-off clipped everything away: the deepest incident vertex stands for the face.
       PfxFloat best = std::numeric_limits<PfxFloat>::max();
       for (PfxUInt32 k = 0; k < incident.faceSize(incFace); ++k) {
@@ -225,6 +241,7 @@ class PolyhedraContact {
       }
       count = 1;
     }
+    PfxFloat nearest = std::numeric_limits<PfxFloat>::max();
     for (PfxUInt32 k = 0; k < count; ++k) {
       const PfxVector3& p = polygon[k];
       const PfxFloat dist = refNormal.dot(p) - refDist;
@@ -234,7 +251,9 @@ class PolyhedraContact {
       } else {
         emit(-refNormal, p, onReference, dist);
       }
+      nearest = std::min(nearest, dist);
     }
+    return nearest;
   }
 
   // Returns false when the closest points of the two edges do not lie on the separating
@@ -335,7 +354,10 @@ void pfxContactPolyhedra(const PfxShape& shapeA, const PfxTransform3& transformA
                           rotation * polyB.m_centroid + translation};
   const PfxFloat faceTolerance =
       PfxFloat(1e-3) * std::min(shapeSize(shapeA), shapeSize(shapeB)) + PfxFloat(1e-5);
-  PolyhedraContact(a, b, transformA, sink).run(faceTolerance);
+  PfxConvexCore coreA, coreB;
+  coreA.set(shapeA, transformA);
+  coreB.set(shapeB, transformB);
+  PolyhedraContact(a, b, transformA, sink).run(faceTolerance, coreA, coreB);
 }
 
 }  // namespace pfx

@@ -223,4 +223,26 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   return result;
 }
 
+bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance,
+               PfxGjkResult& result, PfxCoreGap& gap) {
+  result = pfxGjkDistance(a, b, tolerance);
+  const PfxVector3 between = result.pointB - result.pointA;
+  if (result.distance <= tolerance || between.squaredNorm() <= tolerance * tolerance) {
+    return false;
+  }
+  // The points are rebuilt from the simplex separately, so their gap, not the simplex
+  // distance, gives the unit normal.
+  gap.normal = between.normalized();
+  gap.pointA = result.pointA;
+  gap.pointB = result.pointB;
+  gap.distance = result.distance;
+  return true;
+}
+
+bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxCoreGap& gap) {
+  PfxGjkResult result;
+  const PfxFloat scale = a.boundingRadius() + b.boundingRadius() + PFX_EPSILON;
+  return pfxGjkGap(a, b, PfxFloat(1e-5) * scale, result, gap);
+}
+
 }  // namespace pfx

@@ -24,6 +24,20 @@ struct PfxGjkResult {
 // `tolerance` is the distance under which the cores count as touching.
 PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance);
 
+// The closest points of two cores apart by more than `tolerance`, with the unit normal from
+// A to B and their distance; false when the cores touch or overlap.
+struct PfxCoreGap {
+  PfxVector3 normal;
+  PfxVector3 pointA;
+  PfxVector3 pointB;
+  PfxFloat distance;
+};
+bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance,
+               PfxGjkResult& result, PfxCoreGap& gap);
+// The same, touching below a hundred-thousandth of the shapes' sizes, as the general pair
+// routine counts it.
+bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxCoreGap& gap);
+
 // The closest point to the origin of the triangle (a, b, c), as barycentric weights.
 void pfxClosestToOriginOnTriangle(const PfxVector3& a, const PfxVector3& b, const PfxVector3& c,
                                   PfxFloat weights[3]);
