@@ -12,12 +12,12 @@ namespace {
 const PfxParamNames kAt{"pfxBatchParticleConstraints", "PfxBatchParticleConstraintsParam"};
 constexpr PfxUInt32 kLeftOver = PFX_MAX_PARTICLE_PHASES;
 
-struct Work {
+struct ConstraintBatchWork {
   PfxUInt64* phasesOfParticle;  // bit k: the particle is in a constraint of phase k
   PfxUInt8* phaseOfConstraint;
 };
 
-std::size_t workBytes(PfxUInt32 numParticles, PfxUInt32 numConstraints, Work* work, void* base) {
+std::size_t constraintBatchWorkBytes(PfxUInt32 numParticles, PfxUInt32 numConstraints, ConstraintBatchWork* work, void* base) {
   const std::size_t particleBytes = pfxAlignBytes(sizeof(PfxUInt64) * numParticles);
   if (work) {
     work->phasesOfParticle = static_cast<PfxUInt64*>(base);
@@ -37,7 +37,7 @@ PfxUInt32 lowestFreePhase(PfxUInt64 taken) {
 // phase lists its constraints in index order (neighbours in memory stay neighbours).
 template <std::size_t N, typename ParticlesOf>
 void batch(PfxUInt32 numConstraints, const ParticlesOf& particlesOf, PfxUInt32 numParticles,
-           const Work& work, PfxParticleConstraintBatches& batches) {
+           const ConstraintBatchWork& work, PfxParticleConstraintBatches& batches) {
   std::fill(work.phasesOfParticle, work.phasesOfParticle + numParticles, PfxUInt64(0));
   std::array<PfxUInt32, PFX_MAX_PARTICLE_PHASES + 1> count{};
   for (PfxUInt32 i = 0; i < numConstraints; ++i) {
@@ -80,7 +80,7 @@ PfxInt32 checkParticle(const char* array, PfxUInt32 i, const char* field, PfxUIn
 
 PfxUInt32 pfxGetWorkBytesOfBatchParticleConstraints(PfxUInt32 numParticles,
                                                     PfxUInt32 numConstraints) {
-  return static_cast<PfxUInt32>(workBytes(numParticles, numConstraints, nullptr, nullptr));
+  return static_cast<PfxUInt32>(constraintBatchWorkBytes(numParticles, numConstraints, nullptr, nullptr));
 }
 
 PfxInt32 pfxBatchParticleConstraints(const PfxBatchParticleConstraintsParam& param) {
@@ -127,8 +127,8 @@ PfxInt32 pfxBatchParticleConstraints(const PfxBatchParticleConstraintsParam& par
       return err;
     }
   }
-  Work work;
-  workBytes(n, numConstraints, &work, param.workBuff);
+  ConstraintBatchWork work;
+  constraintBatchWorkBytes(n, numConstraints, &work, param.workBuff);
   batch<2>(
       param.numDistanceConstraints,
       [&](PfxUInt32 i) {

@@ -15,12 +15,12 @@ const PfxParamNames kDetectAt{"pfxDetectParticleGroupContacts",
                               "PfxDetectParticleGroupContactsParam"};
 const PfxParamNames kSolveAt{"pfxSolveParticleGroupContacts", "PfxSolveParticleGroupContactsParam"};
 
-struct Work {
+struct GroupCollisionWork {
   PfxUInt32* sortedB;  // B's particles in increasing x (ties by index)
   PfxFloat* sortedX;   // their x
 };
 
-std::size_t workBytes(PfxUInt32 numParticlesB, Work* work, void* base) {
+std::size_t groupCollisionWorkBytes(PfxUInt32 numParticlesB, GroupCollisionWork* work, void* base) {
   const std::size_t indexBytes = pfxAlignBytes(sizeof(PfxUInt32) * numParticlesB);
   if (work) {
     work->sortedB = static_cast<PfxUInt32*>(base);
@@ -36,7 +36,7 @@ PfxFloat reachOf(const PfxParticle& p, const PfxDetectParticleGroupContactsParam
 }  // namespace
 
 PfxUInt32 pfxGetWorkBytesOfDetectParticleGroupContacts(PfxUInt32 numParticlesB) {
-  return static_cast<PfxUInt32>(workBytes(numParticlesB, nullptr, nullptr));
+  return static_cast<PfxUInt32>(groupCollisionWorkBytes(numParticlesB, nullptr, nullptr));
 }
 
 PfxInt32 pfxDetectParticleGroupContacts(const PfxDetectParticleGroupContactsParam& param,
@@ -68,8 +68,8 @@ PfxInt32 pfxDetectParticleGroupContacts(const PfxDetectParticleGroupContactsPara
   }
   result = PfxDetectParticleGroupContactsResult();
   if (param.numParticlesA == 0 || param.numParticlesB == 0) return PFX_OK;
-  Work work;
-  workBytes(param.numParticlesB, &work, param.workBuff);
+  GroupCollisionWork work;
+  groupCollisionWorkBytes(param.numParticlesB, &work, param.workBuff);
   const PfxParticle* b = param.particlesB;
   PfxFloat maxReachB = 0;
   for (PfxUInt32 j = 0; j < param.numParticlesB; ++j) {

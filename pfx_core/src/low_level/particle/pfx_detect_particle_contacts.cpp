@@ -17,7 +17,7 @@ constexpr PfxUInt32 kDetectedParticlesPerTask = 64;
 
 // The scratch, carved out of workBuff: a fixed set of rigid-contact slots per particle (so
 // that particles are queried in parallel and gathered in index order), then the grid.
-struct Work {
+struct ParticleDetectionWork {
   PfxParticleContact* rigidSlots;
   PfxUInt32* rigidCounts;
   PfxUInt32* cellStart;  // tableSize + 1 entries
@@ -32,7 +32,7 @@ PfxUInt32 tableSizeFor(PfxUInt32 numParticles) {
   return size;
 }
 
-std::size_t workBytes(PfxUInt32 numParticles, Work* work, void* base) {
+std::size_t particleDetectionWorkBytes(PfxUInt32 numParticles, ParticleDetectionWork* work, void* base) {
   const PfxUInt32 tableSize = tableSizeFor(numParticles);
   std::size_t offset = 0;
   auto take = [&](std::size_t bytes) {
@@ -148,7 +148,7 @@ PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleConta
 }
 
 void detectRigid(const PfxDetectParticleContactsParam& param, const NearBodies& near,
-                 PfxUInt32 i, const Work& work) {
+                 PfxUInt32 i, const ParticleDetectionWork& work) {
   const PfxParticle& p = param.particles[i];
   PfxUInt32& count = work.rigidCounts[i];
   count = 0;
@@ -220,7 +220,7 @@ PfxUInt32 bucketOf(const CellCoord& c, PfxUInt32 tableSize) {
 // Counting sort of the particles by bucket, stable, so that each bucket lists its particles
 // in index order.
 void fillGrid(const PfxDetectParticleContactsParam& param, PfxFloat inverseCellSize,
-              const Work& work) {
+              const ParticleDetectionWork& work) {
   std::fill(work.cellStart, work.cellStart + work.tableSize + 1, 0u);
   for (PfxUInt32 i = 0; i < param.numParticles; ++i) {
     const PfxUInt32 bucket = bucketOf(cellOf(param.particles[i].m_position, inverseCellSize),
@@ -246,7 +246,7 @@ bool particlesMeet(const PfxParticle& a, const PfxParticle& b) {
 }  // namespace
 
 PfxUInt32 pfxGetWorkBytesOfDetectParticleContacts(PfxUInt32 numParticles) {
-  return static_cast<PfxUInt32>(workBytes(numParticles, nullptr, nullptr));
+  return static_cast<PfxUInt32>(particleDetectionWorkBytes(numParticles, nullptr, nullptr));
 }
 
 PfxInt32 pfxDetectParticleContacts(const PfxDetectParticleContactsParam& param,
@@ -284,8 +284,8 @@ PfxInt32 pfxDetectParticleContacts(const PfxDetectParticleContactsParam& param,
   }
   result = PfxDetectParticleContactsResult();
   if (param.numParticles == 0) return PFX_OK;
-  Work work;
-  workBytes(param.numParticles, &work, param.workBuff);
+  ParticleDetectionWork work;
+  particleDetectionWorkBytes(param.numParticles, &work, param.workBuff);
 
   PfxUInt32 numContacts = 0;
   auto emit = [&](const PfxParticleContact& c) {

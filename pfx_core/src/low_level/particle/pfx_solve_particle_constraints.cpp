@@ -290,7 +290,7 @@ PfxInt32 checkBatches(const char* field, const PfxParticleConstraintBatches* bat
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
                           "%s: %s::%s were made for %u constraints in %u phases, but there are "
                           "%u (pfxBatchParticleConstraints)",
-                          kAt.stage, kAt.param, field, batches->numConstraints,
+                          kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, field, batches->numConstraints,
                           batches->numPhases, numConstraints);
   }
   return PFX_OK;
@@ -349,7 +349,7 @@ PfxInt32 pfxCheckParticleConstraints(const PfxSolveParticleConstraintsParam& par
   if (!param.distanceBatches != !param.angleBatches) {
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
                           "%s: %s::distanceBatches and angleBatches must be given both or neither",
-                          kAt.stage, kAt.param);
+                          kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param);
   }
   for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) {
     const PfxParticleDistanceConstraint& c = param.distanceConstraints[i];
