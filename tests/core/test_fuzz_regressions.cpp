@@ -230,3 +230,55 @@ TEST(FuzzRegressions, WarmStartImpulseWhoseSquareOverflowsIsRefusedWithNothingCh
   EXPECT_NE(error.find("constraintRow: has an impulse of"), std::string::npos) << error;
   EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }
+
+// fuzz_world_file: a saved hinge whose anchor in its first body was 3.4e38 m away (finite,
+// so it was accepted) turned the pendulum's position NaN in the first step, the position
+// correction pulling the bar to that anchor. An anchor whose squared length overflows is
+// refused now, by pfxCheckJoint (addJoint, setJoint and the file reader).
+TEST(FuzzRegressions, JointAnchorWhoseSquareOverflowsIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxUInt32 jointId = 0;
+  addPendulum(world, &jointId);
+  const PfxJoint before = world.getJoint(jointId);
+  PfxJoint faraway = before;
+  faraway.m_anchorA.z() = -kLargestFloat;
+  EXPECT_EQ(pfxCheckJoint(faraway), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setJoint(jointId, faraway), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.addJoint(faraway), PFX_ERR_INVALID_VALUE);
+  faraway = before;
+  faraway.m_anchorB.x() = kLargestFloat / 2;
+  EXPECT_EQ(world.setJoint(jointId, faraway), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumJoints(), 1u);
+  EXPECT_EQ(world.getJoint(jointId).m_anchorA, before.m_anchorA);
+  EXPECT_EQ(world.getJoint(jointId).m_anchorB, before.m_anchorB);
+  // An anchor far away but with a finite square is still taken, and the bar steps finitely.
+  faraway = before;
+  faraway.m_anchorA.z() = PfxFloat(-1e18);
+  ASSERT_EQ(world.setJoint(jointId, faraway), PFX_OK);
+  for (int step = 0; step < 10; ++step) ASSERT_EQ(world.step(), PFX_OK);
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    EXPECT_TRUE(world.getRigidState(id).isValid()) << "body " << id;
+  }
+
+  // A file carrying such an anchor is refused by the reader.
+  PfxWorld saved;
+  ASSERT_EQ(saved.initialize(PfxWorldParam()), PFX_OK);
+  addPendulum(saved, &jointId);
+  PfxJoint marked = saved.getJoint(jointId);
+  const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
+  marked.m_anchorA.z() = mark;
+  ASSERT_EQ(saved.setJoint(jointId, marked), PFX_OK);
+  Bytes bytes = saveWorld(saved);
+  const PfxUInt8* value = reinterpret_cast<const PfxUInt8*>(&mark);
+  const auto at = std::search(bytes.begin(), bytes.end(), value, value + sizeof mark);
+  ASSERT_NE(at, bytes.end());
+  std::memcpy(&*at, &kLargestFloat, sizeof kLargestFloat);
+  resealChecksum(bytes);
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  std::string error;
+  EXPECT_EQ(loadWorld(loaded, meshes, bytes, &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+}

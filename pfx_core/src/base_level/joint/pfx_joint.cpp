@@ -80,7 +80,10 @@ PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
       (joint.m_type == kPfxJointSwingTwist && joint.m_rotation != kPfxJointRotationSwingTwist)) {
     return PFX_ERR_INVALID_FLAG;
   }
-  if (!pfxIsFinite(joint.m_anchorA) || !pfxIsFinite(joint.m_anchorB) ||
+  // An anchor is a lever arm that the stages square, and the position correction pulls the
+  // body to it: a saved anchor 3.4e38 m from its body (finite) turned the pendulum's position
+  // NaN in the first step. Held to the rule of body velocities: a finite squared length.
+  if (!pfxIsFinite(joint.m_anchorA.squaredNorm()) || !pfxIsFinite(joint.m_anchorB.squaredNorm()) ||
       !isFrameRotation(joint.m_frameA) || !isFrameRotation(joint.m_frameB)) {
     return PFX_ERR_INVALID_VALUE;
   }
