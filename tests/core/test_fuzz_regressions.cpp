@@ -160,6 +160,23 @@ PfxUInt32 addPendulum(PfxWorld& world, PfxUInt32* jointId) {
   return bar;
 }
 
+// Saves `world`, writes `replacement` over the first real in the file equal to `value`
+// (a value the test made unique), reseals the checksum and loads the file into `loaded`.
+PfxInt32 loadWithValueReplaced(const PfxWorld& world, PfxFloat value, PfxFloat replacement,
+                               PfxWorld& loaded, std::string& error) {
+  Bytes bytes = saveWorld(world);
+  const PfxUInt8* wanted = reinterpret_cast<const PfxUInt8*>(&value);
+  const auto at = std::search(bytes.begin(), bytes.end(), wanted, wanted + sizeof value);
+  if (at == bytes.end()) {
+    ADD_FAILURE() << "the saved world holds no " << value;
+    return PFX_OK;
+  }
+  std::memcpy(&*at, &replacement, sizeof replacement);
+  resealChecksum(bytes);
+  PfxSerializedMeshes meshes;
+  return loadWorld(loaded, meshes, bytes, &error);
+}
+
 }  // namespace
 
 // fuzz_world_file: a saved pendulum whose joint row carried an impulse of 2.3e15 N s (a
@@ -213,20 +230,14 @@ TEST(FuzzRegressions, WarmStartImpulseWhoseSquareOverflowsIsRefusedWithNothingCh
   ASSERT_EQ(saved.initialize(PfxWorldParam()), PFX_OK);
   addPendulum(saved, &jointId);
   ASSERT_EQ(saved.step(), PFX_OK);
-  Bytes bytes = saveWorld(saved);
   // The impulse is the last real of the Y row's constraint row; found by its value.
   const PfxFloat impulse =
       saved.getJoint(jointId).m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse;
   ASSERT_NE(impulse, 0);
-  const PfxUInt8* value = reinterpret_cast<const PfxUInt8*>(&impulse);
-  const auto at = std::search(bytes.begin(), bytes.end(), value, value + sizeof impulse);
-  ASSERT_NE(at, bytes.end());
-  std::memcpy(&*at, &kLargestFloat, sizeof kLargestFloat);
-  resealChecksum(bytes);
   PfxWorld loaded;
-  PfxSerializedMeshes meshes;
   std::string error;
-  EXPECT_EQ(loadWorld(loaded, meshes, bytes, &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(loadWithValueReplaced(saved, impulse, kLargestFloat, loaded, error),
+            PFX_ERR_INVALID_VALUE);
   EXPECT_NE(error.find("constraintRow: has an impulse of"), std::string::npos) << error;
   EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }
@@ -269,16 +280,98 @@ TEST(FuzzRegressions, JointAnchorWhoseSquareOverflowsIsRefusedWithNothingChanged
   const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
   marked.m_anchorA.z() = mark;
   ASSERT_EQ(saved.setJoint(jointId, marked), PFX_OK);
-  Bytes bytes = saveWorld(saved);
-  const PfxUInt8* value = reinterpret_cast<const PfxUInt8*>(&mark);
-  const auto at = std::search(bytes.begin(), bytes.end(), value, value + sizeof mark);
-  ASSERT_NE(at, bytes.end());
-  std::memcpy(&*at, &kLargestFloat, sizeof kLargestFloat);
-  resealChecksum(bytes);
   PfxWorld loaded;
-  PfxSerializedMeshes meshes;
   std::string error;
-  EXPECT_EQ(loadWorld(loaded, meshes, bytes, &error), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(loadWithValueReplaced(saved, mark, kLargestFloat, loaded, error),
+            PFX_ERR_INVALID_VALUE);
   EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
   EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+}
+
+// fuzz_world_api: a body of 1.4e-45 kg (positive and finite, so it was accepted) had an
+// infinite inverse mass, and gravity made it NaN in its first step. Masses and principal
+// moments of inertia outside [kPfxMinMass, kPfxMaxMass] and [kPfxMinMoment, kPfxMaxMoment]
+// are refused now, by PfxRigidBody::isValid (addRigidBody, setRigidBody, the file reader and
+// the loaders).
+TEST(FuzzRegressions, MassOrMomentOutOfRangeIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  const PfxUInt32 kept = addSphere(world, PfxVector3(0, 2, 0));
+  const PfxRigidBody before = world.getRigidBody(kept);
+  PfxRigidState state;
+  state.reset();
+  const PfxShape shape = pfxMakeShape(PfxBox(0.1f, 0.1f, 0.1f));
+
+  const PfxFloat tooLight = std::numeric_limits<PfxFloat>::denorm_min();
+  const PfxFloat badMasses[] = {tooLight, std::numeric_limits<PfxFloat>::min(),
+                                kPfxMinMass / 2, kPfxMaxMass * 2, kLargestFloat};
+  for (const PfxFloat mass : badMasses) {
+    PfxRigidBody body = before;
+    body.setMass(mass);
+    EXPECT_FALSE(body.isValid()) << mass;
+    EXPECT_EQ(world.addRigidBody(state, body, &shape, 1), PFX_ERR_INVALID_VALUE) << mass;
+    EXPECT_EQ(world.setRigidBody(kept, body), PFX_ERR_INVALID_VALUE) << mass;
+  }
+  for (const PfxFloat moment : {kPfxMinMoment / 2, kPfxMaxMoment * 2}) {
+    PfxRigidBody body = before;
+    body.setInertia(PfxMatrix3::Identity() * moment);
+    EXPECT_FALSE(body.isValid()) << moment;
+    EXPECT_EQ(world.setRigidBody(kept, body), PFX_ERR_INVALID_VALUE) << moment;
+  }
+  EXPECT_EQ(world.getNumRigidBodies(), 1u);
+  EXPECT_EQ(world.getRigidBody(kept).getMass(), before.getMass());
+  EXPECT_EQ(world.getRigidBody(kept).getInertia(), before.getInertia());
+
+  // The ends of the ranges are bodies, and the lightest one falls under gravity finitely.
+  for (const PfxFloat mass : {kPfxMinMass, kPfxMaxMass}) {
+    PfxRigidBody body = before;
+    body.setMass(mass);
+    body.setInertia(PfxMatrix3::Identity() * (mass == kPfxMinMass ? kPfxMinMoment : kPfxMaxMoment));
+    EXPECT_TRUE(body.isValid()) << mass;
+    ASSERT_EQ(world.setRigidBody(kept, body), PFX_OK) << mass;
+    ASSERT_EQ(world.step(), PFX_OK);
+    EXPECT_TRUE(world.getRigidState(kept).isValid()) << mass;
+  }
+}
+
+// fuzz_world_file: a saved world whose hinged bar carried a pending force of -1.7e38 N
+// (finite, so it was read) turned two coupled pendulums NaN in the first step: the force
+// gave the bar 2.8e36 m/s, and the joint solver squared that. Stage (1) cuts a body's speeds
+// to kPfxMaxLinearSpeed and kPfxMaxAngularSpeed now (forming them in long double when float
+// would overflow on the way), and applyForce refuses a call whose sum with the earlier ones
+// overflows.
+TEST(FuzzRegressions, HugeForceOnALightBodyIsCutToTheSpeedLimit) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxUInt32 jointId = 0;
+  const PfxUInt32 bar = addPendulum(world, &jointId);
+  const PfxUInt32 free = addSphere(world, PfxVector3(5, 2, 0));
+  PfxRigidBody light = world.getRigidBody(free);
+  light.setMass(kPfxMinMass);
+  light.setInertia(PfxMatrix3::Identity() * kPfxMinMoment);
+  ASSERT_EQ(world.setRigidBody(free, light), PFX_OK);
+
+  const PfxVector3 huge(-kLargestFloat * PfxFloat(0.6), kLargestFloat * PfxFloat(0.6), 0);
+  ASSERT_EQ(world.applyForce(bar, huge, huge), PFX_OK);
+  ASSERT_EQ(world.applyForce(free, huge, huge), PFX_OK);
+  // A second call would overflow the sum: refused, the first kept.
+  EXPECT_EQ(world.applyForce(free, huge, PfxVector3::Zero()), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.applyForce(free, PfxVector3::Zero(), huge), PFX_ERR_INVALID_VALUE);
+
+  ASSERT_EQ(world.step(), PFX_OK);
+  for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+    ASSERT_TRUE(world.getRigidState(id).isValid()) << "body " << id;
+  }
+  // The free body moved only by the force: cut to the limit, along the force.
+  const PfxRigidState& flung = world.getRigidState(free);
+  EXPECT_NEAR(flung.getLinearVelocity().norm(), kPfxMaxLinearSpeed, kPfxMaxLinearSpeed * 1e-3);
+  EXPECT_NEAR(flung.getLinearVelocity().normalized().dot(huge.stableNormalized()), 1, 1e-3);
+  EXPECT_NEAR(flung.getAngularVelocity().norm(), kPfxMaxAngularSpeed, kPfxMaxAngularSpeed * 1e-3);
+  for (int step = 0; step < 30; ++step) {
+    ASSERT_EQ(world.applyForce(free, huge, huge), PFX_OK);
+    ASSERT_EQ(world.step(), PFX_OK);
+    for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+      ASSERT_TRUE(world.getRigidState(id).isValid()) << "body " << id << ", step " << step;
+    }
+  }
 }

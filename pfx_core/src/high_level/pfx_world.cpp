@@ -292,9 +292,10 @@ PfxInt32 PfxWorld::setRigidBody(PfxUInt32 id, const PfxRigidBody& body) {
 
 PfxInt32 PfxWorld::applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque) {
   if (!hasRigidBody(id)) return PFX_ERR_OUT_OF_RANGE;
-  if (!pfxIsFinite(force) || !pfxIsFinite(torque)) return PFX_ERR_INVALID_VALUE;
-  m_forces[id] += force;
-  m_torques[id] += torque;
+  const PfxVector3 forceSum = m_forces[id] + force, torqueSum = m_torques[id] + torque;
+  if (!pfxIsFinite(forceSum) || !pfxIsFinite(torqueSum)) return PFX_ERR_INVALID_VALUE;
+  m_forces[id] = forceSum;
+  m_torques[id] = torqueSum;
   if (pfxMotionTypeIsDynamic(m_states[id].getMotionType()) &&
       (!force.isZero(0) || !torque.isZero(0))) {
     wakeIslandOf(id);

@@ -208,6 +208,8 @@ class PfxWorld {
 
   // A force and torque (world frame, about the centre of mass) applied during the next
   // step only; calls add up. A force or torque other than zero wakes the body's island.
+  // Refuses non-finite values and a call whose sum with the earlier ones overflows
+  // (PFX_ERR_INVALID_VALUE, the sum kept as it was).
   PfxInt32 applyForce(PfxUInt32 id, const PfxVector3& force, const PfxVector3& torque);
   // Moves a keyframe body to the pose over the next step (seed 4_motion_type). A target
   // other than the current pose wakes the body and the islands touching it; a keyframe

@@ -29,7 +29,7 @@ void PfxRigidBody::setInertia(const PfxMatrix3& inertia) {
 }
 
 bool PfxRigidBody::isValid() const {
-  if (!(m_mass > 0) || !pfxIsFinite(m_mass)) return false;
+  if (!(m_mass >= kPfxMinMass && m_mass <= kPfxMaxMass)) return false;
   if (!m_inertia.allFinite()) return false;
   if ((m_inertia - m_inertia.transpose()).cwiseAbs().maxCoeff() >
       PfxFloat(1e-4) * m_inertia.cwiseAbs().maxCoeff()) {
@@ -39,8 +39,9 @@ bool PfxRigidBody::isValid() const {
   // A principal moment below the largest times the precision's epsilon is lost in rounding
   // when the tensor is turned into the world frame; its inverse (7e37 for the 1.4e-38 of a
   // fuzzed saved file) sent the solver's impulses to infinity.
-  if (!(eig.eigenvalues().minCoeff() >
-        eig.eigenvalues().maxCoeff() * std::numeric_limits<PfxFloat>::epsilon())) {
+  const PfxFloat smallest = eig.eigenvalues().minCoeff(), largest = eig.eigenvalues().maxCoeff();
+  if (!(smallest > largest * std::numeric_limits<PfxFloat>::epsilon()) ||
+      !(smallest >= kPfxMinMoment && largest <= kPfxMaxMoment)) {
     return false;
   }
   return m_friction >= 0 && pfxIsFinite(m_friction) && m_restitution >= 0 &&

@@ -12,13 +12,38 @@ bool movedByForces(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
 }
 
+using WideVector = Eigen::Matrix<long double, 3, 1>;
+
+WideVector wide(const PfxVector3& v) { return v.cast<long double>(); }
+
+PfxVector3 cutToSpeed(const WideVector& velocity, PfxFloat maxSpeed) {
+  const long double speed = velocity.norm();
+  return (speed > maxSpeed ? WideVector(velocity * (maxSpeed / speed)) : velocity)
+      .cast<PfxFloat>();
+}
+
+// Past the speed limits the sums are formed again in long double: a force of 1e19 N on a body
+// of 1e-12 kg overflows float on its way to a velocity, and a cut of infinity has no direction.
 void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3& force,
                 const PfxVector3& torque, const PfxVector3& gravity, PfxFloat timeStep) {
-  state.setLinearVelocity(state.getLinearVelocity() +
-                          (force * body.getMassInv() + gravity) * timeStep);
+  const PfxVector3& linear = state.getLinearVelocity();
+  const PfxVector3 pushed = linear + (force * body.getMassInv() + gravity) * timeStep;
+  state.setLinearVelocity(
+      pushed.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed
+          ? pushed
+          : cutToSpeed(wide(linear) + (wide(force) * (long double)body.getMassInv() + wide(gravity)) *
+                                          (long double)timeStep,
+                       kPfxMaxLinearSpeed));
   const PfxMatrix3 rotation = state.getOrientation().toRotationMatrix();
   const PfxMatrix3 inertiaInvWorld = pfxRotateInertia(rotation, body.getInertiaInv());
-  state.setAngularVelocity(state.getAngularVelocity() + inertiaInvWorld * torque * timeStep);
+  const PfxVector3& angular = state.getAngularVelocity();
+  const PfxVector3 turned = angular + inertiaInvWorld * torque * timeStep;
+  state.setAngularVelocity(
+      turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed
+          ? turned
+          : cutToSpeed(wide(angular) + inertiaInvWorld.cast<long double>() * wide(torque) *
+                                           (long double)timeStep,
+                       kPfxMaxAngularSpeed));
 }
 
 bool validStep(const PfxVector3& gravity, PfxFloat timeStep) {

@@ -5,6 +5,15 @@
 
 namespace pfx {
 
+// The masses (kg) and principal moments of inertia (kg m^2) an active body may have. Within
+// them, the largest impulse a contact or joint between the heaviest and the lightest body can
+// carry at the largest speed (kPfxMaxLinearSpeed) still changes a velocity by a finite amount
+// in float; a mass of 1e-45 kg had an infinite inverse, and its first step turned it NaN.
+constexpr PfxFloat kPfxMinMass = PfxFloat(1e-12);
+constexpr PfxFloat kPfxMaxMass = PfxFloat(1e12);
+constexpr PfxFloat kPfxMinMoment = PfxFloat(1e-18);
+constexpr PfxFloat kPfxMaxMoment = PfxFloat(1e18);
+
 class PfxRigidBody {
  public:
   void reset();
@@ -23,9 +32,9 @@ class PfxRigidBody {
   void setFriction(PfxFloat friction) { m_friction = friction; }
   void setRestitution(PfxFloat restitution) { m_restitution = restitution; }
 
-  // Positive finite mass, symmetric positive-definite inertia whose smallest principal moment
-  // is not lost in rounding beside the largest (at least the largest times epsilon),
-  // friction >= 0, 0 <= restitution <= 1.
+  // Mass within [kPfxMinMass, kPfxMaxMass], symmetric inertia whose principal moments lie
+  // within [kPfxMinMoment, kPfxMaxMoment] and whose smallest is not lost in rounding beside
+  // the largest (at least the largest times epsilon), friction >= 0, 0 <= restitution <= 1.
   bool isValid() const;
 
  private:

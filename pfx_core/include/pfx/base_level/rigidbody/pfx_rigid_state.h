@@ -6,6 +6,13 @@
 
 namespace pfx {
 
+// The speeds a body moved by forces keeps: stage (1), pfxApplyExternalForce, cuts a faster
+// one back to them, direction kept. Far beyond any body a robot meets (a rifle bullet flies
+// at 1e3 m/s), they bound what a force, however large, on a body, however light, can make of
+// its velocity, and so every impulse that velocity meets later.
+constexpr PfxFloat kPfxMaxLinearSpeed = PfxFloat(1e5);   // m/s
+constexpr PfxFloat kPfxMaxAngularSpeed = PfxFloat(1e5);  // rad/s
+
 class PfxRigidState {
  public:
   void reset();

@@ -7,8 +7,9 @@
 
 namespace pfx {
 
-// One body: v += (F/m + g) dt, w += I_world^-1 T dt. Bodies that forces do not move
-// (fixed, keyframe, trigger) and sleeping bodies are left as they are.
+// One body: v += (F/m + g) dt, w += I_world^-1 T dt, each then cut to kPfxMaxLinearSpeed and
+// kPfxMaxAngularSpeed. Bodies that forces do not move (fixed, keyframe, trigger) and sleeping
+// bodies are left as they are.
 PfxInt32 pfxApplyExternalForce(PfxRigidState& state, const PfxRigidBody& body,
                                const PfxVector3& force, const PfxVector3& torque,
                                const PfxVector3& gravity, PfxFloat timeStep);
