@@ -5,7 +5,8 @@
 #   fuzz.sh build                    configure and build every target
 #   fuzz.sh TARGET SECONDS [OPTS]    run one target (fuzz_urdf, ...; built if missing) for
 #                                    SECONDS, with any further libFuzzer options
-#   fuzz.sh all SECONDS              every target for SECONDS, two at a time (the CI stage)
+#   fuzz.sh all SECONDS              every target for SECONDS, two at a time, with a fixed
+#                                    seed (the CI stage; see below)
 # A run starts from the seed corpus tests/fuzz/corpus/<name>/ and keeps what it finds in
 # build-fuzz/corpus/<name>/, so a later run goes on from there. A crash, leak, hang (one
 # input over 10 s), memory blow-up or sanitizer report fails the run: the input is saved in
@@ -66,14 +67,14 @@ case ${1:-} in
   all)
     seconds=${2:?usage: fuzz.sh all SECONDS}
     failed=0
-    # fuzz_world_file stays out of these runs while a defect it finds in under a minute is
-    # open (a saved world that steps to a non-finite state, README "Fuzzing"); run it by hand.
-    ci_targets=(fuzz_urdf fuzz_mesh fuzz_octomap fuzz_scene fuzz_world_api)
     # Two at a time, for two cores: each pair's slower run sets the pace.
-    for ((i = 0; i < ${#ci_targets[@]}; i += 2)); do
+    for ((i = 0; i < ${#targets[@]}; i += 2)); do
       pids=()
-      for target in "${ci_targets[@]:i:2}"; do
-        run_target "$target" "$seconds" &
+      for target in "${targets[@]:i:2}"; do
+        # A fixed seed: the same commit explores the same inputs here as in CI (as far as
+        # the machine's speed lets it in the time), so a run by hand before a change lands
+        # sees what CI will. Campaigns by hand (fuzz.sh TARGET SECONDS) take random seeds.
+        run_target "$target" "$seconds" -seed=1 &
         pids+=($!)
       done
       for pid in "${pids[@]}"; do wait "$pid" || failed=1; done

@@ -192,9 +192,15 @@ void bindWorld(py::module_& m) {
             raiseIfError(err, "step");
           },
           py::arg("count") = 1, "Steps count times by param.time_step (the GIL is released).")
-      .def_property_readonly(
+      .def_property(
           "simulated_time", [](const PyWorld& w) { return w.world.getSimulatedTime(); },
-          "Seconds simulated since initialize (a loaded world goes on from its saved time).")
+          [](PyWorld& w, double seconds) {
+            raiseIfError(w.world.setSimulatedTime(seconds),
+                         "simulated_time must be finite and not negative");
+          },
+          "Seconds simulated since initialize (a loaded world goes on from its saved time). "
+          "Settable, for a world rebuilt to continue another's clock; a negative, NaN or "
+          "infinite time raises pfx.Error and changes nothing.")
       .def_property_readonly(
           "stats", [](const PyWorld& w) { return w.world.getStats(); },
           "WorldStats of the last step (a copy).")

@@ -136,3 +136,19 @@ def test_corrupt_saved_world_is_rejected(tmp_path):
     with pytest.raises(pfx.Error, match="small.pfx"):
         world.load(str(path))
     assert_unchanged(world, before)
+
+
+def test_simulated_time_is_set_and_bad_times_are_refused():
+    world = small_world()
+    world.simulated_time = 12.5
+    assert world.simulated_time == 12.5
+    world.step()
+    assert world.simulated_time == pytest.approx(12.5 + world.param.time_step)
+    now = world.simulated_time
+    before = state_lines(world)
+    for bad in (-1.0, math.nan, math.inf):
+        with pytest.raises(pfx.InvalidValueError) as error:
+            world.simulated_time = bad
+        assert "simulated_time" in str(error.value)
+        assert world.simulated_time == now
+    assert_unchanged(world, before)
