@@ -375,3 +375,32 @@ TEST(FuzzRegressions, HugeForceOnALightBodyIsCutToTheSpeedLimit) {
     }
   }
 }
+
+// fuzz_world_api: a fixed body given an inertia of -inf by setRigidBody was accepted (the
+// mass properties of a body forces do not move were not checked), and the world could no
+// longer be saved. Every body's mass and inertia must be finite now.
+TEST(FuzzRegressions, FixedBodyWithInfiniteInertiaIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit fixed;
+  fixed.motionType = kPfxMotionTypeFixed;
+  PfxUInt32 id = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(1, 0.1f, 1)), fixed, &id), PFX_OK);
+  const PfxRigidBody before = world.getRigidBody(id);
+  PfxRigidBody body = before;
+  PfxMatrix3 inertia = body.getInertia();
+  inertia(1, 1) = -std::numeric_limits<PfxFloat>::infinity();
+  body.setInertia(inertia);
+  EXPECT_EQ(world.setRigidBody(id, body), PFX_ERR_INVALID_VALUE);
+  body = before;
+  body.setMass(std::numeric_limits<PfxFloat>::quiet_NaN());
+  EXPECT_EQ(world.setRigidBody(id, body), PFX_ERR_INVALID_VALUE);
+  PfxRigidState state;
+  state.reset();
+  state.setMotionType(kPfxMotionTypeFixed);
+  const PfxShape shape = pfxMakeShape(PfxSphere(1));
+  EXPECT_EQ(world.addRigidBody(state, body, &shape, 1), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 1u);
+  EXPECT_EQ(world.getRigidBody(id).getInertia(), before.getInertia());
+  EXPECT_FALSE(saveWorld(world).empty());
+}

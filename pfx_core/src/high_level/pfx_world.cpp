@@ -140,6 +140,10 @@ PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& 
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && !body.isValid()) {
     return PFX_ERR_INVALID_VALUE;
   }
+  // A body forces do not move needs no usable mass, but the world must still save it.
+  if (!pfxIsFinite(body.getMass()) || !body.getInertia().allFinite()) {
+    return PFX_ERR_INVALID_VALUE;
+  }
   if (!(body.getFriction() >= 0) || !pfxIsFinite(body.getFriction()) ||
       !(body.getRestitution() >= 0) || !(body.getRestitution() <= 1)) {
     return PFX_ERR_INVALID_VALUE;

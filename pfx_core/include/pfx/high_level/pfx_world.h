@@ -185,8 +185,8 @@ class PfxWorld {
   // Adds a body with one shape or a compound of up to 64 (the shapes are copied). The
   // state's rigid body id is set to the new id, and the body starts awake (the world alone
   // puts bodies to sleep). Rejects an invalid state (NaN, non-unit orientation), an invalid
-  // mass or inertia on a body that forces move, invalid shapes and too many shapes; the
-  // world is unchanged then.
+  // mass or inertia on a body that forces move (PfxRigidBody::isValid), a non-finite one on
+  // any other, invalid shapes and too many shapes; the world is unchanged then.
   PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
                         const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
 
