@@ -28,11 +28,7 @@ stage "release build"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 $batched >/dev/null
 cmake --build build -j"$jobs"
 stage "release tests"
-# A failing test is run once more, and only a second failure fails the stage. The rostests
-# share the machine with each other and with a real rosmaster, and two of them
-# (ros_agents, ros_joint_commands) have each failed once on a timing of that sharing and
-# passed again alone; the retry and its first failure stay in the log.
-ctest --test-dir build --output-on-failure -j"$jobs" --repeat until-pass:2
+ctest --test-dir build --output-on-failure -j"$jobs"
 
 stage "sanitizer build"
 # -O1 -g1: a quarter of the compile time of -O2 -g (pfx_gjk.cpp: 12 against 50 CPU seconds)

@@ -84,9 +84,15 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param("agent_waypoint_tolerance", waypointTolerance, 0.1);
 
   const char* invalid = nullptr;
+  // The world's bounds, which it would otherwise refuse without naming the parameter.
+  const std::string subStepsRange = "~substeps must be 1 .. " + std::to_string(PFX_MAX_SUB_STEPS);
+  const std::string iterationsRange =
+      "~iterations must be 1 .. " + std::to_string(PFX_MAX_ITERATIONS);
   if (!positiveFinite(dt)) invalid = "~dt must be a positive number of seconds";
-  if (subSteps < 1) invalid = "~substeps must be at least 1";
-  if (iterations < 1) invalid = "~iterations must be at least 1";
+  if (subSteps < 1 || PfxUInt32(subSteps) > PFX_MAX_SUB_STEPS) invalid = subStepsRange.c_str();
+  if (iterations < 1 || PfxUInt32(iterations) > PFX_MAX_ITERATIONS) {
+    invalid = iterationsRange.c_str();
+  }
   if (!positiveFinite(groundSize)) invalid = "~ground_size must be a positive number of metres";
   if (!std::isfinite(initialHeight)) {
     invalid = "~initial_height must be a finite number of metres, or auto";
@@ -146,7 +152,7 @@ bool PfxNode::initialize() {
   if (!notice.empty()) ROS_INFO_STREAM("pfx_node: " << notice);
   ros::param::param("/use_sim_time", m_useSimTime, false);
 
-  m_agents = std::make_unique<PfxNodeAgents>(m_handle, m_privateHandle, m_simulation);
+  m_agents = std::make_unique<PfxNodeAgents>(m_handle, m_privateHandle, m_simulation, m_refusals);
   if (!m_agents->addDeclared(&why)) {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;
@@ -169,7 +175,7 @@ bool PfxNode::initialize() {
   }
   // After the robot's own sensors and topics: a model's namespace is checked against them.
   m_models = std::make_unique<PfxNodeModels>(m_handle, m_privateHandle, m_simulation,
-                                             m_param.fixedFrame, m_useSimTime,
+                                             m_refusals, m_param.fixedFrame, m_useSimTime,
                                              [this] { return removeRobot(); });
   if (!m_models->addDeclared(&why)) {
     ROS_FATAL_STREAM("pfx_node: " << why);
@@ -183,7 +189,7 @@ bool PfxNode::initialize() {
   m_diagnostics = std::make_unique<PfxNodeDiagnostics>(m_handle, m_param.realTimeFactor);
   m_markers = std::make_unique<PfxNodeMarkers>(m_privateHandle, m_param.fixedFrame);
   m_services = std::make_unique<PfxNodeServices>(
-      m_privateHandle, m_simulation, PfxUInt32(m_param.maxBatchRays), m_param.paused,
+      m_privateHandle, m_simulation, m_refusals, PfxUInt32(m_param.maxBatchRays), m_param.paused,
       m_param.realTimeFactor, [this](PfxInt32 steps) { return stepPaused(steps); },
       [this](PfxUInt32 model, const std::vector<PfxUInt32>& joints) {
         if (model != 0) {
@@ -319,6 +325,7 @@ void PfxNode::run() {
       m_diagnostics->publish(m_simulation, paused, stamp());
       nextDiagnostics = now + diagnosticsPeriod;
     }
+    m_refusals.flush();
     // Answer service calls until the next step is due.
     const ros::WallTime wake = paused ? now + kPausedWait : nextStep;
     const ros::WallDuration wait = wake - ros::WallTime::now();

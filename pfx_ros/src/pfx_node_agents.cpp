@@ -15,14 +15,6 @@ namespace {
 const double kDefaultMass = PfxNodeAgentSpec().mass;
 const double kDefaultMaxSpeed = PfxNodeAgentSpec().maxSpeed;
 
-template <typename Response>
-bool reject(Response& res, const char* service, const std::string& why) {
-  res.success = false;
-  res.message = why;
-  ROS_WARN_STREAM("pfx_node: " << service << " rejected: " << why);
-  return true;  // the call itself worked; success says the request did not
-}
-
 // A list of 2 or 3 numbers (x, y and optionally z) into `out`; false otherwise.
 bool readPoint(XmlRpc::XmlRpcValue& value, PfxVector3& out) {
   if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) return false;
@@ -92,8 +84,11 @@ std::string pfxCheckAgentName(const std::string& name) {
 }
 
 PfxNodeAgents::PfxNodeAgents(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                             PfxNodeSimulation& simulation)
-    : m_handle(handle), m_privateHandle(privateHandle), m_simulation(simulation) {
+                             PfxNodeSimulation& simulation, PfxNodeRefusalLog& refusals)
+    : m_handle(handle),
+      m_privateHandle(privateHandle),
+      m_simulation(simulation),
+      m_refusals(refusals) {
   m_servers.push_back(privateHandle.advertiseService("spawn_agent", &PfxNodeAgents::spawn, this));
   m_servers.push_back(privateHandle.advertiseService("delete_agent", &PfxNodeAgents::remove, this));
 }
@@ -151,7 +146,7 @@ bool PfxNodeAgents::spawn(SpawnAgent::Request& req, SpawnAgent::Response& res) {
     spec.waypoints.push_back(pfxFromMsg(point));
   }
   std::string why;
-  if (!add(spec, &why)) return reject(res, "spawn_agent", why);
+  if (!add(spec, &why)) return pfxRejectRequest(m_refusals, res, "spawn_agent", why);
   res.success = true;
   res.message =
       "agent '" + spec.name + "' added, " +
@@ -163,7 +158,7 @@ bool PfxNodeAgents::spawn(SpawnAgent::Request& req, SpawnAgent::Response& res) {
 bool PfxNodeAgents::remove(DeleteAgent::Request& req, DeleteAgent::Response& res) {
   std::string why;
   if (m_simulation.removeAgent(req.name, &why) != PFX_OK) {
-    return reject(res, "delete_agent", req.name.empty() ? "no name given" : why);
+    return pfxRejectRequest(m_refusals, res, "delete_agent", req.name.empty() ? "no name given" : why);
   }
   m_commands.erase(req.name);
   res.success = true;

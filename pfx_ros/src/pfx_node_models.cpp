@@ -4,23 +4,14 @@
 
 namespace pfx {
 
-namespace {
-
-bool reject(SpawnModel::Response& res, const std::string& why) {
-  res.success = false;
-  res.message = why;
-  ROS_WARN_STREAM("pfx_node: spawn_model rejected: " << why);
-  return true;  // the call itself worked; success says the request did not
-}
-
-}  // namespace
-
 PfxNodeModels::PfxNodeModels(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                             PfxNodeSimulation& simulation, const std::string& fixedFrame,
-                             bool useSimTime, RobotRemover robotRemover)
+                             PfxNodeSimulation& simulation, PfxNodeRefusalLog& refusals,
+                             const std::string& fixedFrame, bool useSimTime,
+                             RobotRemover robotRemover)
     : m_handle(handle),
       m_privateHandle(privateHandle),
       m_simulation(simulation),
+      m_refusals(refusals),
       m_fixedFrame(fixedFrame),
       m_useSimTime(useSimTime),
       m_robotRemover(std::move(robotRemover)) {
@@ -115,7 +106,7 @@ bool PfxNodeModels::spawn(SpawnModel::Request& req, SpawnModel::Response& res) {
   request.robotNamespace = req.robot_namespace;
   std::string why = pfxReadModelUrdf(req.urdf, req.param_name, req.urdf_path, m_handle, spec.urdfXml);
   if (why.empty()) add(request, &why);
-  if (!why.empty()) return reject(res, why);
+  if (!why.empty()) return pfxRejectRequest(m_refusals, res, "spawn_model", why);
   res.success = true;
   res.message = "model '" + spec.name + "' added: topics in " +
                 m_models[spec.name]->getNamespace() + ", frames " + spec.framePrefix + "/<link>";
@@ -139,7 +130,7 @@ bool PfxNodeModels::remove(DeleteModel::Request& req, DeleteModel::Response& res
     } else {
       res.message = "no model named '" + req.name + "'";
     }
-    ROS_WARN_STREAM("pfx_node: delete_model rejected: " << res.message);
+    m_refusals.refused("delete_model", res.message);
     return true;
   }
   const PfxUInt32 slot = it->second->getSlot();

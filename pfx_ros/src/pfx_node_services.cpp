@@ -11,14 +11,6 @@ namespace pfx {
 namespace {
 
 template <typename Response>
-bool reject(Response& res, const char* service, const std::string& why) {
-  res.success = false;
-  res.message = why;
-  ROS_WARN_STREAM("pfx_node: " << service << " rejected: " << why);
-  return true;  // the call itself worked; success says the request did not
-}
-
-template <typename Response>
 bool accept(Response& res, const std::string& message = "") {
   res.success = true;
   res.message = message;
@@ -48,10 +40,11 @@ bool isFinite(const geometry_msgs::Vector3& v) { return pfxIsFinite(pfxFromMsg(v
 }  // namespace
 
 PfxNodeServices::PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
-                                 PfxUInt32 maxBatchRays, bool startPaused,
-                                 double realTimeFactor, StepFunction stepFunction,
+                                 PfxNodeRefusalLog& refusals, PfxUInt32 maxBatchRays,
+                                 bool startPaused, double realTimeFactor, StepFunction stepFunction,
                                  JointCommandListener jointCommandListener)
     : m_simulation(simulation),
+      m_refusals(refusals),
       m_maxBatchRays(maxBatchRays),
       m_paused(startPaused),
       m_realTimeFactor(realTimeFactor),
@@ -88,11 +81,12 @@ std::string PfxNodeServices::hitName(const PfxRayOutput& hit) const {
 bool PfxNodeServices::raycast(Raycast::Request& req, Raycast::Response& res) {
   PfxRayInput ray;
   if (const std::string why = makeRay(req.origin, req.direction, ray); !why.empty()) {
-    return reject(res, "raycast", why);
+    return pfxRejectRequest(m_refusals, res, "raycast", why);
   }
   PfxRayOutput hit;
   if (const PfxInt32 err = m_simulation.castRay(ray, hit); err != PFX_OK) {
-    return reject(res, "raycast", std::string("cast failed: ") + pfxErrorString(err));
+    return pfxRejectRequest(m_refusals, res, "raycast",
+                            std::string("cast failed: ") + pfxErrorString(err));
   }
   res.hit = hit.m_contactFlag;
   res.point = pfxToPointMsg(hit.m_contactPoint);
@@ -109,26 +103,28 @@ bool PfxNodeServices::raycastBatch(RaycastBatch::Request& req, RaycastBatch::Res
     std::ostringstream why;
     why << req.origins.size() << " origins but " << req.directions.size()
         << " directions: one of each per ray";
-    return reject(res, "raycast_batch", why.str());
+    return pfxRejectRequest(m_refusals, res, "raycast_batch", why.str());
   }
   if (numRays > m_maxBatchRays) {
     std::ostringstream why;
     why << numRays << " rays in one batch, at most " << m_maxBatchRays << " allowed";
-    return reject(res, "raycast_batch", why.str());
+    return pfxRejectRequest(m_refusals, res, "raycast_batch", why.str());
   }
   m_batchRays.resize(numRays);
   m_batchHits.resize(numRays);
   for (std::size_t i = 0; i < numRays; ++i) {
     if (const std::string why = makeRay(req.origins[i], req.directions[i], m_batchRays[i]);
         !why.empty()) {
-      return reject(res, "raycast_batch", "ray " + std::to_string(i) + ": " + why);
+      return pfxRejectRequest(m_refusals, res, "raycast_batch",
+                              "ray " + std::to_string(i) + ": " + why);
     }
   }
   if (numRays > 0) {
     const PfxInt32 err =
         m_simulation.castRays(m_batchRays.data(), m_batchHits.data(), PfxUInt32(numRays));
     if (err != PFX_OK) {
-      return reject(res, "raycast_batch", std::string("cast failed: ") + pfxErrorString(err));
+      return pfxRejectRequest(m_refusals, res, "raycast_batch",
+                              std::string("cast failed: ") + pfxErrorString(err));
     }
   }
   res.hit.resize(numRays);
@@ -154,7 +150,7 @@ bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Respon
       m_simulation.findParticleGroup(asked) < 0) {
     PfxNodeModelPart link;
     if (const std::string why = m_simulation.findModelLink(asked, link); !why.empty()) {
-      return reject(res, "get_contacts", why);
+      return pfxRejectRequest(m_refusals, res, "get_contacts", why);
     }
     asked = m_simulation.getLinkName(link.index, link.model);
   }
@@ -183,19 +179,21 @@ bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
                                       ApplyBodyWrench::Response& res) {
   PfxNodeModelPart link;
   if (const std::string why = m_simulation.findModelLink(req.link, link); !why.empty()) {
-    return reject(res, "apply_body_wrench", why);
+    return pfxRejectRequest(m_refusals, res, "apply_body_wrench", why);
   }
-  if (!isFinite(req.force)) return reject(res, "apply_body_wrench", "force is not finite");
-  if (!isFinite(req.torque)) return reject(res, "apply_body_wrench", "torque is not finite");
+  if (!isFinite(req.force))
+    return pfxRejectRequest(m_refusals, res, "apply_body_wrench", "force is not finite");
+  if (!isFinite(req.torque))
+    return pfxRejectRequest(m_refusals, res, "apply_body_wrench", "torque is not finite");
   if (!std::isfinite(req.duration) || req.duration < 0) {
     std::ostringstream why;
     why << "duration " << req.duration << " s: must be finite and >= 0 (0: one step)";
-    return reject(res, "apply_body_wrench", why.str());
+    return pfxRejectRequest(m_refusals, res, "apply_body_wrench", why.str());
   }
   if (const PfxInt32 err = m_simulation.applyLinkWrench(link, pfxFromMsg(req.force),
                                                         pfxFromMsg(req.torque), req.duration);
       err != PFX_OK) {
-    return reject(res, "apply_body_wrench", pfxErrorString(err));
+    return pfxRejectRequest(m_refusals, res, "apply_body_wrench", pfxErrorString(err));
   }
   return accept(res);
 }
@@ -203,10 +201,11 @@ bool PfxNodeServices::applyBodyWrench(ApplyBodyWrench::Request& req,
 bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Response& res) {
   PfxNodeModelPart link;
   if (const std::string why = m_simulation.findModelLink(req.link, link); !why.empty()) {
-    return reject(res, "set_body_state", why);
+    return pfxRejectRequest(m_refusals, res, "set_body_state", why);
   }
   const PfxVector3 position = pfxFromMsg(req.pose.position);
-  if (!pfxIsFinite(position)) return reject(res, "set_body_state", "position is not finite");
+  if (!pfxIsFinite(position))
+    return pfxRejectRequest(m_refusals, res, "set_body_state", "position is not finite");
   const PfxQuat orientation = pfxFromMsg(req.pose.orientation);
   const double norm = std::sqrt(req.pose.orientation.x * req.pose.orientation.x +
                                 req.pose.orientation.y * req.pose.orientation.y +
@@ -215,16 +214,16 @@ bool PfxNodeServices::setBodyState(SetBodyState::Request& req, SetBodyState::Res
   if (!pfxIsFinite(orientation) || !(std::abs(norm - 1) <= 1e-3)) {
     std::ostringstream why;
     why << "orientation is not a unit quaternion (norm " << norm << ")";
-    return reject(res, "set_body_state", why.str());
+    return pfxRejectRequest(m_refusals, res, "set_body_state", why.str());
   }
   if (!isFinite(req.twist.linear) || !isFinite(req.twist.angular)) {
-    return reject(res, "set_body_state", "twist is not finite");
+    return pfxRejectRequest(m_refusals, res, "set_body_state", "twist is not finite");
   }
   const PfxTransform3 pose = pfxMakeTransform(orientation.normalized(), position);
-  if (const PfxInt32 err = m_simulation.setLinkState(
-          link, pose, pfxFromMsg(req.twist.linear), pfxFromMsg(req.twist.angular));
+  if (const PfxInt32 err = m_simulation.setLinkState(link, pose, pfxFromMsg(req.twist.linear),
+                                                     pfxFromMsg(req.twist.angular));
       err != PFX_OK) {
-    return reject(res, "set_body_state", pfxErrorString(err));
+    return pfxRejectRequest(m_refusals, res, "set_body_state", pfxErrorString(err));
   }
   return accept(res);
 }
@@ -233,7 +232,7 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
                                       SetJointCommand::Response& res) {
   const char* service = "set_joint_command";
   const std::size_t n = req.names.size();
-  if (n == 0) return reject(res, service, "no joints named");
+  if (n == 0) return pfxRejectRequest(m_refusals, res, service, "no joints named");
   PfxJointDrive drive;
   switch (req.mode) {
     case SetJointCommand::Request::OFF:
@@ -249,33 +248,33 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
       drive = kPfxJointDriveEffort;
       break;
     default:
-      return reject(res, service,
-                    "mode " + std::to_string(req.mode) +
-                        ": OFF (0), POSITION (1), VELOCITY (2) or EFFORT (3)");
+      return pfxRejectRequest(m_refusals, res, service,
+                              "mode " + std::to_string(req.mode) +
+                                  ": OFF (0), POSITION (1), VELOCITY (2) or EFFORT (3)");
   }
   const bool needTargets = drive != kPfxJointDriveNone;
   if (req.targets.size() != n && (needTargets || !req.targets.empty())) {
-    return reject(
-        res, service,
+    return pfxRejectRequest(
+        m_refusals, res, service,
         std::to_string(n) + " joints but " + std::to_string(req.targets.size()) + " targets");
   }
   if (!req.max_forces.empty() && req.max_forces.size() != n) {
-    return reject(res, service,
-                  std::to_string(n) + " joints but " + std::to_string(req.max_forces.size()) +
-                      " max_forces (empty, or one per joint)");
+    return pfxRejectRequest(m_refusals, res, service,
+                            std::to_string(n) + " joints but " +
+                                std::to_string(req.max_forces.size()) +
+                                " max_forces (empty, or one per joint)");
   }
   // One model per request: its joints are set all or none.
   std::vector<PfxNodeModelPart> found(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (const std::string why = m_simulation.findModelJoint(req.names[i], found[i]);
-        !why.empty()) {
-      return reject(res, service, why);
+    if (const std::string why = m_simulation.findModelJoint(req.names[i], found[i]); !why.empty()) {
+      return pfxRejectRequest(m_refusals, res, service, why);
     }
     if (found[i].model != found[0].model) {
-      return reject(res, service,
-                    "joints of models '" + m_simulation.getModelName(found[0].model) + "' and '" +
-                        m_simulation.getModelName(found[i].model) +
-                        "' in one request: command one model per request");
+      return pfxRejectRequest(m_refusals, res, service,
+                              "joints of models '" + m_simulation.getModelName(found[0].model) +
+                                  "' and '" + m_simulation.getModelName(found[i].model) +
+                                  "' in one request: command one model per request");
     }
   }
   const PfxUInt32 modelSlot = found[0].model;
@@ -287,26 +286,30 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
   for (std::size_t i = 0; i < n; ++i) {
     const std::string& name = req.names[i];
     const PfxUInt32 index = found[i].index;
-    if (!seen.insert(index).second) return reject(res, service, "joint '" + name + "' named twice");
+    if (!seen.insert(index).second)
+      return pfxRejectRequest(m_refusals, res, service, "joint '" + name + "' named twice");
     const PfxUrdfJoint& joint = model.joints[index];
     if (joint.jointId == kPfxUrdfNoJoint) {
-      return reject(res, service, "joint '" + name + "' has no coordinate to drive");
+      return pfxRejectRequest(m_refusals, res, service,
+                              "joint '" + name + "' has no coordinate to drive");
     }
     if (joint.mimicLeader >= 0) {
-      return reject(res, service,
-                    "joint '" + name + "' mimics '" + model.joints[joint.mimicLeader].name +
-                        "': command the leader");
+      return pfxRejectRequest(m_refusals, res, service,
+                              "joint '" + name + "' mimics '" +
+                                  model.joints[joint.mimicLeader].name + "': command the leader");
     }
     if (needTargets) {
       targets[i] = PfxFloat(req.targets[i]);
       if (!pfxIsFinite(targets[i])) {
-        return reject(res, service, "target of joint '" + name + "' is not finite");
+        return pfxRejectRequest(m_refusals, res, service,
+                                "target of joint '" + name + "' is not finite");
       }
     }
     if (!req.max_forces.empty()) {
       maxForces[i] = PfxFloat(req.max_forces[i]);
       if (!pfxIsFinite(maxForces[i]) || maxForces[i] < 0) {
-        return reject(res, service, "max_force of joint '" + name + "' must be finite and >= 0");
+        return pfxRejectRequest(m_refusals, res, service,
+                                "max_force of joint '" + name + "' must be finite and >= 0");
       }
     }
     joints[i] = index;
@@ -314,7 +317,7 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
   if (const PfxInt32 err =
           m_simulation.setJointCommands(joints, drive, targets, maxForces, modelSlot);
       err != PFX_OK) {
-    return reject(res, service, pfxErrorString(err));
+    return pfxRejectRequest(m_refusals, res, service, pfxErrorString(err));
   }
   m_jointCommandListener(modelSlot, joints);
   // The targets were cut to the joints' limits where they lay beyond; say which.
@@ -329,23 +332,25 @@ bool PfxNodeServices::setJointCommand(SetJointCommand::Request& req,
 
 bool PfxNodeServices::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   std::string why;
-  if (m_simulation.reset(&why) != PFX_OK) return reject(res, "reset", why);
+  if (m_simulation.reset(&why) != PFX_OK) return pfxRejectRequest(m_refusals, res, "reset", why);
   return accept(res, "initial state restored");
 }
 
 bool PfxNodeServices::saveWorld(WorldFile::Request& req, WorldFile::Response& res) {
-  if (req.path.empty()) return reject(res, "save_world", "no path given");
+  if (req.path.empty()) return pfxRejectRequest(m_refusals, res, "save_world", "no path given");
   std::string why;
-  if (m_simulation.saveWorld(req.path, &why) != PFX_OK) return reject(res, "save_world", why);
+  if (m_simulation.saveWorld(req.path, &why) != PFX_OK)
+    return pfxRejectRequest(m_refusals, res, "save_world", why);
   std::ostringstream msg;
   msg << "world at t = " << m_simulation.getTime() << " s saved to " << req.path;
   return accept(res, msg.str());
 }
 
 bool PfxNodeServices::loadWorld(WorldFile::Request& req, WorldFile::Response& res) {
-  if (req.path.empty()) return reject(res, "load_world", "no path given");
+  if (req.path.empty()) return pfxRejectRequest(m_refusals, res, "load_world", "no path given");
   std::string why;
-  if (m_simulation.loadWorld(req.path, &why) != PFX_OK) return reject(res, "load_world", why);
+  if (m_simulation.loadWorld(req.path, &why) != PFX_OK)
+    return pfxRejectRequest(m_refusals, res, "load_world", why);
   std::ostringstream msg;
   msg << "world loaded from " << req.path << ", continuing from t = " << m_simulation.getTime()
       << " s";
@@ -371,11 +376,12 @@ bool PfxNodeServices::unpause(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
 bool PfxNodeServices::step(Step::Request& req, Step::Response& res) {
   res.steps_done = 0;
   res.time = m_simulation.getTime();
-  if (!m_paused) return reject(res, "step", "the simulation is running: pause it first");
+  if (!m_paused)
+    return pfxRejectRequest(m_refusals, res, "step", "the simulation is running: pause it first");
   if (req.steps < 1 || req.steps > kPfxNodeMaxStepsPerCall) {
-    return reject(res, "step",
-                  "steps " + std::to_string(req.steps) + ": must be 1 .. " +
-                      std::to_string(kPfxNodeMaxStepsPerCall));
+    return pfxRejectRequest(m_refusals, res, "step",
+                            "steps " + std::to_string(req.steps) + ": must be 1 .. " +
+                                std::to_string(kPfxNodeMaxStepsPerCall));
   }
   const PfxInt32 err = m_stepFunction(req.steps);
   res.steps_done = req.steps;
@@ -383,7 +389,9 @@ bool PfxNodeServices::step(Step::Request& req, Step::Response& res) {
   std::ostringstream msg;
   msg << req.steps << " steps to t = " << res.time << " s";
   // The steps were taken either way; a failed one is reported as the loop reports it.
-  if (err != PFX_OK) return reject(res, "step", msg.str() + ", a step failed: " + pfxErrorString(err));
+  if (err != PFX_OK)
+    return pfxRejectRequest(m_refusals, res, "step",
+                            msg.str() + ", a step failed: " + pfxErrorString(err));
   return accept(res, msg.str());
 }
 
@@ -404,21 +412,21 @@ bool PfxNodeServices::setPhysics(SetPhysics::Request& req, SetPhysics::Response&
   std::ostringstream why;
   if (!std::isfinite(p.dt) || !(p.dt > 0) || p.dt > kPfxNodeMaxTimeStep) {
     why << "dt " << p.dt << " s: must be in (0, " << kPfxNodeMaxTimeStep << "]";
-  } else if (p.substeps < 1 || p.substeps > kPfxNodeMaxSubSteps) {
-    why << "substeps " << p.substeps << ": must be 1 .. " << kPfxNodeMaxSubSteps;
-  } else if (p.iterations < 1 || p.iterations > kPfxNodeMaxIterations) {
-    why << "iterations " << p.iterations << ": must be 1 .. " << kPfxNodeMaxIterations;
+  } else if (p.substeps < 1 || PfxUInt32(p.substeps) > PFX_MAX_SUB_STEPS) {
+    why << "substeps " << p.substeps << ": must be 1 .. " << PFX_MAX_SUB_STEPS;
+  } else if (p.iterations < 1 || PfxUInt32(p.iterations) > PFX_MAX_ITERATIONS) {
+    why << "iterations " << p.iterations << ": must be 1 .. " << PFX_MAX_ITERATIONS;
   } else if (!isFinite(p.gravity) || pfxFromMsg(p.gravity).norm() > kPfxNodeMaxGravity) {
     why << "gravity (" << p.gravity.x << ", " << p.gravity.y << ", " << p.gravity.z
         << "): must be finite and at most " << kPfxNodeMaxGravity << " m/s^2 long";
   } else if (!std::isfinite(p.real_time_factor) || p.real_time_factor < 0) {
     why << "real_time_factor " << p.real_time_factor << ": must be finite and >= 0";
   }
-  if (!why.str().empty()) return reject(res, service, why.str());
+  if (!why.str().empty()) return pfxRejectRequest(m_refusals, res, service, why.str());
   std::string refused;
   if (m_simulation.setPhysics(PfxFloat(p.dt), PfxUInt32(p.substeps), PfxUInt32(p.iterations),
                               pfxFromMsg(p.gravity), &refused) != PFX_OK) {
-    return reject(res, service, refused);
+    return pfxRejectRequest(m_refusals, res, service, refused);
   }
   m_realTimeFactor = p.real_time_factor;
   res.physics = physics();

@@ -80,12 +80,13 @@ class JointWatcher {
   ros::Subscriber m_sub;
 };
 
-// The node's warnings, from /rosout.
+// The node's warnings, from /rosout. Whether the node's /rosout reaches it is known only once
+// one of them has been heard: the subscription counts this program's own /rosout publisher
+// among its publishers from the start.
 class WarningWatcher {
  public:
   explicit WarningWatcher(ros::NodeHandle& nh)
       : m_sub(nh.subscribe("/rosout", 1000, &WarningWatcher::onLog, this)) {}
-  bool connected() const { return m_sub.getNumPublishers() > 0; }
   void clear() {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_warnings.clear();
@@ -94,15 +95,19 @@ class WarningWatcher {
   bool seen(const std::string& text, double wallSeconds = 10) const {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wallSeconds);
     while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        for (const std::string& warning : m_warnings) {
-          if (warning.find(text) != std::string::npos) return true;
-        }
-      }
+      if (!holding(text).empty()) return true;
       ros::WallDuration(0.02).sleep();
     }
     return false;
+  }
+  // The warnings holding `text` since the last clear(), in the order heard.
+  std::vector<std::string> holding(const std::string& text) const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    std::vector<std::string> found;
+    for (const std::string& warning : m_warnings) {
+      if (warning.find(text) != std::string::npos) found.push_back(warning);
+    }
+    return found;
   }
 
  private:
@@ -421,6 +426,53 @@ TEST(JointCommands, BadCommandsAreDroppedWithAWarningAndMoveNothing) {
   }
 }
 
+// A client repeating a refused request: every answer says why, while the log does not get a
+// line per call. Each refusal is in the log either as a line with its reason or in a count of
+// refusals not logged ("N more set_joint_command requests refused"), which the node sends
+// once a second has passed since the service's last line. No other test here has
+// set_joint_command refused, so every refusal of the service counted is one of these.
+TEST(JointCommands, RefusedRequestsAreAllAnsweredButNotLoggedOneLineEach) {
+  const int kRequests = 200;
+  shared->warnings->clear();
+  pfx::SetJointCommand srv;
+  srv.request.names = {"nope"};
+  srv.request.mode = pfx::SetJointCommand::Request::POSITION;
+  srv.request.targets = {0.1};
+  int answered = 0;
+  for (int i = 0; i < kRequests; ++i) {
+    const pfx::SetJointCommand::Response res = call("pfx_node/set_joint_command", srv).response;
+    EXPECT_FALSE(res.success);
+    if (res.message == "unknown joint 'nope'") ++answered;
+  }
+  EXPECT_EQ(answered, kRequests);
+  // Until every refusal is accounted for by a line or a count; /rosout carries the node's
+  // lines in order, so nothing is still to come after that.
+  const std::string service = "set_joint_command";
+  auto countOf = [&](const std::string& line) {
+    const std::string::size_type more = line.find(" more " + service + " requests refused");
+    if (more == std::string::npos) return 0L;
+    const std::string::size_type start = line.find_last_not_of("0123456789", more - 1) + 1;
+    return std::stol(line.substr(start, more - start));
+  };
+  long logged = 0, counted = 0;
+  std::vector<std::string> lines;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (logged + counted < kRequests && ros::WallTime::now() < deadline) {
+    ros::WallDuration(0.1).sleep();
+    lines = shared->warnings->holding(service);
+    logged = counted = 0;
+    for (const std::string& line : lines) {
+      if (line.find(service + " rejected: unknown joint 'nope'") != std::string::npos) ++logged;
+      counted += countOf(line);
+    }
+  }
+  std::printf("%d refused requests: %ld logged with their reason, %ld counted, in %zu lines\n",
+              kRequests, logged, counted, lines.size());
+  EXPECT_EQ(logged + counted, kRequests);
+  EXPECT_GE(logged, 1);
+  EXPECT_LT(lines.size(), std::size_t(kRequests));
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_joint_commands");
@@ -443,7 +495,6 @@ int main(int argc, char** argv) {
     }
     return state.group.getNumSubscribers() > 0 && state.trajectory.getNumSubscribers() > 0 &&
            state.joints->connected() && state.clock->connected() &&
-           state.warnings->connected() &&
            state.joints->latest().stamp > 0 &&
            pfx_test::waitForServices({"pfx_node/set_joint_command"}, 1);
   };
@@ -454,6 +505,16 @@ int main(int argc, char** argv) {
     }
     ros::WallDuration(0.02).sleep();
   }
+  // A trajectory naming no joint is dropped, changing nothing, with a warning every time:
+  // asked for until it is heard, it shows that the node's /rosout reaches the test.
+  while (!state.warnings->seen("joint_trajectory dropped: no joint_names", 0.2)) {
+    if (ros::WallTime::now() > deadline) {
+      ROS_FATAL("no warning of the node heard on /rosout");
+      return 1;
+    }
+    state.trajectory.publish(trajectory({}, {}));
+  }
+  state.warnings->clear();
   const int result = RUN_ALL_TESTS();
   shared = nullptr;
   return result;

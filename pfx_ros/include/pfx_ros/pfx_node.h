@@ -18,6 +18,7 @@
 #include "pfx_ros/pfx_node_link_states.h"
 #include "pfx_ros/pfx_node_markers.h"
 #include "pfx_ros/pfx_node_models.h"
+#include "pfx_ros/pfx_node_refusal_log.h"
 #include "pfx_ros/pfx_node_sensors.h"
 #include "pfx_ros/pfx_node_services.h"
 #include "pfx_ros/pfx_node_simulation.h"
@@ -86,6 +87,8 @@ class PfxNode {
   PfxNodeSimulation m_simulation;
   PfxUInt32 m_boundGeneration = 0;
   ros::Time m_lastStateStamp;
+  // Before the parts that log refusals through it, so that it outlives them.
+  PfxNodeRefusalLog m_refusals;
   std::unique_ptr<PfxNodeServices> m_services;
   std::unique_ptr<PfxNodeStatePublisher> m_statePublisher;
   std::unique_ptr<PfxNodeDiagnostics> m_diagnostics;

@@ -22,6 +22,7 @@
 
 #include "pfx/DeleteAgent.h"
 #include "pfx/SpawnAgent.h"
+#include "pfx_ros/pfx_node_refusal_log.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
@@ -34,7 +35,7 @@ std::string pfxCheckAgentName(const std::string& name);
 class PfxNodeAgents {
  public:
   PfxNodeAgents(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                PfxNodeSimulation& simulation);
+                PfxNodeSimulation& simulation, PfxNodeRefusalLog& refusals);
 
   // Adds the agents of ~agents (a list of dicts: README, "Agents"); false, with *message
   // naming the agent, the key and the reason, when one is malformed or refused (the agents
@@ -51,6 +52,7 @@ class PfxNodeAgents {
   ros::NodeHandle& m_handle;
   ros::NodeHandle& m_privateHandle;
   PfxNodeSimulation& m_simulation;
+  PfxNodeRefusalLog& m_refusals;
   std::vector<ros::ServiceServer> m_servers;
   std::map<std::string, ros::Subscriber> m_commands;  // by agent name
 };

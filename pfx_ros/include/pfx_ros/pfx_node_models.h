@@ -17,6 +17,7 @@
 #include "pfx/DeleteModel.h"
 #include "pfx/SpawnModel.h"
 #include "pfx_ros/pfx_node_model.h"
+#include "pfx_ros/pfx_node_refusal_log.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
@@ -48,8 +49,8 @@ class PfxNodeModels {
   using RobotRemover = std::function<std::string()>;
 
   PfxNodeModels(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                PfxNodeSimulation& simulation, const std::string& fixedFrame, bool useSimTime,
-                RobotRemover robotRemover);
+                PfxNodeSimulation& simulation, PfxNodeRefusalLog& refusals,
+                const std::string& fixedFrame, bool useSimTime, RobotRemover robotRemover);
   ~PfxNodeModels();
 
   // Adds the models of ~models; false, with *message naming the entry and the reason, when
@@ -78,6 +79,7 @@ class PfxNodeModels {
   ros::NodeHandle& m_handle;
   ros::NodeHandle& m_privateHandle;
   PfxNodeSimulation& m_simulation;
+  PfxNodeRefusalLog& m_refusals;
   std::string m_fixedFrame;
   bool m_useSimTime;
   RobotRemover m_robotRemover;

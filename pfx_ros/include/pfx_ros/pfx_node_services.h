@@ -22,16 +22,17 @@
 #include "pfx/SetPhysics.h"
 #include "pfx/Step.h"
 #include "pfx/WorldFile.h"
+#include "pfx_ros/pfx_node_refusal_log.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
 
 // ~step's bound: the node answers nothing else while it steps.
 constexpr PfxInt32 kPfxNodeMaxStepsPerCall = 10000;
-// ~set_physics's bounds, beyond which a robot's simulation is no longer meaningful.
+// ~set_physics's bounds, beyond which a robot's simulation is no longer meaningful; its
+// sub-steps and iterations are bounded by the world's own PFX_MAX_SUB_STEPS and
+// PFX_MAX_ITERATIONS.
 constexpr double kPfxNodeMaxTimeStep = 0.1;  // s
-constexpr PfxInt32 kPfxNodeMaxSubSteps = 100;
-constexpr PfxInt32 kPfxNodeMaxIterations = 1000;
 constexpr double kPfxNodeMaxGravity = 1000;  // m/s^2
 
 class PfxNodeServices {
@@ -45,7 +46,9 @@ class PfxNodeServices {
       std::function<void(PfxUInt32 model, const std::vector<PfxUInt32>& joints)>;
 
   // Advertises the services on `privateHandle`; a batch may hold at most maxBatchRays rays.
+  // Refusals are logged through `refusals`.
   PfxNodeServices(ros::NodeHandle& privateHandle, PfxNodeSimulation& simulation,
+                  PfxNodeRefusalLog& refusals,
                   PfxUInt32 maxBatchRays, bool startPaused, double realTimeFactor,
                   StepFunction stepFunction, JointCommandListener jointCommandListener);
 
@@ -73,6 +76,7 @@ class PfxNodeServices {
   std::string hitName(const PfxRayOutput& hit) const;
 
   PfxNodeSimulation& m_simulation;
+  PfxNodeRefusalLog& m_refusals;
   PfxUInt32 m_maxBatchRays;
   bool m_paused = false;
   double m_realTimeFactor;
