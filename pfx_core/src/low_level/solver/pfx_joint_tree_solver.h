@@ -139,6 +139,7 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numTrees = 0;
   PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
+  PfxInt32* m_bodyTreeBody = nullptr;  // getTreeBody() of each body
   // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1.
   PfxInt32* m_responseSlot = nullptr;
   PfxTreeBlock* m_bodyResponses = nullptr;  // room for every body a joint can hold
