@@ -43,16 +43,16 @@ inline PfxTreeBlock pfxTreeBodyMass(const PfxSolverBody& body) {
 inline PfxTreeBlock pfxInvertDefiniteBlock(const PfxTreeBlock& a) {
   double l[6][6];     // unit lower triangular factor, below the diagonal
   double ld[6][6];    // l times the pivot of its column
-  double pivot[6];
+  double inversePivot[6];
   for (int j = 0; j < 6; ++j) {
     double dj = a(j, j);
     for (int k = 0; k < j; ++k) dj -= l[j][k] * ld[j][k];
-    pivot[j] = dj;
+    inversePivot[j] = 1.0 / dj;
     for (int i = j + 1; i < 6; ++i) {
       double lij = a(i, j);
       for (int k = 0; k < j; ++k) lij -= l[i][k] * ld[j][k];
       ld[i][j] = lij;
-      l[i][j] = lij / dj;
+      l[i][j] = lij * inversePivot[j];
     }
   }
   // x = L^-1, unit lower triangular.
@@ -65,8 +65,6 @@ inline PfxTreeBlock pfxInvertDefiniteBlock(const PfxTreeBlock& a) {
     }
   }
   // A^-1 = L^-T D^-1 L^-1, symmetric.
-  double inversePivot[6];
-  for (int k = 0; k < 6; ++k) inversePivot[k] = 1.0 / pivot[k];
   PfxTreeBlock inverse;
   for (int j = 0; j < 6; ++j) {
     for (int i = j; i < 6; ++i) {
@@ -82,15 +80,19 @@ inline PfxTreeBlock pfxInvertDefiniteBlock(const PfxTreeBlock& a) {
 // Nodes numbered breadth first, parents before children: eliminating in reverse order
 // takes children first, D_parent -= H(p, n) D_n^-1 H(n, p). Each tree of the forest is a
 // contiguous range [begin, end) of nodes whose parents lie in it, so trees factor and
-// solve independently.
+// solve independently. The pivots are symmetric and only their lower triangles are read,
+// so the update computes that half.
 template <typename Node>
 void pfxFactorBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
   for (std::size_t k = end; k-- > begin;) {
     Node& node = nodes[k];
     node.diagonalInverse = pfxInvertDefiniteBlock(node.diagonalInverse);
     if (node.parent < 0) continue;
-    node.toParent = node.diagonalInverse * node.coupling;
-    nodes[node.parent].diagonalInverse -= node.coupling.transpose() * node.toParent;
+    node.toParent.noalias() = node.diagonalInverse * node.coupling;
+    PfxTreeBlock& parentPivot = nodes[node.parent].diagonalInverse;
+    for (int j = 0; j < 6; ++j) {
+      for (int i = j; i < 6; ++i) parentPivot(i, j) -= node.coupling.col(i).dot(node.toParent.col(j));
+    }
   }
 }
 
