@@ -471,19 +471,10 @@ void PfxJointTreeSolver::markTreeOfBody(PfxUInt32 rigidBodyId) {
   if (node >= 0) m_treeMovedFromOutside[m_nodes[node].tree] = 1;
 }
 
-void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* contactPairs,
-                                                   PfxUInt32 numContactPairs,
-                                                   const PfxContactManifold* manifolds,
-                                                   const PfxJointCoupling* couplings,
+void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxJointCoupling* couplings,
                                                    PfxUInt32 numCouplings) {
   if (m_numNodes == 0) return;
   for (PfxUInt32 t = 0; t < m_numTrees; ++t) m_treeMovedFromOutside[t] = 0;
-  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
-    const PfxConstraintPair& pair = contactPairs[i];
-    if (!pfxGetActive(pair) || manifolds[pfxGetContactId(pair)].getNumContacts() == 0) continue;
-    markTreeOfBody(pfxGetObjectIdA(pair));
-    markTreeOfBody(pfxGetObjectIdB(pair));
-  }
   for (PfxUInt32 i = 0; i < m_numJointPairs; ++i) {
     const PfxConstraintPair& pair = m_jointPairs[i];
     if (!pfxGetActive(pair) || contains(i)) continue;
@@ -494,6 +485,26 @@ void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* cont
     for (PfxUInt32 b = 0; b < couplings[i].m_numBodies; ++b) {
       markTreeOfBody(couplings[i].m_bodies[b].m_rigidBodyId);
     }
+  }
+}
+
+void PfxJointTreeSolver::markTreesMovedByContacts(const PfxConstraintPair* contactPairs,
+                                                  PfxUInt32 numContactPairs,
+                                                  const PfxContactManifold* manifolds) {
+  if (m_numNodes == 0) return;
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    const PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
+    bool acted = false;
+    for (PfxUInt32 c = 0; c < manifold.getNumContacts() && !acted; ++c) {
+      for (const PfxConstraintRow& row : manifold.getContactPoint(c).m_constraintRow) {
+        acted = acted || row.m_accumImpulse != 0;
+      }
+    }
+    if (!acted) continue;
+    markTreeOfBody(pfxGetObjectIdA(pair));
+    markTreeOfBody(pfxGetObjectIdB(pair));
   }
 }
 
