@@ -73,8 +73,8 @@ class PfxJointTreeSolver {
   // for the rest of the solve, since an impulse that returns to zero moves its bodies back
   // on the way. A contact whose impulses have stayed zero (a speculative point that never
   // closed, such as the arm's forearm 2 cm from its palm, every step) has moved nothing,
-  // and its tree needs no solve around every sweep for it: that was two of the arm's
-  // three tree solves a sweep.
+  // and its tree needs no solve before and after every sweep for it: two tree solves a
+  // sweep on the arm.
   void markTreesMovedByContacts(const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
                                 const PfxContactManifold* manifolds);
   // A velocity solve of a tree adds to its locked rows' impulses and its bodies' velocity
