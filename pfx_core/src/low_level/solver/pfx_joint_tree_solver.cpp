@@ -33,6 +33,9 @@ constexpr std::size_t kRowSlotsPerJoint = 12;
 // bodies' response and the tree takes most of it.
 constexpr double kSmallestRelativeResponse = 1e-4;
 
+// Nodes from a body to its root beyond which getImpulseResponse solves the whole tree.
+constexpr int kMaxResponsePath = 64;
+
 }  // namespace
 
 // One node of the forest: a body, or a joint with up to 6 locked rows.
@@ -74,6 +77,7 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       numRigidBodies + 1 +      // adjacency offsets
                                                       2 * numJointPairs +       // adjacency
                                                       numRigidBodies + 1 +      // tree starts
+                                                      numRigidBodies +          // trees' bodies
                                                       numNodes)) +  // response slots
       PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
                               sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs)) +
@@ -103,12 +107,14 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   PfxInt32* adjacencyStart = carver.take<PfxInt32>(numRigidBodies + 1);
   PfxInt32* adjacency = carver.take<PfxInt32>(2 * std::size_t(numJointPairs));
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
+  m_bodyTreeBody = carver.take<PfxInt32>(numRigidBodies);
   m_responseSlot = carver.take<PfxInt32>(maxNodes);
   m_bodyResponses = carver.take<PfxTreeBlock>(maxBodiesInTrees(numRigidBodies, numJointPairs));
   m_numBodyResponses = 0;
   m_treeMovedFromOutside = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
-  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_responseSlot ||
+  if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_bodyTreeBody ||
+      !m_responseSlot ||
       !m_treeMovedFromOutside ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
@@ -123,7 +129,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // hold one chain to the ground close a loop through it.
   const PfxInt32 ground = static_cast<PfxInt32>(numRigidBodies);
   for (PfxUInt32 b = 0; b <= numRigidBodies; ++b) {
-    if (b < numRigidBodies) bodyNode[b] = -1;
+    if (b < numRigidBodies) bodyNode[b] = m_bodyTreeBody[b] = -1;
     sets[b] = static_cast<PfxInt32>(b);
     adjacencyStart[b] = 0;
   }
@@ -262,6 +268,14 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
   m_treeStarts[m_numTrees] = m_numNodes;
+  // A tree's first node is a body or a joint whose first child is a body.
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) {
+    std::size_t first = m_treeStarts[t];
+    while (m_nodes[first].body < 0) ++first;
+    for (std::size_t n = first; n < m_treeStarts[t + 1]; ++n) {
+      if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[first].body;
+    }
+  }
   pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
       pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
@@ -457,19 +471,10 @@ void PfxJointTreeSolver::markTreeOfBody(PfxUInt32 rigidBodyId) {
   if (node >= 0) m_treeMovedFromOutside[m_nodes[node].tree] = 1;
 }
 
-void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* contactPairs,
-                                                   PfxUInt32 numContactPairs,
-                                                   const PfxContactManifold* manifolds,
-                                                   const PfxJointCoupling* couplings,
+void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxJointCoupling* couplings,
                                                    PfxUInt32 numCouplings) {
   if (m_numNodes == 0) return;
   for (PfxUInt32 t = 0; t < m_numTrees; ++t) m_treeMovedFromOutside[t] = 0;
-  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
-    const PfxConstraintPair& pair = contactPairs[i];
-    if (!pfxGetActive(pair) || manifolds[pfxGetContactId(pair)].getNumContacts() == 0) continue;
-    markTreeOfBody(pfxGetObjectIdA(pair));
-    markTreeOfBody(pfxGetObjectIdB(pair));
-  }
   for (PfxUInt32 i = 0; i < m_numJointPairs; ++i) {
     const PfxConstraintPair& pair = m_jointPairs[i];
     if (!pfxGetActive(pair) || contains(i)) continue;
@@ -480,6 +485,26 @@ void PfxJointTreeSolver::markTreesMovedFromOutside(const PfxConstraintPair* cont
     for (PfxUInt32 b = 0; b < couplings[i].m_numBodies; ++b) {
       markTreeOfBody(couplings[i].m_bodies[b].m_rigidBodyId);
     }
+  }
+}
+
+void PfxJointTreeSolver::markTreesMovedByContacts(const PfxConstraintPair* contactPairs,
+                                                  PfxUInt32 numContactPairs,
+                                                  const PfxContactManifold* manifolds) {
+  if (m_numNodes == 0) return;
+  for (PfxUInt32 i = 0; i < numContactPairs; ++i) {
+    const PfxConstraintPair& pair = contactPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    const PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
+    bool acted = false;
+    for (PfxUInt32 c = 0; c < manifold.getNumContacts() && !acted; ++c) {
+      for (const PfxConstraintRow& row : manifold.getContactPoint(c).m_constraintRow) {
+        acted = acted || row.m_accumImpulse != 0;
+      }
+    }
+    if (!acted) continue;
+    markTreeOfBody(pfxGetObjectIdA(pair));
+    markTreeOfBody(pfxGetObjectIdB(pair));
   }
 }
 
@@ -534,11 +559,8 @@ void PfxJointTreeSolver::addLockedImpulsesOfBoundedRows(PfxTaskManager* taskMana
 }
 
 PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
-  // A tree's first node is a body or a joint whose first child is a body.
-  std::size_t n = m_treeStarts[m_nodes[m_bodyNode[rigidBodyId]].tree];
-  while (m_nodes[n].body < 0) ++n;
-  return m_nodes[n].body;
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies) return -1;
+  return m_bodyTreeBody[rigidBodyId];
 }
 
 PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
@@ -547,14 +569,40 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
   const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
   PfxInt32& slot = m_responseSlot[bodyNode];
   if (slot < 0) {
+    // A unit impulse on the body moves the values of its path to the root only, and the
+    // body's answer depends on them alone: the tree solve restricted to that path, in the
+    // same order, gives the same numbers at a fraction of the cost (a foot of a ragdoll is
+    // 7 of its 21 nodes from the root).
+    PfxInt32 path[kMaxResponsePath];
+    int length = 0;
+    for (PfxInt32 n = bodyNode; n >= 0 && length < kMaxResponsePath; n = m_nodes[n].parent) {
+      path[length++] = n;
+    }
+    // Deeper than the path's room (a long chain): the whole tree.
+    if (m_nodes[path[length - 1]].parent >= 0) length = 0;
     const Node& node = m_nodes[bodyNode];
     PfxTreeBlock& response = m_bodyResponses[m_numBodyResponses];
     for (int axis = 0; axis < 6; ++axis) {
-      for (std::size_t n = m_treeStarts[node.tree]; n < m_treeStarts[node.tree + 1]; ++n) {
-        m_nodes[n].value.setZero();
+      if (length == 0) {
+        for (std::size_t n = m_treeStarts[node.tree]; n < m_treeStarts[node.tree + 1]; ++n) {
+          m_nodes[n].value.setZero();
+        }
+        m_nodes[bodyNode].value[axis] = 1;
+        pfxSolveBlockTree(m_nodes, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
+      } else {
+        for (int i = 0; i < length; ++i) m_nodes[path[i]].value.setZero();
+        m_nodes[bodyNode].value[axis] = 1;
+        for (int i = 0; i + 1 < length; ++i) {
+          m_nodes[path[i + 1]].value -= m_nodes[path[i]].toParent.transpose() * m_nodes[path[i]].value;
+        }
+        for (int i = 0; i < length; ++i) {
+          Node& onPath = m_nodes[path[i]];
+          onPath.value = (onPath.diagonalInverse * onPath.value).eval();
+        }
+        for (int i = length - 1; i-- > 0;) {
+          m_nodes[path[i]].value -= m_nodes[path[i]].toParent * m_nodes[path[i + 1]].value;
+        }
       }
-      m_nodes[bodyNode].value[axis] = 1;
-      pfxSolveBlockTree(m_nodes, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
       response.col(axis) = m_nodes[bodyNode].value;
     }
     slot = static_cast<PfxInt32>(m_numBodyResponses++);

@@ -63,13 +63,20 @@ class PfxJointTreeSolver {
   // Moves the row's tree as it answers `impulse` on the row, its locked axes held.
   void applyBoundedRowImpulse(PfxInt32 slot, PfxFloat impulse);
   // Marks the trees that something besides their own rows moves during a solve: a body
-  // of theirs touched by a contact point, held by a joint outside the forest (it closes a
-  // loop, or is one-way) or by a joint coupling. The other trees' locked axes, once
-  // solved, stay held through the iterations: their bounded rows' updates keep them so.
-  void markTreesMovedFromOutside(const PfxConstraintPair* contactPairs,
-                                 PfxUInt32 numContactPairs,
-                                 const PfxContactManifold* manifolds,
-                                 const PfxJointCoupling* couplings, PfxUInt32 numCouplings);
+  // of theirs held by a joint outside the forest (it closes a loop, or is one-way) or by a
+  // joint coupling, and, from markTreesMovedByContacts, touched by a contact that acts.
+  // The other trees' locked axes, once solved, stay held through the iterations: their
+  // bounded rows' updates keep them so.
+  void markTreesMovedFromOutside(const PfxJointCoupling* couplings, PfxUInt32 numCouplings);
+  // After each sweep of the contacts, before solveVelocitiesBeforeSweep: marks the trees
+  // of the bodies of contacts with an impulse (normal or friction), and keeps them marked
+  // for the rest of the solve, since an impulse that returns to zero moves its bodies back
+  // on the way. A contact whose impulses have stayed zero (a speculative point that never
+  // closed, such as the arm's forearm 2 cm from its palm, every step) has moved nothing,
+  // and its tree needs no solve before and after every sweep for it: two tree solves a
+  // sweep on the arm.
+  void markTreesMovedByContacts(const PfxConstraintPair* contactPairs, PfxUInt32 numContactPairs,
+                                const PfxContactManifold* manifolds);
   // A velocity solve of a tree adds to its locked rows' impulses and its bodies' velocity
   // changes what makes every locked axis move at its target velocity (m_rhs). Trees are
   // solved in parallel with a task manager; they share no moving body, so the result is
@@ -139,6 +146,7 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numTrees = 0;
   PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
+  PfxInt32* m_bodyTreeBody = nullptr;  // getTreeBody() of each body
   // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1.
   PfxInt32* m_responseSlot = nullptr;
   PfxTreeBlock* m_bodyResponses = nullptr;  // room for every body a joint can hold

@@ -495,9 +495,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
     if (param.numJointPairs > 0) {
       tree.prepareBoundedRows(boundedRowWork, layout.boundedRowBytes, taskManager);
-      tree.markTreesMovedFromOutside(param.contactPairs, param.numContactPairs,
-                                     param.offsetContactManifolds, param.offsetJointCouplings,
-                                     param.numJointCouplings);
+      tree.markTreesMovedFromOutside(param.offsetJointCouplings, param.numJointCouplings);
     }
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
@@ -521,6 +519,10 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                            param.offsetContactManifolds, param.offsetSolverBodies, tree,
                            PfxTreeContactVelocities::kVelocity, PfxTreeContactPairs::kOnTrees,
                            kNegligibleTreeContactShortfall / param.timeStep);
+      if (param.numJointPairs > 0) {
+        tree.markTreesMovedByContacts(param.contactPairs, param.numContactPairs,
+                                      param.offsetContactManifolds);
+      }
       tree.solveVelocitiesBeforeSweep(first, taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
