@@ -239,6 +239,59 @@ TEST(Particles, HangingRopeMatchesTheCatenary) {
   }
 }
 
+// A sub-step solved in calls of one iteration each, every call after the first going on from
+// the multipliers of the one before (continueSubStep), is the same bits as one call of as
+// many iterations: what PfxWorld relies on to solve the contacts between two groups between
+// the iterations. Starting each call afresh is not the same solve.
+TEST(Particles, ASubStepSolvedOneIterationPerCallIsTheSameBits) {
+  PfxParticleGroupBuilder start;
+  PfxParticleGroupBuilder::Material m;
+  m.stretchCompliance = PfxFloat(1e-3);
+  m.bendCompliance = PfxFloat(0.5);
+  start.addRope(PfxVector3::Zero(), PfxVector3(1, -0.2, 0), 12, m);
+  start.pinToWorld(0);
+  start.pins[0].m_compliance = PfxFloat(1e-4);
+  const auto solveSubStep = [&](PfxParticleGroupBuilder& b, PfxUInt32 calls, PfxUInt32 iterations,
+                                bool goOn) {
+    PfxIntegrateParticlesParam integrate;
+    integrate.particles = b.particles.data();
+    integrate.numParticles = static_cast<PfxUInt32>(b.particles.size());
+    integrate.timeStep = PfxFloat(1) / 60;
+    ASSERT_EQ(pfxIntegrateParticles(integrate), PFX_OK);
+    for (PfxUInt32 call = 0; call < calls; ++call) {
+      PfxSolveParticleConstraintsParam solve;
+      solve.particles = b.particles.data();
+      solve.numParticles = integrate.numParticles;
+      solve.distanceConstraints = b.distanceConstraints.data();
+      solve.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+      solve.angleConstraints = b.angleConstraints.data();
+      solve.numAngleConstraints = static_cast<PfxUInt32>(b.angleConstraints.size());
+      solve.pins = b.pins.data();
+      solve.numPins = static_cast<PfxUInt32>(b.pins.size());
+      solve.timeStep = integrate.timeStep;
+      solve.iteration = iterations;
+      solve.continueSubStep = goOn && call > 0;
+      ASSERT_EQ(pfxSolveParticleConstraints(solve), PFX_OK) << pfxGetLastErrorDetail();
+    }
+  };
+  PfxParticleGroupBuilder once = start, split = start, afresh = start;
+  solveSubStep(once, 1, 8, false);
+  solveSubStep(split, 8, 1, true);
+  solveSubStep(afresh, 8, 1, false);
+  ASSERT_EQ(once.particles.size(), split.particles.size());
+  for (std::size_t i = 0; i < once.particles.size(); ++i) {
+    EXPECT_EQ(once.particles[i].m_position, split.particles[i].m_position) << "particle " << i;
+  }
+  for (std::size_t i = 0; i < once.distanceConstraints.size(); ++i) {
+    EXPECT_EQ(once.distanceConstraints[i].m_lambda, split.distanceConstraints[i].m_lambda);
+  }
+  PfxFloat apart = 0;
+  for (std::size_t i = 0; i < once.particles.size(); ++i) {
+    apart = std::max(apart, (once.particles[i].m_position - afresh.particles[i].m_position).norm());
+  }
+  EXPECT_GT(apart, 0) << "the multipliers carried over make no difference here";
+}
+
 TEST(Particles, RopeCarriesAThousandTimesItsMassWithinOnePercent) {
   // 1 m, 21 particles of 1 g (the top one pinned), and at the end a payload of 1,000 times
   // the 20 g that hang: 20 kg, released with the rope horizontal, so that it swings through

@@ -135,8 +135,10 @@ PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam&
   }
   for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
     PfxParticleContact& c = param.contacts[i];
-    c.m_lambdaNormal = 0;
-    c.m_lambdaTangent = 0;
+    if (!param.continueSubStep) {
+      c.m_lambdaNormal = 0;
+      c.m_lambdaTangent = 0;
+    }
     pfxSolveParticlePairContact(c, param.particlesA[c.m_particle], param.particlesB[c.m_other]);
   }
   return PFX_OK;
