@@ -705,6 +705,18 @@ TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
   ASSERT_EQ(pfxSolveParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
   EXPECT_NEAR((a[0].m_position - b[1].m_position).norm(), a[0].m_radius + b[1].m_radius, 1e-6);
   EXPECT_NEAR(a[0].m_position.y() + b[1].m_position.y(), 0.015, 1e-6) << "equal masses, equal shares";
+  // The pair pushed: the speed with which it parts along its normal is taken out, shared by
+  // inverse mass; the speed across the normal stays.
+  a[0].m_velocity = PfxVector3(PfxFloat(0.5), 2, 0);
+  b[1].m_velocity = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_NEAR(a[0].m_velocity.y(), 0.5, 1e-5);
+  EXPECT_NEAR(b[1].m_velocity.y(), 0.5, 1e-5);
+  EXPECT_NEAR(a[0].m_velocity.x(), 0.5, 1e-5);
+  a[0].m_velocity = PfxVector3(0, -1, 0);  // closing: left alone
+  b[1].m_velocity.setZero();
+  ASSERT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_OK);
+  EXPECT_EQ(a[0].m_velocity.y(), -1);
 
   // Filters that do not match: no contact.
   a[0].m_contactFilterSelf = 2;
@@ -746,7 +758,11 @@ TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
   contacts[0].m_other = 3;
   EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
   EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "contacts[0]"), nullptr) << pfxGetLastErrorDetail();
+  EXPECT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "pfxUpdateParticleGroupContacts"), nullptr)
+      << pfxGetLastErrorDetail();
   solve.particlesB = nullptr;
   EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
   EXPECT_EQ(std::memcmp(beforeA.data(), a.data(), a.size() * sizeof(PfxParticle)), 0);
 }

@@ -265,6 +265,42 @@ TEST(WorldParticles, RopeRestsOnAPinnedClothAtOneSubStep) {
   EXPECT_GT(worstAbove, 0) << "the rope passed through the cloth";
   EXPECT_LT(worstDeep, 0.25 * ropeStuff.radius) << "the rope sinks into the cloth";
   EXPECT_LT(lastSpeed, 0.02) << "the rope or cloth does not come to rest";
+
+  // The contacts between the two, kept while both sleep: the cloth (the lower id) is A, the
+  // normals point from the rope down into it, and their impulses carry the rope's weight
+  // over the last sub-step.
+  EXPECT_TRUE(world.getParticleGroup(ropeId)->asleep && world.getParticleGroup(clothId)->asleep);
+  std::vector<PfxParticleGroupContact> contacts(1000);
+  PfxQueryContactsResult listed;
+  ASSERT_EQ(world.getParticleGroupContacts(contacts.data(), 1000, listed), PFX_OK);
+  ASSERT_FALSE(listed.truncated);
+  ASSERT_GT(listed.numContacts, 0u);
+  PfxFloat lift = 0;
+  for (PfxUInt32 i = 0; i < listed.numContacts; ++i) {
+    const PfxParticleGroupContact& c = contacts[i];
+    EXPECT_EQ(c.m_particleGroupIdA, clothId);
+    EXPECT_EQ(c.m_particleGroupIdB, ropeId);
+    const PfxVector3 a = world.getParticleGroup(clothId)->particles[c.m_particleA].m_position;
+    const PfxVector3 b = world.getParticleGroup(ropeId)->particles[c.m_particleB].m_position;
+    EXPECT_NEAR((a - b).normalized().dot(c.m_normal), 1, 1e-5);
+    EXPECT_NEAR(c.m_depth, clothStuff.radius + ropeStuff.radius - (a - b).norm(), 1e-6);
+    EXPECT_LT(c.m_normal.y(), 0);
+    EXPECT_GE(c.m_impulse, 0);
+    lift -= c.m_impulse * c.m_normal.y();
+  }
+  const double ropeWeight = 21 * ropeStuff.particleMass * 9.80665;
+  std::printf("%u contacts between rope and cloth, lifting %.5f N s of the rope's weight "
+              "over a step, %.5f N s\n",
+              listed.numContacts, lift, ropeWeight * world.getParam().timeStep);
+  EXPECT_NEAR(lift, ropeWeight * world.getParam().timeStep,
+              0.25 * ropeWeight * world.getParam().timeStep);
+  PfxQueryContactsResult partial;
+  ASSERT_EQ(world.getParticleGroupContacts(contacts.data(), 2, partial), PFX_OK);
+  EXPECT_EQ(partial.numContacts, 2u);
+  EXPECT_TRUE(partial.truncated);
+  PfxQueryContactsResult none;
+  EXPECT_EQ(world.getParticleGroupContacts(nullptr, 4, none), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(none.numContacts, 0u);
 }
 
 TEST(WorldParticles, ClothOnALargeMeshAndACompoundStaysAbove) {

@@ -62,4 +62,12 @@ struct PfxSolveParticleGroupContactsParam {
 // then. Serial, allocates nothing.
 PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param);
 
+// After both groups' pfxUpdateParticles: the velocity with which each pair that pushed this
+// sub-step (a positive normal multiplier) separates along the line between its centres is
+// taken out, split by inverse mass, as pfxUpdateParticles does for a group's own contacts;
+// else the push that ended an overlap would leave as a rebound, and a light cloth on a taut
+// cable would bounce off it. The same checks as pfxSolveParticleGroupContacts. Serial,
+// allocates nothing.
+PfxInt32 pfxUpdateParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param);
+
 }  // namespace pfx
