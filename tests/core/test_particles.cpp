@@ -292,6 +292,74 @@ TEST(Particles, ASubStepSolvedOneIterationPerCallIsTheSameBits) {
   EXPECT_GT(apart, 0) << "the multipliers carried over make no difference here";
 }
 
+// The refresh places each body's shape once for the contacts that follow with the same one;
+// contacts alternating between bodies get the planes they get refreshed alone.
+TEST(Particles, RefreshedContactsAlternatingBetweenBodiesMatchEachRefreshedAlone) {
+  PfxRigidState states[3];
+  PfxCollidable collidables[3];
+  for (PfxRigidState& s : states) s.reset();
+  for (PfxCollidable& c : collidables) c.reset();
+  PfxShape ball, box, capsule;
+  ball.reset();
+  ball.setSphere(PfxSphere(1));
+  box.reset();
+  box.setBox(PfxBox(0.5, 0.3, 0.4));
+  capsule.reset();
+  capsule.setCapsule(PfxCapsule(0.6, 0.2));
+  capsule.setOffsetPosition(PfxVector3(0, 0, 2));
+  capsule.setOffsetOrientation(PfxQuat(Eigen::AngleAxis<PfxFloat>(PfxFloat(0.7), PfxVector3::UnitY())));
+  collidables[0].addShape(ball);
+  collidables[0].finish();
+  collidables[1].addShape(box);
+  collidables[1].finish();
+  collidables[2].addShape(capsule);
+  collidables[2].finish();
+  const PfxQuat tilt(Eigen::AngleAxis<PfxFloat>(PfxFloat(0.4), PfxVector3(1, 1, 0).normalized()));
+  for (PfxUInt32 i = 1; i < 3; ++i) {
+    states[i].setPosition(PfxVector3(4, 1, 0));
+    states[i].setOrientation(tilt);
+  }
+  const PfxVector3 capsuleCentre = states[2].getPosition() + tilt * PfxVector3(0, 0, 2);
+  const PfxVector3 places[] = {PfxVector3(0, 1.1, 0),
+                               states[1].getPosition() + tilt * PfxVector3(0.1, 0.45, 0),
+                               capsuleCentre + PfxVector3(0, 0.35, 0),
+                               capsuleCentre + PfxVector3(0.1, -0.3, 0.1),
+                               PfxVector3(0.1, -1.15, 0),
+                               PfxVector3(9, 9, 9)};
+  const PfxUInt32 bodies[] = {0, 1, 2, 2, 0, 1};
+  std::vector<PfxParticle> particles(6);
+  std::vector<PfxParticleContact> contacts(6);
+  for (PfxUInt32 i = 0; i < 6; ++i) {
+    particles[i].m_position = particles[i].m_previousPosition = places[i];
+    particles[i].m_radius = PfxFloat(0.1);
+    contacts[i].m_particle = i;
+    contacts[i].m_other = bodies[i];
+    contacts[i].m_localNormal = PfxVector3::UnitX();
+  }
+  PfxRefreshParticleContactsParam refresh;
+  refresh.particles = particles.data();
+  refresh.numParticles = 6;
+  refresh.offsetRigidStates = states;
+  refresh.offsetCollidables = collidables;
+  refresh.numRigidBodies = 3;
+  std::vector<PfxParticleContact> alone = contacts;
+  refresh.contacts = contacts.data();
+  refresh.numContacts = 6;
+  ASSERT_EQ(pfxRefreshParticleContacts(refresh), PFX_OK) << pfxGetLastErrorDetail();
+  for (PfxUInt32 i = 0; i < 6; ++i) {
+    refresh.contacts = &alone[i];
+    refresh.numContacts = 1;
+    ASSERT_EQ(pfxRefreshParticleContacts(refresh), PFX_OK);
+    EXPECT_EQ(contacts[i].m_localPoint, alone[i].m_localPoint) << "contact " << i;
+    EXPECT_EQ(contacts[i].m_localNormal, alone[i].m_localNormal) << "contact " << i;
+  }
+  // The first on the ball's top: its normal up; the last, far from the box: out of reach.
+  EXPECT_NEAR(contacts[0].m_localNormal.y(), 1, 1e-5);
+  EXPECT_NEAR(contacts[4].m_localNormal.y(), -1, 0.1);
+  EXPECT_EQ(contacts[5].m_localNormal, PfxVector3::Zero());
+  for (PfxUInt32 i = 1; i < 4; ++i) EXPECT_NEAR(contacts[i].m_localNormal.norm(), 1, 1e-5);
+}
+
 TEST(Particles, RopeCarriesAThousandTimesItsMassWithinOnePercent) {
   // 1 m, 21 particles of 1 g (the top one pinned), and at the end a payload of 1,000 times
   // the 20 g that hang: 20 kg, released with the rope horizontal, so that it swings through
