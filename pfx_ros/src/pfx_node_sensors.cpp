@@ -379,7 +379,9 @@ bool sameContacts(const std::vector<PfxNodeContact>& a, const std::vector<PfxNod
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (a[i].bodyA != b[i].bodyA || a[i].bodyB != b[i].bodyB || a[i].shapeA != b[i].shapeA ||
-        a[i].shapeB != b[i].shapeB || (a[i].position - b[i].position).norm() > PfxFloat(1e-3)) {
+        a[i].shapeB != b[i].shapeB || a[i].particleGroupA != b[i].particleGroupA ||
+        a[i].particleGroupB != b[i].particleGroupB ||
+        (a[i].position - b[i].position).norm() > PfxFloat(1e-3)) {
       return false;
     }
   }
@@ -395,12 +397,13 @@ void PfxNodeSensors::publishContacts(Sensor& sensor, const PfxNodeSimulation& si
   const std::string& link = simulation.getLinkName(sensor.linkIndex, m_model);
   std::vector<PfxNodeContact> mine;
   for (const PfxNodeContact& c : m_contacts) {
-    if (simulation.getShapeName(c.bodyA, c.shapeA) == link) {
+    if (simulation.getContactNameA(c) == link) {
       mine.push_back(c);
-    } else if (simulation.getShapeName(c.bodyB, c.shapeB) == link) {
+    } else if (simulation.getContactNameB(c) == link) {
       PfxNodeContact turned = c;
       std::swap(turned.bodyA, turned.bodyB);
       std::swap(turned.shapeA, turned.shapeB);
+      std::swap(turned.particleGroupA, turned.particleGroupB);
       turned.normal = -c.normal;
       mine.push_back(turned);
     }
@@ -413,7 +416,7 @@ void PfxNodeSensors::publishContacts(Sensor& sensor, const PfxNodeSimulation& si
   for (const PfxNodeContact& c : mine) {
     pfx::Contact contact;
     contact.link_a = link;
-    contact.link_b = simulation.getShapeName(c.bodyB, c.shapeB);
+    contact.link_b = simulation.getContactNameB(c);
     contact.position = pfxToPointMsg(c.position);
     contact.normal = pfxToVector3Msg(c.normal);
     contact.depth = c.depth;

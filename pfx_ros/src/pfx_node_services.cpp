@@ -156,10 +156,8 @@ bool PfxNodeServices::getContacts(GetContacts::Request& req, GetContacts::Respon
   }
   m_simulation.getContacts(m_contacts);
   for (const PfxNodeContact& c : m_contacts) {
-    const std::string& nameA = m_simulation.getShapeName(c.bodyA, c.shapeA);
-    const std::string& nameB = c.particleGroup != PFX_RAY_NO_OBJECT
-                                   ? m_simulation.getParticleGroupName(c.particleGroup)
-                                   : m_simulation.getShapeName(c.bodyB, c.shapeB);
+    const std::string& nameA = m_simulation.getContactNameA(c);
+    const std::string& nameB = m_simulation.getContactNameB(c);
     if (!asked.empty() && nameA != asked && nameB != asked) continue;
     // The link asked about comes first, the normal pointing away from it.
     const bool swap = !asked.empty() && nameA != asked;

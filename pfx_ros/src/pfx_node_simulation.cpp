@@ -917,13 +917,42 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
     PfxNodeContact contact;
     contact.bodyA = c.m_rigidBodyId;
     contact.shapeA = c.m_shapeId;
-    contact.particleGroup = c.m_particleGroupId;
+    contact.particleGroupB = c.m_particleGroupId;
     contact.position = c.m_point;
     contact.normal = c.m_normal;
     contact.depth = c.m_depth;
     contact.impulse = c.m_impulse;
     contacts.push_back(contact);
   }
+  for (std::size_t room = 256;; room *= 2) {
+    m_particleGroupContacts.resize(room);
+    found = PfxQueryContactsResult();
+    world.getParticleGroupContacts(m_particleGroupContacts.data(), PfxUInt32(room), found);
+    if (!found.truncated) break;
+  }
+  for (PfxUInt32 i = 0; i < found.numContacts; ++i) {
+    const PfxParticleGroupContact& c = m_particleGroupContacts[i];
+    if (c.m_depth < -kTouchingDistance && c.m_impulse <= 0) continue;
+    PfxNodeContact contact;
+    contact.particleGroupA = c.m_particleGroupIdA;
+    contact.particleGroupB = c.m_particleGroupIdB;
+    contact.position = c.m_point;
+    // From A to B, as between bodies; the core's points from B's particle to A's.
+    contact.normal = -c.m_normal;
+    contact.depth = c.m_depth;
+    contact.impulse = c.m_impulse;
+    contacts.push_back(contact);
+  }
+}
+
+const std::string& PfxNodeSimulation::getContactNameA(const PfxNodeContact& contact) const {
+  return contact.particleGroupA != PFX_RAY_NO_OBJECT ? getParticleGroupName(contact.particleGroupA)
+                                                     : getShapeName(contact.bodyA, contact.shapeA);
+}
+
+const std::string& PfxNodeSimulation::getContactNameB(const PfxNodeContact& contact) const {
+  return contact.particleGroupB != PFX_RAY_NO_OBJECT ? getParticleGroupName(contact.particleGroupB)
+                                                     : getShapeName(contact.bodyB, contact.shapeB);
 }
 
 PfxInt32 PfxNodeSimulation::applyLinkWrench(const PfxNodeModelPart& link, const PfxVector3& force,

@@ -239,6 +239,127 @@ TEST(Particles, HangingRopeMatchesTheCatenary) {
   }
 }
 
+// A sub-step solved in calls of one iteration each, every call after the first going on from
+// the multipliers of the one before (continueSubStep), is the same bits as one call of as
+// many iterations: what PfxWorld relies on to solve the contacts between two groups between
+// the iterations. Starting each call afresh is not the same solve.
+TEST(Particles, ASubStepSolvedOneIterationPerCallIsTheSameBits) {
+  PfxParticleGroupBuilder start;
+  PfxParticleGroupBuilder::Material m;
+  m.stretchCompliance = PfxFloat(1e-3);
+  m.bendCompliance = PfxFloat(0.5);
+  start.addRope(PfxVector3::Zero(), PfxVector3(1, -0.2, 0), 12, m);
+  start.pinToWorld(0);
+  start.pins[0].m_compliance = PfxFloat(1e-4);
+  const auto solveSubStep = [&](PfxParticleGroupBuilder& b, PfxUInt32 calls, PfxUInt32 iterations,
+                                bool goOn) {
+    PfxIntegrateParticlesParam integrate;
+    integrate.particles = b.particles.data();
+    integrate.numParticles = static_cast<PfxUInt32>(b.particles.size());
+    integrate.timeStep = PfxFloat(1) / 60;
+    ASSERT_EQ(pfxIntegrateParticles(integrate), PFX_OK);
+    for (PfxUInt32 call = 0; call < calls; ++call) {
+      PfxSolveParticleConstraintsParam solve;
+      solve.particles = b.particles.data();
+      solve.numParticles = integrate.numParticles;
+      solve.distanceConstraints = b.distanceConstraints.data();
+      solve.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+      solve.angleConstraints = b.angleConstraints.data();
+      solve.numAngleConstraints = static_cast<PfxUInt32>(b.angleConstraints.size());
+      solve.pins = b.pins.data();
+      solve.numPins = static_cast<PfxUInt32>(b.pins.size());
+      solve.timeStep = integrate.timeStep;
+      solve.iteration = iterations;
+      solve.continueSubStep = goOn && call > 0;
+      ASSERT_EQ(pfxSolveParticleConstraints(solve), PFX_OK) << pfxGetLastErrorDetail();
+    }
+  };
+  PfxParticleGroupBuilder once = start, split = start, afresh = start;
+  solveSubStep(once, 1, 8, false);
+  solveSubStep(split, 8, 1, true);
+  solveSubStep(afresh, 8, 1, false);
+  ASSERT_EQ(once.particles.size(), split.particles.size());
+  for (std::size_t i = 0; i < once.particles.size(); ++i) {
+    EXPECT_EQ(once.particles[i].m_position, split.particles[i].m_position) << "particle " << i;
+  }
+  for (std::size_t i = 0; i < once.distanceConstraints.size(); ++i) {
+    EXPECT_EQ(once.distanceConstraints[i].m_lambda, split.distanceConstraints[i].m_lambda);
+  }
+  PfxFloat apart = 0;
+  for (std::size_t i = 0; i < once.particles.size(); ++i) {
+    apart = std::max(apart, (once.particles[i].m_position - afresh.particles[i].m_position).norm());
+  }
+  EXPECT_GT(apart, 0) << "the multipliers carried over make no difference here";
+}
+
+// The refresh places each body's shape once for the contacts that follow with the same one;
+// contacts alternating between bodies get the planes they get refreshed alone.
+TEST(Particles, RefreshedContactsAlternatingBetweenBodiesMatchEachRefreshedAlone) {
+  PfxRigidState states[3];
+  PfxCollidable collidables[3];
+  for (PfxRigidState& s : states) s.reset();
+  for (PfxCollidable& c : collidables) c.reset();
+  PfxShape ball, box, capsule;
+  ball.reset();
+  ball.setSphere(PfxSphere(1));
+  box.reset();
+  box.setBox(PfxBox(0.5, 0.3, 0.4));
+  capsule.reset();
+  capsule.setCapsule(PfxCapsule(0.6, 0.2));
+  capsule.setOffsetPosition(PfxVector3(0, 0, 2));
+  capsule.setOffsetOrientation(PfxQuat(Eigen::AngleAxis<PfxFloat>(PfxFloat(0.7), PfxVector3::UnitY())));
+  collidables[0].addShape(ball);
+  collidables[0].finish();
+  collidables[1].addShape(box);
+  collidables[1].finish();
+  collidables[2].addShape(capsule);
+  collidables[2].finish();
+  const PfxQuat tilt(Eigen::AngleAxis<PfxFloat>(PfxFloat(0.4), PfxVector3(1, 1, 0).normalized()));
+  for (PfxUInt32 i = 1; i < 3; ++i) {
+    states[i].setPosition(PfxVector3(4, 1, 0));
+    states[i].setOrientation(tilt);
+  }
+  const PfxVector3 capsuleCentre = states[2].getPosition() + tilt * PfxVector3(0, 0, 2);
+  const PfxVector3 places[] = {PfxVector3(0, 1.1, 0),
+                               states[1].getPosition() + tilt * PfxVector3(0.1, 0.45, 0),
+                               capsuleCentre + PfxVector3(0, 0.35, 0),
+                               capsuleCentre + PfxVector3(0.1, -0.3, 0.1),
+                               PfxVector3(0.1, -1.15, 0),
+                               PfxVector3(9, 9, 9)};
+  const PfxUInt32 bodies[] = {0, 1, 2, 2, 0, 1};
+  std::vector<PfxParticle> particles(6);
+  std::vector<PfxParticleContact> contacts(6);
+  for (PfxUInt32 i = 0; i < 6; ++i) {
+    particles[i].m_position = particles[i].m_previousPosition = places[i];
+    particles[i].m_radius = PfxFloat(0.1);
+    contacts[i].m_particle = i;
+    contacts[i].m_other = bodies[i];
+    contacts[i].m_localNormal = PfxVector3::UnitX();
+  }
+  PfxRefreshParticleContactsParam refresh;
+  refresh.particles = particles.data();
+  refresh.numParticles = 6;
+  refresh.offsetRigidStates = states;
+  refresh.offsetCollidables = collidables;
+  refresh.numRigidBodies = 3;
+  std::vector<PfxParticleContact> alone = contacts;
+  refresh.contacts = contacts.data();
+  refresh.numContacts = 6;
+  ASSERT_EQ(pfxRefreshParticleContacts(refresh), PFX_OK) << pfxGetLastErrorDetail();
+  for (PfxUInt32 i = 0; i < 6; ++i) {
+    refresh.contacts = &alone[i];
+    refresh.numContacts = 1;
+    ASSERT_EQ(pfxRefreshParticleContacts(refresh), PFX_OK);
+    EXPECT_EQ(contacts[i].m_localPoint, alone[i].m_localPoint) << "contact " << i;
+    EXPECT_EQ(contacts[i].m_localNormal, alone[i].m_localNormal) << "contact " << i;
+  }
+  // The first on the ball's top: its normal up; the last, far from the box: out of reach.
+  EXPECT_NEAR(contacts[0].m_localNormal.y(), 1, 1e-5);
+  EXPECT_NEAR(contacts[4].m_localNormal.y(), -1, 0.1);
+  EXPECT_EQ(contacts[5].m_localNormal, PfxVector3::Zero());
+  for (PfxUInt32 i = 1; i < 4; ++i) EXPECT_NEAR(contacts[i].m_localNormal.norm(), 1, 1e-5);
+}
+
 TEST(Particles, RopeCarriesAThousandTimesItsMassWithinOnePercent) {
   // 1 m, 21 particles of 1 g (the top one pinned), and at the end a payload of 1,000 times
   // the 20 g that hang: 20 kg, released with the rope horizontal, so that it swings through
@@ -652,6 +773,18 @@ TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
   ASSERT_EQ(pfxSolveParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
   EXPECT_NEAR((a[0].m_position - b[1].m_position).norm(), a[0].m_radius + b[1].m_radius, 1e-6);
   EXPECT_NEAR(a[0].m_position.y() + b[1].m_position.y(), 0.015, 1e-6) << "equal masses, equal shares";
+  // The pair pushed: the speed with which it parts along its normal is taken out, shared by
+  // inverse mass; the speed across the normal stays.
+  a[0].m_velocity = PfxVector3(PfxFloat(0.5), 2, 0);
+  b[1].m_velocity = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_OK) << pfxGetLastErrorDetail();
+  EXPECT_NEAR(a[0].m_velocity.y(), 0.5, 1e-5);
+  EXPECT_NEAR(b[1].m_velocity.y(), 0.5, 1e-5);
+  EXPECT_NEAR(a[0].m_velocity.x(), 0.5, 1e-5);
+  a[0].m_velocity = PfxVector3(0, -1, 0);  // closing: left alone
+  b[1].m_velocity.setZero();
+  ASSERT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_OK);
+  EXPECT_EQ(a[0].m_velocity.y(), -1);
 
   // Filters that do not match: no contact.
   a[0].m_contactFilterSelf = 2;
@@ -693,7 +826,11 @@ TEST(Particles, GroupContactsAreFoundSolvedAndBadInputRefused) {
   contacts[0].m_other = 3;
   EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
   EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "contacts[0]"), nullptr) << pfxGetLastErrorDetail();
+  EXPECT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_ERR_OUT_OF_RANGE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "pfxUpdateParticleGroupContacts"), nullptr)
+      << pfxGetLastErrorDetail();
   solve.particlesB = nullptr;
   EXPECT_EQ(pfxSolveParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(pfxUpdateParticleGroupContacts(solve), PFX_ERR_NULL_POINTER);
   EXPECT_EQ(std::memcmp(beforeA.data(), a.data(), a.size() * sizeof(PfxParticle)), 0);
 }

@@ -197,6 +197,112 @@ TEST(WorldParticles, ClothRestsOnAnotherGroupUnlessTheirFiltersSayNo) {
   }
 }
 
+// A rope of 20 iterations (a cable's in the node) dropped onto a cloth pinned by its edges,
+// at the world's default single sub-step: the contacts between the two groups are solved in
+// each iteration with the groups' own constraints. Solved once per sub-step after the rope's
+// 20 iterations, the rope's links pulled it back into the cloth each step and it fell through.
+TEST(WorldParticles, RopeRestsOnAPinnedClothAtOneSubStep) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  ASSERT_EQ(world.getParam().subStep, 1u);
+  PfxParticleGroupBuilder cloth;
+  PfxParticleGroupBuilder::Material clothStuff = clothMaterial();
+  clothStuff.radius = PfxFloat(0.03);  // wider than the 5 cm spacing: no gap to fall through
+  const PfxUInt32 n = 13;
+  cloth.addCloth(PfxVector3(-0.3, 0.5, -0.3), PfxVector3(0.6, 0, 0), PfxVector3(0, 0, 0.6), n, n,
+                 clothStuff);
+  for (PfxUInt32 i = 0; i < n; ++i) {  // all four edges, as a drum
+    for (const PfxUInt32 edge : {i, n * (n - 1) + i, i * n, i * n + n - 1}) cloth.pinToWorld(edge);
+  }
+  cloth.selfCollision = false;
+  cloth.linearDamping = 1;
+  cloth.iteration = 10;
+  PfxParticleGroupBuilder rope;
+  PfxParticleGroupBuilder::Material ropeStuff;
+  ropeStuff.particleMass = PfxFloat(0.002);
+  ropeStuff.radius = PfxFloat(0.01);
+  rope.addRope(PfxVector3(-0.2, 0.7, 0.05), PfxVector3(0.2, 0.7, -0.05), 21, ropeStuff);
+  rope.linearDamping = 1;
+  rope.iteration = 20;
+  PfxUInt32 clothId = 0, ropeId = 0;
+  ASSERT_EQ(world.addParticleGroup(cloth.desc(), &clothId), PFX_OK) << pfxGetLastErrorDetail();
+  ASSERT_EQ(world.addParticleGroup(rope.desc(), &ropeId), PFX_OK) << pfxGetLastErrorDetail();
+
+  // Over the cloth particle nearest across (x, z), how far above it each rope particle's
+  // centre is, and how deep the rope overlaps any cloth particle.
+  const auto measure = [&](PfxFloat& lowestAbove, PfxFloat& deepest) {
+    lowestAbove = 1e9f;
+    deepest = 0;
+    for (const PfxParticle& r : world.getParticleGroup(ropeId)->particles) {
+      const PfxParticle* below = nullptr;
+      PfxFloat nearest = 1e9f;
+      for (const PfxParticle& c : world.getParticleGroup(clothId)->particles) {
+        const PfxVector3 d = r.m_position - c.m_position;
+        deepest = std::max(deepest, r.m_radius + c.m_radius - d.norm());
+        const PfxFloat across = std::hypot(d.x(), d.z());
+        if (across < nearest) {
+          nearest = across;
+          below = &c;
+        }
+      }
+      lowestAbove = std::min(lowestAbove, r.m_position.y() - below->m_position.y());
+    }
+  };
+  PfxFloat worstAbove = 1e9f, worstDeep = 0, lastSpeed = 0;
+  for (int step = 0; step < 150; ++step) {
+    ASSERT_EQ(world.step(), PFX_OK) << pfxGetLastErrorDetail();
+    PfxFloat above = 0, deep = 0;
+    measure(above, deep);
+    worstAbove = std::min(worstAbove, above);
+    if (step >= 90) worstDeep = std::max(worstDeep, deep);
+    lastSpeed = std::max(maxParticleSpeed(*world.getParticleGroup(ropeId)),
+                         maxParticleSpeed(*world.getParticleGroup(clothId)));
+  }
+  std::printf("rope on a pinned cloth at 1 sub-step: lowest rope centre %.2f mm above the "
+              "cloth particle under it, deepest overlap over the last second %.2f mm, fastest "
+              "particle at the end %.4f m/s\n",
+              1000 * worstAbove, 1000 * worstDeep, lastSpeed);
+  EXPECT_GT(worstAbove, 0) << "the rope passed through the cloth";
+  EXPECT_LT(worstDeep, 0.25 * ropeStuff.radius) << "the rope sinks into the cloth";
+  EXPECT_LT(lastSpeed, 0.02) << "the rope or cloth does not come to rest";
+
+  // The contacts between the two, kept while both sleep: the cloth (the lower id) is A, the
+  // normals point from the rope down into it, and their impulses carry the rope's weight
+  // over the last sub-step.
+  EXPECT_TRUE(world.getParticleGroup(ropeId)->asleep && world.getParticleGroup(clothId)->asleep);
+  std::vector<PfxParticleGroupContact> contacts(1000);
+  PfxQueryContactsResult listed;
+  ASSERT_EQ(world.getParticleGroupContacts(contacts.data(), 1000, listed), PFX_OK);
+  ASSERT_FALSE(listed.truncated);
+  ASSERT_GT(listed.numContacts, 0u);
+  PfxFloat lift = 0;
+  for (PfxUInt32 i = 0; i < listed.numContacts; ++i) {
+    const PfxParticleGroupContact& c = contacts[i];
+    EXPECT_EQ(c.m_particleGroupIdA, clothId);
+    EXPECT_EQ(c.m_particleGroupIdB, ropeId);
+    const PfxVector3 a = world.getParticleGroup(clothId)->particles[c.m_particleA].m_position;
+    const PfxVector3 b = world.getParticleGroup(ropeId)->particles[c.m_particleB].m_position;
+    EXPECT_NEAR((a - b).normalized().dot(c.m_normal), 1, 1e-5);
+    EXPECT_NEAR(c.m_depth, clothStuff.radius + ropeStuff.radius - (a - b).norm(), 1e-6);
+    EXPECT_LT(c.m_normal.y(), 0);
+    EXPECT_GE(c.m_impulse, 0);
+    lift -= c.m_impulse * c.m_normal.y();
+  }
+  const double ropeWeight = 21 * ropeStuff.particleMass * 9.80665;
+  std::printf("%u contacts between rope and cloth, lifting %.5f N s of the rope's weight "
+              "over a step, %.5f N s\n",
+              listed.numContacts, lift, ropeWeight * world.getParam().timeStep);
+  EXPECT_NEAR(lift, ropeWeight * world.getParam().timeStep,
+              0.25 * ropeWeight * world.getParam().timeStep);
+  PfxQueryContactsResult partial;
+  ASSERT_EQ(world.getParticleGroupContacts(contacts.data(), 2, partial), PFX_OK);
+  EXPECT_EQ(partial.numContacts, 2u);
+  EXPECT_TRUE(partial.truncated);
+  PfxQueryContactsResult none;
+  EXPECT_EQ(world.getParticleGroupContacts(nullptr, 4, none), PFX_ERR_NULL_POINTER);
+  EXPECT_EQ(none.numContacts, 0u);
+}
+
 TEST(WorldParticles, ClothOnALargeMeshAndACompoundStaysAbove) {
   PfxWorld world;
   ASSERT_EQ(world.initialize(particleWorldParam(4)), PFX_OK);
@@ -706,10 +812,19 @@ TEST(WorldParticles, SameBitsWithAnyNumberOfThreads) {
     PfxParticleGroupBuilder cloth;
     cloth.addCloth(PfxVector3(-0.6, 0.8, -0.6), PfxVector3(1.2, 0, 0), PfxVector3(0, 0, 1.2), 40,
                    40, clothMaterial());
-    PfxUInt32 id = 0;
+    // A rope falling onto the cloth: the contacts between the two groups are solved between
+    // the iterations of the cloth's phases, which run on the threads.
+    PfxParticleGroupBuilder rope;
+    PfxParticleGroupBuilder::Material ropeStuff = clothMaterial();
+    rope.addRope(PfxVector3(-0.3, 1.0, 0.1), PfxVector3(0.3, 1.0, -0.1), 21, ropeStuff);
+    rope.iteration = 2;
+    PfxUInt32 id = 0, ropeId = 0;
     ASSERT_EQ(world.addParticleGroup(cloth.desc(), &id), PFX_OK);
+    ASSERT_EQ(world.addParticleGroup(rope.desc(), &ropeId), PFX_OK);
     for (int step = 0; step < 60; ++step) ASSERT_EQ(world.step(), PFX_OK);
     results[run] = world.getParticleGroup(id)->particles;
+    const std::vector<PfxParticle>& ropeParticles = world.getParticleGroup(ropeId)->particles;
+    results[run].insert(results[run].end(), ropeParticles.begin(), ropeParticles.end());
   }
   for (int run = 1; run < 3; ++run) {
     ASSERT_EQ(results[0].size(), results[run].size());

@@ -82,7 +82,9 @@ struct PfxNodeModelPart {
 struct PfxNodeContact {
   PfxUInt32 bodyA = 0;
   PfxUInt32 bodyB = 0;
-  PfxUInt32 particleGroup = PFX_RAY_NO_OBJECT;
+  // A side that is a cable or cloth (a particle group's id) rather than its body.
+  PfxUInt32 particleGroupA = PFX_RAY_NO_OBJECT;
+  PfxUInt32 particleGroupB = PFX_RAY_NO_OBJECT;
   PfxUInt32 shapeA = 0;  // which shape of each body's compound (getShapeName)
   PfxUInt32 shapeB = 0;
   PfxVector3 position = PfxVector3::Zero();  // midway between the two surfaces
@@ -233,8 +235,12 @@ class PfxNodeSimulation {
   // The points of the last step where bodies touch (closer than 1 mm) or pushed on each
   // other, those of sleeping bodies included (they keep the points they had when they fell
   // asleep); speculative points farther apart that did nothing are left out. Then, by the
-  // same rule, the points where cables and cloths touch bodies.
+  // same rule, the points where cables and cloths touch bodies, and where they touch each
+  // other.
   void getContacts(std::vector<PfxNodeContact>& contacts) const;
+  // What a contact's side A or B is called: a link (getShapeName), a body, a cable or a cloth.
+  const std::string& getContactNameA(const PfxNodeContact& contact) const;
+  const std::string& getContactNameB(const PfxNodeContact& contact) const;
 
   // A force at the link's origin plus a torque (world frame), on the link's body for
   // `duration` seconds of simulated time (at least one step). Deleting its model ends it.
@@ -291,7 +297,9 @@ class PfxNodeSimulation {
   PfxNodeSimulationConfig m_config;
   std::unique_ptr<Scene> m_scene;
   std::vector<Wrench> m_wrenches;
-  mutable std::vector<PfxParticleBodyContact> m_particleContacts;  // getContacts' scratch
+  // getContacts' scratch.
+  mutable std::vector<PfxParticleBodyContact> m_particleContacts;
+  mutable std::vector<PfxParticleGroupContact> m_particleGroupContacts;
   // Simulated time at the last load (of a saved world) or change of the time step, and
   // steps since.
   double m_startTime = 0;

@@ -77,6 +77,18 @@ struct PfxParticleBodyContact {
   PfxFloat m_impulse = 0;  // normal impulse of the last sub-step (N s), >= 0
 };
 
+// A point where particles of two groups touch (PfxWorld::getParticleGroupContacts).
+struct PfxParticleGroupContact {
+  PfxUInt32 m_particleGroupIdA = 0;  // the lower id
+  PfxUInt32 m_particleA = 0;
+  PfxUInt32 m_particleGroupIdB = 0;
+  PfxUInt32 m_particleB = 0;
+  PfxVector3 m_point = PfxVector3::Zero();   // world, midway between the two surfaces
+  PfxVector3 m_normal = PfxVector3::Zero();  // world, unit, from B's particle to A's
+  PfxFloat m_depth = 0;    // overlap (m), > 0 when the two spheres overlap
+  PfxFloat m_impulse = 0;  // normal impulse of the last sub-step (N s), >= 0
+};
+
 // Fills vectors that a PfxParticleGroupDesc then points at: ropes (or hair strands) and
 // rectangular cloths, with the distance, angle and tether constraints that make them
 // behave, and pins.

@@ -323,6 +323,11 @@ class PfxWorld {
   // Rejects a null out with room in it (PFX_ERR_NULL_POINTER); nothing is written then.
   PfxInt32 getParticleBodyContacts(PfxParticleBodyContact* out, PfxUInt32 maxContacts,
                                    PfxQueryContactsResult& result) const;
+  // The same for particles of two groups touching (a cable lying on a cloth): the pairs
+  // of particles of the last step's contacts between groups, speculative ones included,
+  // group A's id below group B's; two groups that fell asleep touching keep theirs.
+  PfxInt32 getParticleGroupContacts(PfxParticleGroupContact* out, PfxUInt32 maxContacts,
+                                    PfxQueryContactsResult& result) const;
   // The particles within the query's threshold of a collidable at a pose, as queryContacts
   // gives bodies (pfx_query_particles.h).
   PfxInt32 queryParticleContacts(const PfxContactQueryInput& query, PfxParticleQueryContact* out,
@@ -530,8 +535,9 @@ class PfxWorld {
 
   // Particle groups by id; null for a removed group's id.
   std::vector<std::unique_ptr<PfxParticleGroup>> m_particleGroups;
-  // The contacts between two awake groups' particles found this step, the first
-  // m_numGroupPairs entries; the others keep their buffers for later steps.
+  // The contacts between two groups' particles, the first m_numParticleGroupPairs entries:
+  // found this step between two awake groups, or kept while both groups sleep; the others
+  // keep their buffers for later steps.
   struct ParticleGroupPair {
     PfxUInt32 groupA = 0, groupB = 0;
     std::vector<PfxParticleContact> contacts;

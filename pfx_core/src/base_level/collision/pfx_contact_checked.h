@@ -1,6 +1,7 @@
 // The narrow phase for a caller that checks its input once rather than at every call: the
-// particles' contact detection meets thousands of particles with the same few bodies, and
-// pfxContactCollidables' own checks of the poses and shapes cost as much as the contacts.
+// particles' contact detection and refresh meet thousands of particles with the same few
+// bodies, and the public entry points' own checks of the poses and shapes cost as much as
+// the contacts.
 #pragma once
 
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
@@ -20,5 +21,14 @@ PfxUInt32 pfxContactCheckedCollidables(const PfxCollidable& collidableA,
                                        const PfxCollidable& collidableB,
                                        const PfxTransform3& transformB, PfxFloat contactThreshold,
                                        PfxContactCandidate* out, PfxUInt32 maxOut);
+
+// pfxContactConvexShapes for two shapes that pass pfxIsContactShape and are not large
+// meshes, poses that pass pfxIsRigidTransform, a finite threshold of at least 0 and room in
+// `out`: what the particles' contact refresh calls each sub-step, its shapes and poses
+// checked once for the many contacts that share them.
+PfxUInt32 pfxContactCheckedConvexShapes(const PfxShape& shapeA, const PfxTransform3& transformA,
+                                        const PfxShape& shapeB, const PfxTransform3& transformB,
+                                        PfxFloat contactThreshold, PfxContactCandidate* out,
+                                        PfxUInt32 maxOut);
 
 }  // namespace pfx

@@ -126,6 +126,14 @@ PfxUInt32 pfxContactConvexShapes(const PfxShape& shapeA, const PfxTransform3& tr
   if (!out || maxOut == 0 || !(contactThreshold >= 0) || !pfxIsFinite(contactThreshold)) return 0;
   if (!isConvexShape(shapeA) || !isConvexShape(shapeB)) return 0;
   if (!pfxIsRigidTransform(transformA) || !pfxIsRigidTransform(transformB)) return 0;
+  return pfxContactCheckedConvexShapes(shapeA, transformA, shapeB, transformB, contactThreshold,
+                                       out, maxOut);
+}
+
+PfxUInt32 pfxContactCheckedConvexShapes(const PfxShape& shapeA, const PfxTransform3& transformA,
+                                        const PfxShape& shapeB, const PfxTransform3& transformB,
+                                        PfxFloat contactThreshold, PfxContactCandidate* out,
+                                        PfxUInt32 maxOut) {
   PfxContactSink sink(out, std::min(maxOut, PFX_MAX_CONTACT_CANDIDATES), contactThreshold);
   contactPair(shapeA, transformA, shapeB, transformB, sink);
   return sink.getCount();

@@ -14,6 +14,8 @@ namespace {
 const PfxParamNames kDetectAt{"pfxDetectParticleGroupContacts",
                               "PfxDetectParticleGroupContactsParam"};
 const PfxParamNames kSolveAt{"pfxSolveParticleGroupContacts", "PfxSolveParticleGroupContactsParam"};
+const PfxParamNames kUpdateAt{"pfxUpdateParticleGroupContacts",
+                              "PfxSolveParticleGroupContactsParam"};
 
 struct GroupCollisionWork {
   PfxUInt32* sortedB;  // B's particles in increasing x (ties by index)
@@ -114,9 +116,12 @@ PfxInt32 pfxDetectParticleGroupContacts(const PfxDetectParticleGroupContactsPara
   return PFX_OK;
 }
 
-PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param) {
+namespace {
+
+PfxInt32 checkGroupContacts(const PfxSolveParticleGroupContactsParam& param,
+                            const PfxParamNames& at) {
   PfxInt32 err = PFX_OK;
-  if ((err = pfxCheckRequired(kSolveAt,
+  if ((err = pfxCheckRequired(at,
                               {{param.contacts, "contacts"},
                                {param.particlesA, "particlesA"},
                                {param.particlesB, "particlesB"}},
@@ -129,15 +134,44 @@ PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam&
       return pfxRejectParam(PFX_ERR_OUT_OF_RANGE,
                             "%s: %s::contacts[%u] names particles %u of A and %u of B, but "
                             "numParticlesA is %u and numParticlesB %u",
-                            kSolveAt.stage, kSolveAt.param, i, c.m_particle, c.m_other,
+                            at.stage, at.param, i, c.m_particle, c.m_other,
                             param.numParticlesA, param.numParticlesB);
     }
   }
+  return PFX_OK;
+}
+
+}  // namespace
+
+PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param) {
+  if (const PfxInt32 err = checkGroupContacts(param, kSolveAt); err != PFX_OK) return err;
   for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
     PfxParticleContact& c = param.contacts[i];
-    c.m_lambdaNormal = 0;
-    c.m_lambdaTangent = 0;
+    if (!param.continueSubStep) {
+      c.m_lambdaNormal = 0;
+      c.m_lambdaTangent = 0;
+    }
     pfxSolveParticlePairContact(c, param.particlesA[c.m_particle], param.particlesB[c.m_other]);
+  }
+  return PFX_OK;
+}
+
+PfxInt32 pfxUpdateParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param) {
+  if (const PfxInt32 err = checkGroupContacts(param, kUpdateAt); err != PFX_OK) return err;
+  for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+    const PfxParticleContact& c = param.contacts[i];
+    if (c.m_lambdaNormal <= 0) continue;
+    PfxParticle& a = param.particlesA[c.m_particle];
+    PfxParticle& b = param.particlesB[c.m_other];
+    const PfxFloat w = a.m_massInv + b.m_massInv;
+    const PfxVector3 d = a.m_position - b.m_position;
+    const PfxFloat length = d.norm();
+    if (w == 0 || length == 0) continue;
+    const PfxVector3 n = d / length;
+    const PfxFloat separating = (a.m_velocity - b.m_velocity).dot(n);
+    if (separating <= 0) continue;
+    a.m_velocity -= (a.m_massInv / w) * separating * n;
+    b.m_velocity += (b.m_massInv / w) * separating * n;
   }
   return PFX_OK;
 }

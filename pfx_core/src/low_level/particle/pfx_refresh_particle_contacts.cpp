@@ -1,5 +1,6 @@
 #include "pfx/low_level/particle/pfx_refresh_particle_contacts.h"
 
+#include "base_level/collision/pfx_contact_checked.h"
 #include "low_level/pfx_param_checks.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
 
@@ -9,30 +10,60 @@ namespace {
 
 constexpr PfxUInt32 kContactsPerTask = 256;
 
-void refresh(PfxParticleContact& c, const PfxRefreshParticleContactsParam& param) {
-  const PfxShape& shape = param.offsetCollidables[c.m_other].getShape(c.m_shapeId);
-  if (shape.getType() == kPfxShapeLargeTriMesh) return;
+// The body shape of the contacts refreshed last, placed and checked once: a cloth's
+// contacts come particle by particle, most of them with the same shape of the same body,
+// whose pose stays put through the refresh.
+struct RefreshedBodyShape {
+  PfxUInt32 body = ~0u;
+  PfxUInt8 shapeId = 0;
+  const PfxShape* shape = nullptr;
+  PfxTransform3 pose;
+  PfxQuat toBody;
+  PfxVector3 bodyPosition;
+  bool usable = false;  // convex, valid and at a rigid pose: else no contact is found
+
+  void placeFor(const PfxParticleContact& c, const PfxRefreshParticleContactsParam& param) {
+    if (c.m_other == body && c.m_shapeId == shapeId && shape) return;
+    body = c.m_other;
+    shapeId = c.m_shapeId;
+    shape = &param.offsetCollidables[body].getShape(shapeId);
+    const PfxRigidState& state = param.offsetRigidStates[body];
+    pose = state.getTransform() * shape->getOffsetTransform();
+    toBody = state.getOrientation().conjugate();
+    bodyPosition = state.getPosition();
+    usable = pfxIsContactShape(*shape) && pfxIsRigidTransform(pose);
+  }
+};
+
+void refresh(PfxParticleContact& c, const PfxRefreshParticleContactsParam& param,
+             RefreshedBodyShape& at) {
+  if (param.offsetCollidables[c.m_other].getShape(c.m_shapeId).getType() ==
+      kPfxShapeLargeTriMesh) {
+    return;
+  }
+  at.placeFor(c, param);
   const PfxParticle& p = param.particles[c.m_particle];
-  const PfxRigidState& state = param.offsetRigidStates[c.m_other];
   PfxShape sphere;
   sphere.reset();
   sphere.setSphere(PfxSphere(p.m_radius));
-  const PfxTransform3 bodyTransform = state.getTransform();
   // Far enough to find the closest point wherever the particle went within the sub-step.
   const PfxFloat threshold = 4 * p.m_radius + (p.m_position - p.m_previousPosition).norm();
   PfxContactCandidate closest[PFX_MAX_CONTACT_CANDIDATES];
-  const PfxUInt32 found = pfxContactConvexShapes(
-      sphere, pfxMakeTransform(PfxQuat::Identity(), p.m_position), shape,
-      bodyTransform * shape.getOffsetTransform(), threshold, closest, PFX_MAX_CONTACT_CANDIDATES);
+  const PfxUInt32 found =
+      at.usable && pfxIsFinite(threshold) && pfxIsFinite(p.m_position) &&
+              pfxIsContactShape(sphere)
+          ? pfxContactCheckedConvexShapes(sphere, pfxMakeTransform(PfxQuat::Identity(), p.m_position),
+                                          *at.shape, at.pose, threshold, closest,
+                                          PFX_MAX_CONTACT_CANDIDATES)
+          : 0;
   if (found == 0) {
     // Out of reach for this sub-step: the contact rests (a zero normal), rather than holding
     // the particle to a plane that no longer touches it.
     c.m_localNormal.setZero();
     return;
   }
-  const PfxQuat toBody = state.getOrientation().conjugate();
-  c.m_localPoint = toBody * (closest[0].m_pointB - state.getPosition());
-  c.m_localNormal = toBody * (-closest[0].m_normal);
+  c.m_localPoint = at.toBody * (closest[0].m_pointB - at.bodyPosition);
+  c.m_localNormal = at.toBody * (-closest[0].m_normal);
 }
 
 }  // namespace
@@ -71,9 +102,10 @@ PfxInt32 pfxRefreshParticleContacts(const PfxRefreshParticleContactsParam& param
   }
   return pfxParallelFor(taskManager, param.numContacts, kContactsPerTask,
                         [&](PfxUInt32 begin, PfxUInt32 end) {
+                          RefreshedBodyShape last;
                           for (PfxUInt32 i = begin; i < end; ++i) {
                             PfxParticleContact& c = param.contacts[i];
-                            if (c.m_kind == kPfxParticleContactRigidBody) refresh(c, param);
+                            if (c.m_kind == kPfxParticleContactRigidBody) refresh(c, param, last);
                           }
                         });
 }

@@ -462,12 +462,14 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
   const RigidAccess rigid{param.offsetRigidStates, param.offsetRigidBodies, param.timeStep};
   // XPBD's time-step-scaled compliance, alpha / h^2.
   const PfxFloat alphaScale = 1 / (param.timeStep * param.timeStep);
-  for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) param.distanceConstraints[i].m_lambda = 0;
-  for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) param.angleConstraints[i].m_lambda = 0;
-  for (PfxUInt32 i = 0; i < param.numPins; ++i) param.pins[i].m_lambda = 0;
-  for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
-    param.contacts[i].m_lambdaNormal = 0;
-    param.contacts[i].m_lambdaTangent = 0;
+  if (!param.continueSubStep) {
+    for (PfxUInt32 i = 0; i < param.numDistanceConstraints; ++i) param.distanceConstraints[i].m_lambda = 0;
+    for (PfxUInt32 i = 0; i < param.numAngleConstraints; ++i) param.angleConstraints[i].m_lambda = 0;
+    for (PfxUInt32 i = 0; i < param.numPins; ++i) param.pins[i].m_lambda = 0;
+    for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
+      param.contacts[i].m_lambdaNormal = 0;
+      param.contacts[i].m_lambdaTangent = 0;
+    }
   }
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
     const auto distance = [&](PfxUInt32 i) {

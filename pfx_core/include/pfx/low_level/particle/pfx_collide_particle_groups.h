@@ -1,6 +1,7 @@
 // Stage: contacts between the particles of two groups (a cloth falling on another cloth, a
-// rope across a cloth), found once per step and solved once per sub-step after each group's
-// own constraints. Within a group, pfxDetectParticleContacts finds its pairs.
+// rope across a cloth), found once per step and solved in each iteration of a sub-step, after
+// that iteration of each group's own constraints. Within a group, pfxDetectParticleContacts
+// finds its pairs.
 //
 // Detection sorts group B's particles along x and, for each particle of A, looks at those of B
 // within reach along x (sort and sweep); a pair is kept when the particles' contact filters
@@ -50,10 +51,23 @@ struct PfxSolveParticleGroupContactsParam {
   PfxUInt32 numParticlesB = 0;
   PfxParticleContact* contacts = nullptr;  // from pfxDetectParticleGroupContacts
   PfxUInt32 numContacts = 0;
+  // False: the contacts' multipliers start from zero, as at a sub-step's first iteration.
+  // True: a later iteration of the same sub-step, going on from the multipliers (and so the
+  // friction cone) that the earlier ones built up.
+  bool continueSubStep = false;
 };
 
-// Rejects null arrays with a count (PFX_ERR_NULL_POINTER) and a contact naming a particle
-// beyond the counts (PFX_ERR_OUT_OF_RANGE); nothing moves then. Serial, allocates nothing.
+// One iteration over the contacts. Rejects null arrays with a count (PFX_ERR_NULL_POINTER)
+// and a contact naming a particle beyond the counts (PFX_ERR_OUT_OF_RANGE); nothing moves
+// then. Serial, allocates nothing.
 PfxInt32 pfxSolveParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param);
+
+// After both groups' pfxUpdateParticles: the velocity with which each pair that pushed this
+// sub-step (a positive normal multiplier) separates along the line between its centres is
+// taken out, split by inverse mass, as pfxUpdateParticles does for a group's own contacts;
+// else the push that ended an overlap would leave as a rebound, and a light cloth on a taut
+// cable would bounce off it. The same checks as pfxSolveParticleGroupContacts. Serial,
+// allocates nothing.
+PfxInt32 pfxUpdateParticleGroupContacts(const PfxSolveParticleGroupContactsParam& param);
 
 }  // namespace pfx

@@ -45,6 +45,12 @@ struct PfxSolveParticleConstraintsParam {
   PfxUInt32 numRigidBodies = 0;
   PfxFloat timeStep = PfxFloat(1) / 60;  // of the sub-step (s)
   PfxUInt32 iteration = 1;
+  // False: the multipliers start from zero, as a sub-step's solve does. True: this call goes
+  // on with a sub-step that earlier calls began, from the multipliers they left, so that a
+  // caller can solve other constraints between iterations (PfxWorld solves the contacts
+  // between two groups after each iteration of both); calls of one iteration each then give
+  // the same bits as one call of as many iterations.
+  bool continueSubStep = false;
 };
 
 // Rejects null arrays with a count (PFX_ERR_NULL_POINTER); a constraint, tether, pin or
