@@ -510,6 +510,14 @@ TEST_F(ContactCrossCheck, EveryPairOfConvexTypesAgreesWithTheReference) {
                       describe(a, poseA).c_str(), describe(b, poseB).c_str());
         }
       }
+      if (std::getenv("PFX_CROSS_CHECK_WORST")) {
+        // The worst of each measure per pair, the figures that the bounds here are set from.
+        std::printf("WORST %-26s deeper-than-along-n %.2e deeper-than-possible %.2e normal %.2e "
+                    "phantom %.2e larger-gap %.2e points-off %.2e missed %d\n",
+                    pair.c_str(), worst.deeperThanAlongItsNormal, worst.deeperThanPossible,
+                    worst.normal, worst.phantomOverlap, worst.gapLargerThanThere,
+                    worst.pointsOffTheDistance, worst.missed);
+      }
       const Errors allowed = allowedErrors(typeA, typeB);
       EXPECT_LE(worst.deeperThanAlongItsNormal, allowed.deeperThanAlongItsNormal) << pair;
       EXPECT_LE(worst.deeperThanPossible, allowed.deeperThanPossible) << pair;

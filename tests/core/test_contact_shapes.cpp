@@ -694,5 +694,32 @@ TEST(ContactCylinder, SmallCylinderOnAHugeSlabMeetsItsTop) {
   }
 }
 
+// A stretched tetrahedron 3.77 cm from a cylinder's rim (the pose where the cross-check
+// caught it, bits included; the reference's separating direction bounds the gap from below
+// at 0.0377 m). GJK's last support point lay a tenth of a millimetre from the previous
+// one, the tetrahedron they made was so flat that the origin seemed inside it, and the
+// pair was reported as overlapping by 2 cm along a side of the cylinder.
+TEST(ContactCylinder, MeshApartFromTheRimIsNoOverlap) {
+  TriangleList tetrahedron = makeTetrahedronTriangles();
+  tetrahedron.vertices = {0x1.c9f53ap-5f,  0x1.0e15b6p-3f,  0x1.baaa6ep-5f,  0x1.c9f53ap-5f,
+                          -0x1.0e15b6p-3f, -0x1.baaa6ep-5f, -0x1.c9f53ap-5f, 0x1.0e15b6p-3f,
+                          -0x1.baaa6ep-5f, -0x1.c9f53ap-5f, -0x1.0e15b6p-3f, 0x1.baaa6ep-5f};
+  const PfxConvexMesh mesh = buildMesh(tetrahedron);
+  const PfxQuat meshTurn(-0x1.5e53ccp-4f, 0x1.824ee4p-1f, -0x1.628d5cp-2f, -0x1.1a12d2p-1f);
+  const PfxQuat cylinderTurn(0x1.6a35cep-3f, 0x1.a82228p-1f, -0x1.1016b2p-1f, -0x1.326538p-7f);
+  const PfxTransform3 meshPose =
+      pose(PfxVector3(-0.19248721f, -0.226248652f, -0.041954983f), meshTurn.normalized());
+  const PfxTransform3 cylinderPose =
+      pose(PfxVector3(-0.672648013f, -0.194538102f, -0.381341666f), cylinderTurn.normalized());
+  const PfxShape cylinder = makeCylinder(0.198734865f, 0.490582705f);
+  for (const bool meshFirst : {true, false}) {
+    SCOPED_TRACE(meshFirst);
+    const Contacts r = meshFirst ? collide(makeMeshShape(&mesh), meshPose, cylinder, cylinderPose, 0.05f)
+                                 : collide(cylinder, cylinderPose, makeMeshShape(&mesh), meshPose, 0.05f);
+    ASSERT_GE(r.n, 1u);
+    EXPECT_NEAR(r.deepest().m_distance, 0.0377f, 2e-4f);
+  }
+}
+
 }  // namespace
 }  // namespace pfx_test

@@ -160,6 +160,10 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   PfxVector3 v = simplex[0].w;
   const PfxFloat toleranceSq = tolerance * tolerance;
   bool overlap = false;
+  // The largest separation seen along a search direction: every point of A - B lies at
+  // least this far from the origin along v. Once it exceeds the tolerance the cores are
+  // apart for certain, whatever a nearly flat simplex later rounds to.
+  PfxFloat separated = 0;
 
   for (int iter = 0; iter < kGjkMaxIterations; ++iter) {
     const PfxFloat vv = v.squaredNorm();
@@ -172,6 +176,7 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     next.b = b.support(v);
     next.w = next.a - next.b;
     if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
+    separated = std::max(separated, v.dot(next.w) / std::sqrt(vv));
     bool repeated = false;
     for (PfxUInt32 i = 0; i < size; ++i) {
       if ((simplex[i].w - next.w).squaredNorm() <= PfxFloat(1e-12) * vv) repeated = true;
@@ -183,13 +188,16 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     std::copy(simplex, simplex + size, saved);
     simplex[size++] = next;
     PfxVector3 closest;
-    if (!closestOnSimplex(simplex, size, closest)) {
+    const bool enclosed = !closestOnSimplex(simplex, size, closest);
+    if (enclosed && separated <= tolerance) {
       overlap = true;
       v.setZero();
       break;
     }
-    if (closest.squaredNorm() >= vv) {
-      // Round-off stalled the descent: the previous simplex was as close as it gets.
+    if (enclosed || closest.squaredNorm() >= vv) {
+      // Round-off stalled the descent (a support point a hair from an edge of the simplex
+      // makes a tetrahedron so flat that the origin seems inside it, 3.8 cm from a cylinder):
+      // the previous simplex was as close as it gets.
       std::copy(saved, saved + savedSize, simplex);
       size = savedSize;
       break;
