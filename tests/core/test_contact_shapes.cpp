@@ -529,6 +529,32 @@ TEST(ContactCylinder, SphereOnTheCapAndBeyondTheRim) {
                PfxVector3(1.3f - 0.36f, 1.2f - 0.48f, 0), kIterative);
 }
 
+TEST(ContactCylinder, SphereCentreOnTheSideLeavesAlongTheRadius) {
+  // Cylinder along X, radius 0.8, turned 0.3 rad about Z; sphere radius 0.15 whose centre
+  // lies on the side at local (0.2, 0.48, 0.64) (0.48² + 0.64² = 0.8²): 0.15 deep along the
+  // local radius (0, 0.6, 0.8). EPA tilted this normal by up to 0.02 rad.
+  const PfxQuat turn = rotZ(0.3f);
+  const PfxVector3 centre = turn * PfxVector3(0.2f, 0.48f, 0.64f);
+  const PfxVector3 normal = turn * PfxVector3(0, 0.6f, 0.8f);
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero(), turn), makeSphere(0.15f),
+                       pose(centre)),
+               -0.15f, normal, centre, centre - normal * 0.15f, kExact);
+}
+
+TEST(ContactCylinder, SphereCentreInsideLeavesByTheNearerCapOrSide) {
+  // Cylinder along X, half length 1, radius 0.8; sphere radius 0.1.
+  // Centre (0.9, 0.5, 0): 0.1 from the +X cap, 0.3 from the side: 0.2 deep along +X.
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.1f),
+                       pose(PfxVector3(0.9f, 0.5f, 0))),
+               -0.2f, PfxVector3(1, 0, 0), PfxVector3(1, 0.5f, 0), PfxVector3(0.8f, 0.5f, 0),
+               kExact);
+  // Centre (-0.2, 0, -0.6): 0.2 from the side, 0.8 from the -X cap: 0.3 deep along -Z.
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.1f),
+                       pose(PfxVector3(-0.2f, 0, -0.6f))),
+               -0.3f, PfxVector3(0, 0, -1), PfxVector3(-0.2f, 0, -0.8f),
+               PfxVector3(-0.2f, 0, -0.5f), kExact);
+}
+
 TEST(ContactCylinder, CrossedCylinders) {
   // A along X, B along Z, both radius 0.5, B's axis 0.95 above A's: 0.05 deep at one point.
   const Contacts r = collide(makeCylinder(1, 0.5f), pose(PfxVector3::Zero()),
