@@ -339,6 +339,14 @@ std::string describe(const ReferenceShape& s, const PfxTransform3& t) {
                 typeName(s.shape.getType()), double(p.x()), double(p.y()), double(p.z()),
                 double(q.w()), double(q.x()), double(q.y()), double(q.z()));
   std::string out = text;
+  // The rotation's own entries as well: nine digits give back a float's exact bits, which
+  // the quaternion read back from the matrix does not, and near-touching poses can turn on them.
+  const PfxMatrix3 m = t.linear();
+  std::snprintf(text, sizeof text, " R (%.9g %.9g %.9g; %.9g %.9g %.9g; %.9g %.9g %.9g)",
+                double(m(0, 0)), double(m(0, 1)), double(m(0, 2)), double(m(1, 0)),
+                double(m(1, 1)), double(m(1, 2)), double(m(2, 0)), double(m(2, 1)),
+                double(m(2, 2)));
+  out += text;
   switch (s.shape.getType()) {
     case kPfxShapeSphere: out += " r " + std::to_string(s.shape.getSphere().m_radius); break;
     case kPfxShapeBox: {

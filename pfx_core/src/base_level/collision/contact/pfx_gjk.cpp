@@ -163,7 +163,8 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   // The largest separation seen along a search direction: every point of A - B lies at
   // least this far from the origin along v. Once it exceeds the tolerance the cores are
   // apart for certain, whatever a nearly flat simplex later rounds to.
-  PfxFloat separated = 0;
+  result.separation = 0;
+  result.separatingNormal = PfxVector3::Zero();
 
   for (int iter = 0; iter < kGjkMaxIterations; ++iter) {
     const PfxFloat vv = v.squaredNorm();
@@ -176,7 +177,11 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     next.b = b.support(v);
     next.w = next.a - next.b;
     if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
-    separated = std::max(separated, v.dot(next.w) / std::sqrt(vv));
+    const PfxFloat length = std::sqrt(vv);
+    if (v.dot(next.w) > result.separation * length) {
+      result.separation = v.dot(next.w) / length;
+      result.separatingNormal = -v / length;
+    }
     bool repeated = false;
     for (PfxUInt32 i = 0; i < size; ++i) {
       if ((simplex[i].w - next.w).squaredNorm() <= PfxFloat(1e-12) * vv) repeated = true;
@@ -189,7 +194,7 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     simplex[size++] = next;
     PfxVector3 closest;
     const bool enclosed = !closestOnSimplex(simplex, size, closest);
-    if (enclosed && separated <= tolerance) {
+    if (enclosed && result.separation <= tolerance) {
       overlap = true;
       v.setZero();
       break;
@@ -244,6 +249,20 @@ bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat toleranc
   gap.pointA = result.pointA;
   gap.pointB = result.pointB;
   gap.distance = result.distance;
+  // Against a flat face of a curved shape (a cylinder's cap) the supports jump from rim
+  // point to rim point and the descent can stall a tenth of a millimetre from touching with
+  // its last direction a degree off, along which the cores overlap by millimetres. A
+  // direction seen earlier that separates them by more is then the answer: its separation
+  // is certain, and the points move to it about their midpoint.
+  const PfxFloat alongPoints =
+      gap.normal.dot(b.support(-gap.normal) - a.support(gap.normal));
+  if (result.separation > std::max(alongPoints, tolerance) + tolerance) {
+    const PfxVector3 middle = (result.pointA + result.pointB) * PfxFloat(0.5);
+    gap.normal = result.separatingNormal;
+    gap.distance = result.separation;
+    gap.pointA = middle - gap.normal * (gap.distance * PfxFloat(0.5));
+    gap.pointB = middle + gap.normal * (gap.distance * PfxFloat(0.5));
+  }
   return true;
 }
 
