@@ -76,6 +76,14 @@ bool closestOnSimplex(PfxSimplexVertex* simplex, PfxUInt32& size, PfxVector3& v)
     }
   }
   v = reduce(simplex, size, weights);
+  if (size == 3) {
+    // Inside a triangle the closest point is the origin's projection on its plane. The sum
+    // of weighted corners cancels corners half a metre out down to a millimetre and turned
+    // v by a milliradian in float; the plane's normal keeps its direction to rounding.
+    const PfxVector3 n = (simplex[1].w - simplex[0].w).cross(simplex[2].w - simplex[0].w);
+    const PfxFloat nn = n.squaredNorm();
+    if (nn > PfxFloat(0)) v = n * (n.dot(simplex[0].w) / nn);
+  }
   return true;
 }
 
