@@ -507,26 +507,29 @@ TEST(ContactCylinder, HoveringCylinderGivesSpeculativeCapPoints) {
             0u);
 }
 
+// A sphere of `radius` at `centre` against the cylinder along X of half length 1 and radius
+// 0.8 at the origin: one contact, its point on the sphere `radius` back from the centre.
+void expectSphereOnCylinder(const PfxVector3& centre, PfxFloat radius, PfxFloat distance,
+                            const PfxVector3& normal, const PfxVector3& onCylinder) {
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(radius),
+                       pose(centre)),
+               distance, normal, onCylinder, centre - normal * radius, kExact);
+}
+
 TEST(ContactCylinder, SphereOnTheSide) {
-  // Cylinder along X, radius 0.8; sphere radius 0.5 at height 1.2: 0.1 deep along +Y.
-  const Contacts r = collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.5f),
-                             pose(PfxVector3(0.3f, 1.2f, 0)));
-  expectSingle(r, -0.1f, PfxVector3(0, 1, 0), PfxVector3(0.3f, 0.8f, 0), PfxVector3(0.3f, 0.7f, 0),
-               kIterative);
+  // Sphere radius 0.5 at height 1.2: 0.1 deep along +Y.
+  expectSphereOnCylinder(PfxVector3(0.3f, 1.2f, 0), 0.5f, -0.1f, PfxVector3(0, 1, 0),
+                         PfxVector3(0.3f, 0.8f, 0));
 }
 
 TEST(ContactCylinder, SphereOnTheCapAndBeyondTheRim) {
   // Sphere radius 0.3 at (1.2, 0.1, 0): over the +X cap (x = 1), 0.1 deep.
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.3f),
-                       pose(PfxVector3(1.2f, 0.1f, 0))),
-               -0.1f, PfxVector3(1, 0, 0), PfxVector3(1, 0.1f, 0), PfxVector3(0.9f, 0.1f, 0),
-               kIterative);
+  expectSphereOnCylinder(PfxVector3(1.2f, 0.1f, 0), 0.3f, -0.1f, PfxVector3(1, 0, 0),
+                         PfxVector3(1, 0.1f, 0));
   // Beyond the rim: centre (1.3, 1.2, 0) is (0.3, 0.4, 0) from the rim point (1, 0.8, 0),
   // 0.5 away; radius 0.6: 0.1 deep along (0.6, 0.8, 0).
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.6f),
-                       pose(PfxVector3(1.3f, 1.2f, 0))),
-               -0.1f, PfxVector3(0.6f, 0.8f, 0), PfxVector3(1, 0.8f, 0),
-               PfxVector3(1.3f - 0.36f, 1.2f - 0.48f, 0), kIterative);
+  expectSphereOnCylinder(PfxVector3(1.3f, 1.2f, 0), 0.6f, -0.1f, PfxVector3(0.6f, 0.8f, 0),
+                         PfxVector3(1, 0.8f, 0));
 }
 
 TEST(ContactCylinder, SphereCentreOnTheSideLeavesAlongTheRadius) {
@@ -542,17 +545,13 @@ TEST(ContactCylinder, SphereCentreOnTheSideLeavesAlongTheRadius) {
 }
 
 TEST(ContactCylinder, SphereCentreInsideLeavesByTheNearerCapOrSide) {
-  // Cylinder along X, half length 1, radius 0.8; sphere radius 0.1.
-  // Centre (0.9, 0.5, 0): 0.1 from the +X cap, 0.3 from the side: 0.2 deep along +X.
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.1f),
-                       pose(PfxVector3(0.9f, 0.5f, 0))),
-               -0.2f, PfxVector3(1, 0, 0), PfxVector3(1, 0.5f, 0), PfxVector3(0.8f, 0.5f, 0),
-               kExact);
+  // Sphere radius 0.1. Centre (0.9, 0.5, 0): 0.1 from the +X cap, 0.3 from the side: 0.2
+  // deep along +X.
+  expectSphereOnCylinder(PfxVector3(0.9f, 0.5f, 0), 0.1f, -0.2f, PfxVector3(1, 0, 0),
+                         PfxVector3(1, 0.5f, 0));
   // Centre (-0.2, 0, -0.6): 0.2 from the side, 0.8 from the -X cap: 0.3 deep along -Z.
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.1f),
-                       pose(PfxVector3(-0.2f, 0, -0.6f))),
-               -0.3f, PfxVector3(0, 0, -1), PfxVector3(-0.2f, 0, -0.8f),
-               PfxVector3(-0.2f, 0, -0.5f), kExact);
+  expectSphereOnCylinder(PfxVector3(-0.2f, 0, -0.6f), 0.1f, -0.3f, PfxVector3(0, 0, -1),
+                         PfxVector3(-0.2f, 0, -0.8f));
 }
 
 TEST(ContactCylinder, CrossedCylinders) {
