@@ -507,26 +507,51 @@ TEST(ContactCylinder, HoveringCylinderGivesSpeculativeCapPoints) {
             0u);
 }
 
+// A sphere of `radius` at `centre` against the cylinder along X of half length 1 and radius
+// 0.8 at the origin: one contact, its point on the sphere `radius` back from the centre.
+void expectSphereOnCylinder(const PfxVector3& centre, PfxFloat radius, PfxFloat distance,
+                            const PfxVector3& normal, const PfxVector3& onCylinder) {
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(radius),
+                       pose(centre)),
+               distance, normal, onCylinder, centre - normal * radius, kExact);
+}
+
 TEST(ContactCylinder, SphereOnTheSide) {
-  // Cylinder along X, radius 0.8; sphere radius 0.5 at height 1.2: 0.1 deep along +Y.
-  const Contacts r = collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.5f),
-                             pose(PfxVector3(0.3f, 1.2f, 0)));
-  expectSingle(r, -0.1f, PfxVector3(0, 1, 0), PfxVector3(0.3f, 0.8f, 0), PfxVector3(0.3f, 0.7f, 0),
-               kIterative);
+  // Sphere radius 0.5 at height 1.2: 0.1 deep along +Y.
+  expectSphereOnCylinder(PfxVector3(0.3f, 1.2f, 0), 0.5f, -0.1f, PfxVector3(0, 1, 0),
+                         PfxVector3(0.3f, 0.8f, 0));
 }
 
 TEST(ContactCylinder, SphereOnTheCapAndBeyondTheRim) {
   // Sphere radius 0.3 at (1.2, 0.1, 0): over the +X cap (x = 1), 0.1 deep.
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.3f),
-                       pose(PfxVector3(1.2f, 0.1f, 0))),
-               -0.1f, PfxVector3(1, 0, 0), PfxVector3(1, 0.1f, 0), PfxVector3(0.9f, 0.1f, 0),
-               kIterative);
+  expectSphereOnCylinder(PfxVector3(1.2f, 0.1f, 0), 0.3f, -0.1f, PfxVector3(1, 0, 0),
+                         PfxVector3(1, 0.1f, 0));
   // Beyond the rim: centre (1.3, 1.2, 0) is (0.3, 0.4, 0) from the rim point (1, 0.8, 0),
   // 0.5 away; radius 0.6: 0.1 deep along (0.6, 0.8, 0).
-  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero()), makeSphere(0.6f),
-                       pose(PfxVector3(1.3f, 1.2f, 0))),
-               -0.1f, PfxVector3(0.6f, 0.8f, 0), PfxVector3(1, 0.8f, 0),
-               PfxVector3(1.3f - 0.36f, 1.2f - 0.48f, 0), kIterative);
+  expectSphereOnCylinder(PfxVector3(1.3f, 1.2f, 0), 0.6f, -0.1f, PfxVector3(0.6f, 0.8f, 0),
+                         PfxVector3(1, 0.8f, 0));
+}
+
+TEST(ContactCylinder, SphereCentreOnTheSideLeavesAlongTheRadius) {
+  // Cylinder along X, radius 0.8, turned 0.3 rad about Z; sphere radius 0.15 whose centre
+  // lies on the side at local (0.2, 0.48, 0.64) (0.48² + 0.64² = 0.8²): 0.15 deep along the
+  // local radius (0, 0.6, 0.8). EPA tilted this normal by up to 0.02 rad.
+  const PfxQuat turn = rotZ(0.3f);
+  const PfxVector3 centre = turn * PfxVector3(0.2f, 0.48f, 0.64f);
+  const PfxVector3 normal = turn * PfxVector3(0, 0.6f, 0.8f);
+  expectSingle(collide(makeCylinder(1, 0.8f), pose(PfxVector3::Zero(), turn), makeSphere(0.15f),
+                       pose(centre)),
+               -0.15f, normal, centre, centre - normal * 0.15f, kExact);
+}
+
+TEST(ContactCylinder, SphereCentreInsideLeavesByTheNearerCapOrSide) {
+  // Sphere radius 0.1. Centre (0.9, 0.5, 0): 0.1 from the +X cap, 0.3 from the side: 0.2
+  // deep along +X.
+  expectSphereOnCylinder(PfxVector3(0.9f, 0.5f, 0), 0.1f, -0.2f, PfxVector3(1, 0, 0),
+                         PfxVector3(1, 0.5f, 0));
+  // Centre (-0.2, 0, -0.6): 0.2 from the side, 0.8 from the -X cap: 0.3 deep along -Z.
+  expectSphereOnCylinder(PfxVector3(-0.2f, 0, -0.6f), 0.1f, -0.3f, PfxVector3(0, 0, -1),
+                         PfxVector3(-0.2f, 0, -0.8f));
 }
 
 TEST(ContactCylinder, CrossedCylinders) {
@@ -691,6 +716,33 @@ TEST(ContactCylinder, SmallCylinderOnAHugeSlabMeetsItsTop) {
       deepest = std::min(deepest, r.c[i].m_distance);
     }
     EXPECT_NEAR(deepest, trueDistance, kIterative);
+  }
+}
+
+// A stretched tetrahedron 3.77 cm from a cylinder's rim (the pose where the cross-check
+// caught it, bits included; the reference's separating direction bounds the gap from below
+// at 0.0377 m). GJK's last support point lay a tenth of a millimetre from the previous
+// one, the tetrahedron they made was so flat that the origin seemed inside it, and the
+// pair was reported as overlapping by 2 cm along a side of the cylinder.
+TEST(ContactCylinder, MeshApartFromTheRimIsNoOverlap) {
+  TriangleList tetrahedron = makeTetrahedronTriangles();
+  tetrahedron.vertices = {0x1.c9f53ap-5f,  0x1.0e15b6p-3f,  0x1.baaa6ep-5f,  0x1.c9f53ap-5f,
+                          -0x1.0e15b6p-3f, -0x1.baaa6ep-5f, -0x1.c9f53ap-5f, 0x1.0e15b6p-3f,
+                          -0x1.baaa6ep-5f, -0x1.c9f53ap-5f, -0x1.0e15b6p-3f, 0x1.baaa6ep-5f};
+  const PfxConvexMesh mesh = buildMesh(tetrahedron);
+  const PfxQuat meshTurn(-0x1.5e53ccp-4f, 0x1.824ee4p-1f, -0x1.628d5cp-2f, -0x1.1a12d2p-1f);
+  const PfxQuat cylinderTurn(0x1.6a35cep-3f, 0x1.a82228p-1f, -0x1.1016b2p-1f, -0x1.326538p-7f);
+  const PfxTransform3 meshPose =
+      pose(PfxVector3(-0.19248721f, -0.226248652f, -0.041954983f), meshTurn.normalized());
+  const PfxTransform3 cylinderPose =
+      pose(PfxVector3(-0.672648013f, -0.194538102f, -0.381341666f), cylinderTurn.normalized());
+  const PfxShape cylinder = makeCylinder(0.198734865f, 0.490582705f);
+  for (const bool meshFirst : {true, false}) {
+    SCOPED_TRACE(meshFirst);
+    const Contacts r = meshFirst ? collide(makeMeshShape(&mesh), meshPose, cylinder, cylinderPose, 0.05f)
+                                 : collide(cylinder, cylinderPose, makeMeshShape(&mesh), meshPose, 0.05f);
+    ASSERT_GE(r.n, 1u);
+    EXPECT_NEAR(r.deepest().m_distance, 0.0377f, 2e-4f);
   }
 }
 

@@ -90,6 +90,14 @@ void contactPair(const PfxShape& shapeA, const PfxTransform3& transformA, const 
     sink.setSwapped(true);
     contactPair(shapeB, transformB, shapeA, transformA, sink);
     sink.setSwapped(false);
+  } else if (typeA == kPfxShapeCylinder && typeB == kPfxShapeSphere) {
+    pfxContactCylinderSphere(shapeA.getCylinder().m_halfLen, shapeA.getCylinder().m_radius,
+                             transformA, transformB.translation(), shapeB.getSphere().m_radius,
+                             sink);
+  } else if (typeA == kPfxShapeSphere && typeB == kPfxShapeCylinder) {
+    sink.setSwapped(true);
+    contactPair(shapeB, transformB, shapeA, transformA, sink);
+    sink.setSwapped(false);
   } else if (isSolidPolyhedron(shapeA) && isSolidPolyhedron(shapeB)) {
     if (typeA == kPfxShapeBox && typeB == kPfxShapeBox) {
       pfxContactBoxBox(shapeA.getBox().m_half, transformA, shapeB.getBox().m_half, transformB,

@@ -21,6 +21,14 @@ void pfxContactBoxSweptSphere(const PfxVector3& half, const PfxTransform3& boxTr
                               const PfxVector3& p0, const PfxVector3& p1, PfxFloat radius,
                               PfxContactSink& sink);
 
+// A cylinder (half length and radius along its X, world pose) against a sphere (world
+// centre, radius), in closed form: the nearest point of the solid cylinder to the centre,
+// or from inside the nearer of the cap and the side. EPA met the side's curve with facets
+// and tilted the normal by up to 0.02 rad where the centre lay near the surface.
+void pfxContactCylinderSphere(PfxFloat halfLen, PfxFloat radius,
+                              const PfxTransform3& cylinderTransform, const PfxVector3& centre,
+                              PfxFloat sphereRadius, PfxContactSink& sink);
+
 // Two boxes (half extents, world poses): separating axes, then face clipping, as
 // pfxContactPolyhedra does for any two polyhedra.
 void pfxContactBoxBox(const PfxVector3& halfA, const PfxTransform3& transformA,

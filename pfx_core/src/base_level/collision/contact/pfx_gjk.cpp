@@ -76,6 +76,14 @@ bool closestOnSimplex(PfxSimplexVertex* simplex, PfxUInt32& size, PfxVector3& v)
     }
   }
   v = reduce(simplex, size, weights);
+  if (size == 3) {
+    // Inside a triangle the closest point is the origin's projection on its plane. The sum
+    // of weighted corners cancels corners half a metre out down to a millimetre and turned
+    // v by a milliradian in float; the plane's normal keeps its direction to rounding.
+    const PfxVector3 n = (simplex[1].w - simplex[0].w).cross(simplex[2].w - simplex[0].w);
+    const PfxFloat nn = n.squaredNorm();
+    if (nn > PfxFloat(0)) v = n * (n.dot(simplex[0].w) / nn);
+  }
   return true;
 }
 
@@ -160,6 +168,11 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   PfxVector3 v = simplex[0].w;
   const PfxFloat toleranceSq = tolerance * tolerance;
   bool overlap = false;
+  // The largest separation seen along a search direction: every point of A - B lies at
+  // least this far from the origin along v. Once it exceeds the tolerance the cores are
+  // apart for certain, whatever a nearly flat simplex later rounds to.
+  result.separation = 0;
+  result.separatingNormal = PfxVector3::Zero();
 
   for (int iter = 0; iter < kGjkMaxIterations; ++iter) {
     const PfxFloat vv = v.squaredNorm();
@@ -172,6 +185,11 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     next.b = b.support(v);
     next.w = next.a - next.b;
     if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
+    const PfxFloat length = std::sqrt(vv);
+    if (v.dot(next.w) > result.separation * length) {
+      result.separation = v.dot(next.w) / length;
+      result.separatingNormal = -v / length;
+    }
     bool repeated = false;
     for (PfxUInt32 i = 0; i < size; ++i) {
       if ((simplex[i].w - next.w).squaredNorm() <= PfxFloat(1e-12) * vv) repeated = true;
@@ -183,13 +201,16 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
     std::copy(simplex, simplex + size, saved);
     simplex[size++] = next;
     PfxVector3 closest;
-    if (!closestOnSimplex(simplex, size, closest)) {
+    const bool enclosed = !closestOnSimplex(simplex, size, closest);
+    if (enclosed && result.separation <= tolerance) {
       overlap = true;
       v.setZero();
       break;
     }
-    if (closest.squaredNorm() >= vv) {
-      // Round-off stalled the descent: the previous simplex was as close as it gets.
+    if (enclosed || closest.squaredNorm() >= vv) {
+      // Round-off stalled the descent (a support point a hair from an edge of the simplex
+      // makes a tetrahedron so flat that the origin seems inside it, 3.8 cm from a cylinder):
+      // the previous simplex was as close as it gets.
       std::copy(saved, saved + savedSize, simplex);
       size = savedSize;
       break;
@@ -236,6 +257,20 @@ bool pfxGjkGap(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat toleranc
   gap.pointA = result.pointA;
   gap.pointB = result.pointB;
   gap.distance = result.distance;
+  // Against a flat face of a curved shape (a cylinder's cap) the supports jump from rim
+  // point to rim point and the descent can stall a tenth of a millimetre from touching with
+  // its last direction a degree off, along which the cores overlap by millimetres. A
+  // direction seen earlier that separates them by more is then the answer: its separation
+  // is certain, and the points move to it about their midpoint.
+  const PfxFloat alongPoints =
+      gap.normal.dot(b.support(-gap.normal) - a.support(gap.normal));
+  if (result.separation > std::max(alongPoints, tolerance) + tolerance) {
+    const PfxVector3 middle = (result.pointA + result.pointB) * PfxFloat(0.5);
+    gap.normal = result.separatingNormal;
+    gap.distance = result.separation;
+    gap.pointA = middle - gap.normal * (gap.distance * PfxFloat(0.5));
+    gap.pointB = middle + gap.normal * (gap.distance * PfxFloat(0.5));
+  }
   return true;
 }
 

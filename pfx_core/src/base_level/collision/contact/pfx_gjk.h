@@ -19,6 +19,10 @@ struct PfxGjkResult {
   PfxVector3 pointB;
   PfxSimplexVertex simplex[4];  // the last simplex, where EPA starts when they overlap
   PfxUInt32 simplexSize;
+  // The search direction (unit, from A to B) along which the cores were seen furthest
+  // apart, and that separation: a certain lower bound of their distance.
+  PfxVector3 separatingNormal;
+  PfxFloat separation;
 };
 
 // `tolerance` is the distance under which the cores count as touching.
