@@ -61,9 +61,14 @@ threaded_targets="test_world_threads test_task_manager test_world_particles test
   test_world_removal test_particle_queries"
 cmake --build build-tsan -j"$jobs" --target $threaded_targets
 stage "thread sanitizer tests"
+# test_world_particles and test_serialize run only their tests on several threads here
+# (their ctest names end in _threads, tests/core/CMakeLists.txt): ThreadSanitizer sees
+# nothing in the rest, which run on one thread in every other build.
+threaded_tests="test_world_threads test_task_manager test_world_particles_threads
+  test_serialize_threads test_world_removal test_particle_queries"
 TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/scripts/tsan.supp" \
   ctest --test-dir build-tsan --output-on-failure -j"$jobs" \
-  -R "^($(echo $threaded_targets | tr ' ' '|'))\$"
+  -R "^($(echo $threaded_tests | tr ' ' '|'))\$"
 
 # The core in double precision, a build of its own. Only the programs that the core and
 # loader tests run are built (no samples, benchmark or extreme suite): about 4 CPU minutes,
