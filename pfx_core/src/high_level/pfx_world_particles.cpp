@@ -24,6 +24,21 @@ namespace {
 // neighbour or two; a step that finds more grows it.
 constexpr PfxUInt32 kInitialContactsPerParticle = 4;
 
+// Two groups' particles and the contacts between them, as the stages that solve and
+// update those contacts take them.
+PfxSolveParticleGroupContactsParam groupContactsParam(PfxParticleGroup& a, PfxParticleGroup& b,
+                                                      PfxParticleContact* contacts,
+                                                      PfxUInt32 numContacts) {
+  PfxSolveParticleGroupContactsParam param;
+  param.particlesA = a.particles.data();
+  param.numParticlesA = static_cast<PfxUInt32>(a.particles.size());
+  param.particlesB = b.particles.data();
+  param.numParticlesB = static_cast<PfxUInt32>(b.particles.size());
+  param.contacts = contacts;
+  param.numContacts = numContacts;
+  return param;
+}
+
 template <typename T>
 void copyInto(std::vector<T>& to, const T* from, PfxUInt32 count) {
   to.assign(from, from + count);
@@ -460,13 +475,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       PfxParticleGroup& b = *m_particleGroups[pair.groupB];
       if (a.asleep || round >= std::max(a.iteration, b.iteration)) continue;
       PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
-      PfxSolveParticleGroupContactsParam param;
-      param.particlesA = a.particles.data();
-      param.numParticlesA = static_cast<PfxUInt32>(a.particles.size());
-      param.particlesB = b.particles.data();
-      param.numParticlesB = static_cast<PfxUInt32>(b.particles.size());
-      param.contacts = pair.contacts.data();
-      param.numContacts = pair.numContacts;
+      PfxSolveParticleGroupContactsParam param =
+          groupContactsParam(a, b, pair.contacts.data(), pair.numContacts);
       param.continueSubStep = round > 0;
       if (const PfxInt32 err = pfxSolveParticleGroupContacts(param); err != PFX_OK) return err;
     }
@@ -495,13 +505,8 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     PfxParticleGroup& b = *m_particleGroups[pair.groupB];
     if (a.asleep) continue;
     PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
-    PfxSolveParticleGroupContactsParam param;
-    param.particlesA = a.particles.data();
-    param.numParticlesA = static_cast<PfxUInt32>(a.particles.size());
-    param.particlesB = b.particles.data();
-    param.numParticlesB = static_cast<PfxUInt32>(b.particles.size());
-    param.contacts = pair.contacts.data();
-    param.numContacts = pair.numContacts;
+    const PfxSolveParticleGroupContactsParam param =
+        groupContactsParam(a, b, pair.contacts.data(), pair.numContacts);
     if (const PfxInt32 err = pfxUpdateParticleGroupContacts(param); err != PFX_OK) return err;
   }
   return PFX_OK;
