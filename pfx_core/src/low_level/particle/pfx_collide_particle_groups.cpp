@@ -161,17 +161,7 @@ PfxInt32 pfxUpdateParticleGroupContacts(const PfxSolveParticleGroupContactsParam
   for (PfxUInt32 i = 0; i < param.numContacts; ++i) {
     const PfxParticleContact& c = param.contacts[i];
     if (c.m_lambdaNormal <= 0) continue;
-    PfxParticle& a = param.particlesA[c.m_particle];
-    PfxParticle& b = param.particlesB[c.m_other];
-    const PfxFloat w = a.m_massInv + b.m_massInv;
-    const PfxVector3 d = a.m_position - b.m_position;
-    const PfxFloat length = d.norm();
-    if (w == 0 || length == 0) continue;
-    const PfxVector3 n = d / length;
-    const PfxFloat separating = (a.m_velocity - b.m_velocity).dot(n);
-    if (separating <= 0) continue;
-    a.m_velocity -= (a.m_massInv / w) * separating * n;
-    b.m_velocity += (b.m_massInv / w) * separating * n;
+    pfxRemoveParticlePairSeparation(param.particlesA[c.m_particle], param.particlesB[c.m_other]);
   }
   return PFX_OK;
 }

@@ -1,5 +1,6 @@
 #include "pfx/low_level/particle/pfx_update_particles.h"
 
+#include "low_level/particle/pfx_solve_particle_pair.h"
 #include "low_level/pfx_param_checks.h"
 
 namespace pfx {
@@ -49,19 +50,22 @@ PfxInt32 pfxUpdateParticles(const PfxUpdateParticlesParam& param, PfxTaskManager
       const PfxFloat separating = (a.m_velocity - bodyVelocity).dot(n);
       if (separating > 0) a.m_velocity -= separating * n;
     } else {
-      PfxParticle& b = param.particles[c.m_other];
-      const PfxFloat w = a.m_massInv + b.m_massInv;
-      const PfxVector3 d = a.m_position - b.m_position;
-      const PfxFloat length = d.norm();
-      if (w == 0 || length == 0) continue;
-      const PfxVector3 n = d / length;
-      const PfxFloat separating = (a.m_velocity - b.m_velocity).dot(n);
-      if (separating <= 0) continue;
-      a.m_velocity -= (a.m_massInv / w) * separating * n;
-      b.m_velocity += (b.m_massInv / w) * separating * n;
+      pfxRemoveParticlePairSeparation(a, param.particles[c.m_other]);
     }
   }
   return PFX_OK;
+}
+
+void pfxRemoveParticlePairSeparation(PfxParticle& a, PfxParticle& b) {
+  const PfxFloat w = a.m_massInv + b.m_massInv;
+  const PfxVector3 d = a.m_position - b.m_position;
+  const PfxFloat length = d.norm();
+  if (w == 0 || length == 0) return;
+  const PfxVector3 n = d / length;
+  const PfxFloat separating = (a.m_velocity - b.m_velocity).dot(n);
+  if (separating <= 0) return;
+  a.m_velocity -= (a.m_massInv / w) * separating * n;
+  b.m_velocity += (b.m_massInv / w) * separating * n;
 }
 
 }  // namespace pfx
