@@ -404,3 +404,37 @@ TEST(FuzzRegressions, FixedBodyWithInfiniteInertiaIsRefusedWithNothingChanged) {
   EXPECT_EQ(world.getRigidBody(id).getInertia(), before.getInertia());
   EXPECT_FALSE(saveWorld(world).empty());
 }
+
+// fuzz_world_api (the CI stage, seed 1): a keyframe body sent to a target whose move over the
+// step was 6e21 m/s (finite, so it was taken) had a velocity whose square overflows, which
+// PfxRigidState::isValid refuses everywhere else. pfxSetKeyframeTarget (and so
+// PfxWorld::setKeyframeTarget) refuses such a move now, the state unchanged.
+TEST(FuzzRegressions, KeyframeMoveWhoseSpeedSquareOverflowsIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit init;
+  init.motionType = kPfxMotionTypeKeyframe;
+  PfxUInt32 id = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.1f, 0.5f)), init, &id), PFX_OK);
+  ASSERT_EQ(world.setKeyframeTarget(id, PfxVector3(0, 1, 0), PfxQuat::Identity()), PFX_OK);
+  const PfxRigidState before = world.getRigidState(id);
+
+  // Its speed over a step of 1/60 s is 60 times the square root of the largest number.
+  const PfxVector3 farAway(-std::sqrt(kLargestFloat), 0, 0);
+  EXPECT_EQ(world.setKeyframeTarget(id, farAway, PfxQuat::Identity()), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(world.getRigidState(id), before));
+  PfxRigidState state = before;
+  EXPECT_EQ(pfxSetKeyframeTarget(state, farAway, PfxQuat::Identity(), PfxFloat(1) / 60),
+            PFX_ERR_INVALID_VALUE);
+  // A quarter turn over a step so short that its rate's square overflows.
+  const PfxQuat turned(Eigen::AngleAxis<PfxFloat>(PfxFloat(1.5707963), PfxVector3::UnitY()));
+  EXPECT_EQ(pfxSetKeyframeTarget(state, before.getPosition(), turned,
+                                 std::numeric_limits<PfxFloat>::min()),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(state, before));
+
+  // A far but usable move is taken and steps to finite states.
+  ASSERT_EQ(world.setKeyframeTarget(id, PfxVector3(1e6f, 0, 0), turned), PFX_OK);
+  ASSERT_EQ(world.step(), PFX_OK);
+  EXPECT_TRUE(world.getRigidState(id).isValid());
+}

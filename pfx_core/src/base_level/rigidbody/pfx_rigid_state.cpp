@@ -37,9 +37,15 @@ PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosi
   PfxQuat delta = targetOrientation.normalized() * state.getOrientation().conjugate();
   if (delta.w() < 0) delta.coeffs() = -delta.coeffs();
   const Eigen::AngleAxis<PfxFloat> aa(delta);
-  const PfxVector3 angular = aa.axis() * (aa.angle() / timeStep);
+  const PfxVector3 angular =
+      aa.angle() == 0 ? PfxVector3::Zero() : PfxVector3(aa.axis() * (aa.angle() / timeStep));
+  // A target 1e20 m away, or a turn over a step of 1e-40 s, is finite but no velocity the
+  // stages can square.
+  if (!pfxIsFinite(linear.squaredNorm()) || !pfxIsFinite(angular.squaredNorm())) {
+    return PFX_ERR_INVALID_VALUE;
+  }
   state.setLinearVelocity(linear);
-  state.setAngularVelocity(pfxIsFinite(angular) ? angular : PfxVector3::Zero());
+  state.setAngularVelocity(angular);
   return PFX_OK;
 }
 

@@ -70,6 +70,8 @@ static_assert(sizeof(PfxRigidState) == 13 * sizeof(PfxFloat) + 4 * sizeof(PfxUIn
 
 // Drives a keyframe body toward a target pose over the next step: the change of pose
 // becomes the linear and angular velocity that the other bodies see (seed 4_motion_type).
+// PFX_ERR_INVALID_VALUE, the state unchanged, for a non-finite target, a non-positive time
+// step, or a move whose velocity isValid() would refuse (its square overflows).
 PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,
                               const PfxQuat& targetOrientation, PfxFloat timeStep);
 
