@@ -339,6 +339,17 @@ TEST(JointCoupling, InvalidCouplingsAreRejectedAndChangeNothing) {
        PFX_ERR_INVALID_VALUE},
       {"NaN multiplier", [](PfxJointCoupling& c) { c.m_multiplier = kNaN; }, PFX_ERR_INVALID_VALUE},
       {"infinite offset", [](PfxJointCoupling& c) { c.m_offset = kInf; }, PFX_ERR_INVALID_VALUE},
+      // Found by fuzz_world_file: a saved offset of 3.4e38 made the error over the step
+      // infinite and the coupled bodies NaN in the first step.
+      {"offset whose square overflows",
+       [](PfxJointCoupling& c) { c.m_offset = std::numeric_limits<PfxFloat>::max(); },
+       PFX_ERR_INVALID_VALUE},
+      {"tracked position whose square overflows",
+       [](PfxJointCoupling& c) { c.m_leaderPosition = -std::numeric_limits<PfxFloat>::max(); },
+       PFX_ERR_INVALID_VALUE},
+      {"multiplier whose square overflows",
+       [](PfxJointCoupling& c) { c.m_multiplier = std::numeric_limits<PfxFloat>::max() / 2; },
+       PFX_ERR_INVALID_VALUE},
       {"bias above 1", [](PfxJointCoupling& c) { c.m_bias = 1.5f; }, PFX_ERR_INVALID_VALUE},
       {"negative bias", [](PfxJointCoupling& c) { c.m_bias = -0.1f; }, PFX_ERR_INVALID_VALUE},
       {"NaN bias", [](PfxJointCoupling& c) { c.m_bias = kNaN; }, PFX_ERR_INVALID_VALUE},

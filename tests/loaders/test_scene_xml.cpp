@@ -254,6 +254,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadInput{"malformed", "<pfx_scene version=\"1\"><body name=\"a\"></pfx_scene>",
                  "1: not well-formed XML ("},
+        // Found by fuzz_scene: a declaration alone parses and has no root element.
+        BadInput{"no element", "<?xml version=\"1.0\"?>", "1: no element (a <pfx_scene> root)"},
         BadInput{"wrong root", "<robot name=\"r\"/>",
                  "1: robot 'r': the root element must be <pfx_scene>"},
         BadInput{"no version", "<pfx_scene/>",

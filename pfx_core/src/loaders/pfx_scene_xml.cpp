@@ -53,6 +53,10 @@ class Reader {
                               document.ErrorStr() + ")");
     }
     const XMLElement* root = document.RootElement();
+    // A document of only a declaration, comments or text parses, and has no element.
+    if (!root) {
+      return pfxSceneFail(m_error, PFX_ERR_INVALID_VALUE, "1: no element (a <pfx_scene> root)");
+    }
     if (std::string(root->Name()) != "pfx_scene") {
       return fail(root, "the root element must be <pfx_scene>");
     }

@@ -33,8 +33,14 @@ PfxInt32 pfxCheckJointCoupling(const PfxJointCoupling& coupling, const PfxJoint*
       follower.m_constraints[coupling.m_followerAxis].m_lock == kPfxJointLockLocked) {
     return PFX_ERR_INVALID_VALUE;
   }
-  if (!pfxIsFinite(coupling.m_multiplier) || !pfxIsFinite(coupling.m_offset) ||
-      !pfxIsFinite(coupling.m_maxImpulseForce) ||
+  // The rule of body velocities: a value whose square overflows is finite but unusable. An
+  // offset of 3.4e38 read from a file made the coupling's error, divided by the step, infinite.
+  const auto usable = [](PfxFloat value) { return pfxIsFinite(value * value); };
+  const PfxFloat error = coupling.m_followerPosition -
+                         coupling.m_multiplier * coupling.m_leaderPosition - coupling.m_offset;
+  if (!usable(coupling.m_multiplier) || !usable(coupling.m_offset) ||
+      !usable(coupling.m_leaderPosition) || !usable(coupling.m_followerPosition) ||
+      !usable(error) || !pfxIsFinite(coupling.m_maxImpulseForce) ||
       !(coupling.m_bias >= 0 && coupling.m_bias <= 1)) {
     return PFX_ERR_INVALID_VALUE;
   }

@@ -50,8 +50,9 @@ struct PfxJointCoupling {
 };
 
 // Checks a coupling against the joints it names: ids below numJoints, axes 0..5, neither
-// axis locked, leader and follower not the same axis of the same joint, finite multiplier
-// and offset, bias in [0, 1], a finite force limit. PFX_OK or the error code.
+// axis locked, leader and follower not the same axis of the same joint, a multiplier, an
+// offset, tracked positions and the error they make whose squares are finite, bias in
+// [0, 1], a finite force limit. PFX_OK or the error code.
 PfxInt32 pfxCheckJointCoupling(const PfxJointCoupling& coupling, const PfxJoint* joints,
                                PfxUInt32 numJoints);
 
