@@ -438,3 +438,31 @@ TEST(FuzzRegressions, KeyframeMoveWhoseSpeedSquareOverflowsIsRefusedWithNothingC
   ASSERT_EQ(world.step(), PFX_OK);
   EXPECT_TRUE(world.getRigidState(id).isValid());
 }
+
+// fuzz_world_file: a saved contact whose normal was (3.4e38, 1, 0) (a double file's value
+// beyond float read as the largest float) was read, and the refresh and the solver took it as
+// it was: its bodies turned NaN in the first step. The reader now needs a contact normal of
+// unit length and names the point.
+TEST(FuzzRegressions, SavedContactNormalNotOfUnitLengthIsRefused) {
+  PfxWorld saved;
+  ASSERT_EQ(saved.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit slope;
+  slope.motionType = kPfxMotionTypeFixed;
+  slope.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(PfxFloat(-0.3), PfxVector3::UnitZ()));
+  ASSERT_EQ(pfxAddBody(saved, pfxMakeShape(PfxBox(2, 0.1f, 2)), slope), PFX_OK);
+  const PfxVector3 up = slope.orientation * PfxVector3::UnitY();
+  addSphere(saved, up * PfxFloat(0.59));
+  ASSERT_EQ(saved.step(), PFX_OK);
+  ASSERT_GT(saved.getNumContactPairs(), 0u);
+  const PfxContactManifold& manifold = saved.getContactManifold(saved.getContactPair(0));
+  ASSERT_GT(manifold.getNumContacts(), 0u);
+  const PfxFloat normalX = manifold.getContactPoint(0).m_constraintRow[0].m_normal.x();
+  ASSERT_GT(std::abs(normalX), PfxFloat(0.2));  // a value nothing saved before it holds
+
+  PfxWorld loaded;
+  std::string error;
+  EXPECT_EQ(loadWithValueReplaced(saved, normalX, kLargestFloat, loaded, error),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("the contact normal is not of unit length"), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+}

@@ -3,6 +3,7 @@
 // indexes, and every value against what PfxWorld itself would accept, so that a file cannot
 // make a later step read outside an array or start from NaN.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <iterator>
 
@@ -613,6 +614,11 @@ bool Parser::contactPoint(PfxContactPoint& p, PfxUInt32 idA, PfxUInt32 idB) {
   p.m_triangleIndex = r.u32("triangleIndex");
   for (PfxFloat& w : p.m_barycentric) w = r.real("barycentric");
   if (!r.ok()) return false;
+  // The contact normal, which the refresh and the solver take as it is: a normal of
+  // (3.4e38, 1, 0) turned the bodies of its pair NaN in the first step.
+  if (!(std::abs(p.m_constraintRow[0].m_normal.squaredNorm() - 1) <= PfxFloat(1e-3))) {
+    return r.fail(PFX_ERR_INVALID_VALUE, "constraintRow", "the contact normal is not of unit length");
+  }
   if (p.m_shapeIdA >= numShapes(idA) || p.m_shapeIdB >= numShapes(idB)) {
     return r.fail(PFX_ERR_OUT_OF_RANGE, "shapeIdA", "names a shape its body does not have");
   }
