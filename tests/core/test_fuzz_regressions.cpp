@@ -466,3 +466,24 @@ TEST(FuzzRegressions, SavedContactNormalNotOfUnitLengthIsRefused) {
   EXPECT_NE(error.find("the contact normal is not of unit length"), std::string::npos) << error;
   EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }
+
+// fuzz_world_file: a fixed body saved at y = 3.4e38 m (finite, so read) pulled the body
+// jointed to it to NaN in the first step. PfxRigidState::isValid (addRigidBody,
+// setRigidState, the file reader) now needs the position's square finite too, the rule of
+// body velocities.
+TEST(FuzzRegressions, PositionWhoseSquareOverflowsIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  const PfxUInt32 kept = addSphere(world, PfxVector3(0, 2, 0));
+  const PfxRigidState before = world.getRigidState(kept);
+  PfxRigidState state = before;
+  state.setPosition(PfxVector3(1, kLargestFloat, 0));
+  EXPECT_FALSE(state.isValid());
+  EXPECT_EQ(world.setRigidState(kept, state), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(world.getRigidState(kept), before));
+  PfxBodyInit far;
+  far.motionType = kPfxMotionTypeFixed;
+  far.position = PfxVector3(1, kLargestFloat, 0);
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(1)), far), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 1u);
+}

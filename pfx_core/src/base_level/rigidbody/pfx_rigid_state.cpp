@@ -19,8 +19,9 @@ void PfxRigidState::reset() {
 bool PfxRigidState::isValid() const {
   // A velocity whose squared length overflows (above about 1.8e19 in float) is finite but
   // unusable: the integrator, the solver and the energy square it, and a body given one
-  // turned NaN in its first step.
-  return pfxIsFinite(m_position) && pfxIsUnitQuat(m_orientation) &&
+  // turned NaN in its first step. So is such a position: a fixed body saved at y = 3.4e38
+  // pulled the body jointed to it to NaN.
+  return pfxIsFinite(m_position.squaredNorm()) && pfxIsUnitQuat(m_orientation) &&
          pfxIsFinite(m_linearVelocity.squaredNorm()) &&
          pfxIsFinite(m_angularVelocity.squaredNorm()) && m_motionType < kPfxMotionTypeCount;
 }
