@@ -92,6 +92,18 @@ void nameRobotBodies(const PfxUrdfModel& model, const std::vector<std::string>& 
   }
 }
 
+// Calls query(buffer, room, found) on a buffer grown until every contact fits, and returns
+// how many there are; a node's cables and cloths make few, so it rarely grows.
+template <typename Contact, typename Query>
+PfxUInt32 queryAllContacts(std::vector<Contact>& buffer, Query query) {
+  for (std::size_t room = 256;; room *= 2) {
+    buffer.resize(room);
+    PfxQueryContactsResult found;
+    query(buffer.data(), PfxUInt32(room), found);
+    if (!found.truncated) return found.numContacts;
+  }
+}
+
 }  // namespace
 
 PfxNodeSimulation::PfxNodeSimulation() = default;
@@ -903,15 +915,11 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
       contacts.push_back(contact);
     }
   }
-  PfxQueryContactsResult found;
-  // Grown until every point fits; a node's cables and cloths make few.
-  for (std::size_t room = 256;; room *= 2) {
-    m_particleContacts.resize(room);
-    found = PfxQueryContactsResult();
-    world.getParticleBodyContacts(m_particleContacts.data(), PfxUInt32(room), found);
-    if (!found.truncated) break;
-  }
-  for (PfxUInt32 i = 0; i < found.numContacts; ++i) {
+  const PfxUInt32 numBodyContacts =
+      queryAllContacts(m_particleContacts, [&](auto* out, PfxUInt32 room, auto& found) {
+        world.getParticleBodyContacts(out, room, found);
+      });
+  for (PfxUInt32 i = 0; i < numBodyContacts; ++i) {
     const PfxParticleBodyContact& c = m_particleContacts[i];
     if (c.m_depth < -kTouchingDistance && c.m_impulse <= 0) continue;
     PfxNodeContact contact;
@@ -924,13 +932,11 @@ void PfxNodeSimulation::getContacts(std::vector<PfxNodeContact>& contacts) const
     contact.impulse = c.m_impulse;
     contacts.push_back(contact);
   }
-  for (std::size_t room = 256;; room *= 2) {
-    m_particleGroupContacts.resize(room);
-    found = PfxQueryContactsResult();
-    world.getParticleGroupContacts(m_particleGroupContacts.data(), PfxUInt32(room), found);
-    if (!found.truncated) break;
-  }
-  for (PfxUInt32 i = 0; i < found.numContacts; ++i) {
+  const PfxUInt32 numGroupContacts =
+      queryAllContacts(m_particleGroupContacts, [&](auto* out, PfxUInt32 room, auto& found) {
+        world.getParticleGroupContacts(out, room, found);
+      });
+  for (PfxUInt32 i = 0; i < numGroupContacts; ++i) {
     const PfxParticleGroupContact& c = m_particleGroupContacts[i];
     if (c.m_depth < -kTouchingDistance && c.m_impulse <= 0) continue;
     PfxNodeContact contact;

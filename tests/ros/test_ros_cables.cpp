@@ -80,6 +80,13 @@ double catenarySag(double length, double span) {
   return a * (std::cosh(span / (2 * a)) - 1);
 }
 
+// The node's answer to ~get_contacts for one link.
+pfx::GetContacts::Response contactsOf(const std::string& link) {
+  pfx::GetContacts contacts;
+  contacts.request.link = link;
+  return pfx_test::call(kNode + "get_contacts", contacts).response;
+}
+
 }  // namespace
 
 // Runs first: the cables and the cloth settle while the simulation runs.
@@ -158,12 +165,10 @@ TEST(Cables, RaysAndBatchesHitTheCablesAndTheClothByName) {
 }
 
 TEST(Cables, GetContactsListsTheClothLyingOnThePad) {
-  pfx::GetContacts onPad;
-  onPad.request.link = "pad";
-  onPad = pfx_test::call(kNode + "get_contacts", onPad);
-  ASSERT_TRUE(onPad.response.success) << onPad.response.message;
+  const pfx::GetContacts::Response onPad = contactsOf("pad");
+  ASSERT_TRUE(onPad.success) << onPad.message;
   int clothPoints = 0;
-  for (const pfx::Contact& c : onPad.response.contacts) {
+  for (const pfx::Contact& c : onPad.contacts) {
     EXPECT_EQ(c.link_a, "pad");
     if (c.link_b != "drape") continue;
     ++clothPoints;
@@ -178,12 +183,10 @@ TEST(Cables, GetContactsListsTheClothLyingOnThePad) {
   std::printf("cloth on the pad: %d contact points\n", clothPoints);
   EXPECT_GE(clothPoints, 25);
 
-  pfx::GetContacts ofCloth;
-  ofCloth.request.link = "drape";
-  ofCloth = pfx_test::call(kNode + "get_contacts", ofCloth);
-  ASSERT_TRUE(ofCloth.response.success) << ofCloth.response.message;
+  const pfx::GetContacts::Response ofCloth = contactsOf("drape");
+  ASSERT_TRUE(ofCloth.success) << ofCloth.message;
   int onPadFromCloth = 0;
-  for (const pfx::Contact& c : ofCloth.response.contacts) {
+  for (const pfx::Contact& c : ofCloth.contacts) {
     EXPECT_EQ(c.link_a, "drape");
     onPadFromCloth += c.link_b == "pad" ? 1 : 0;
   }
@@ -236,13 +239,11 @@ TEST(Cables, TheMarkersDrawEveryCableAndTheCloth) {
 TEST(Cables, AClothFallenOntoACableLiesOnIt) {
   pfx_test::ClockWatcher clock(client->nh);
   ASSERT_TRUE(clock.waitUntil(2.0, 60));
-  pfx::GetContacts ofSheet;
-  ofSheet.request.link = "sheet";
-  ofSheet = pfx_test::call(kNode + "get_contacts", ofSheet);
-  ASSERT_TRUE(ofSheet.response.success) << ofSheet.response.message;
+  const pfx::GetContacts::Response ofSheet = contactsOf("sheet");
+  ASSERT_TRUE(ofSheet.success) << ofSheet.message;
   int onLine = 0;
   double pushed = 0;
-  for (const pfx::Contact& c : ofSheet.response.contacts) {
+  for (const pfx::Contact& c : ofSheet.contacts) {
     EXPECT_EQ(c.link_a, "sheet");
     if (c.link_b != "line") continue;
     ++onLine;
@@ -260,12 +261,10 @@ TEST(Cables, AClothFallenOntoACableLiesOnIt) {
   EXPECT_GE(onLine, 3);
   EXPECT_GT(pushed, 0);
 
-  pfx::GetContacts ofLine;
-  ofLine.request.link = "line";
-  ofLine = pfx_test::call(kNode + "get_contacts", ofLine);
-  ASSERT_TRUE(ofLine.response.success) << ofLine.response.message;
+  const pfx::GetContacts::Response ofLine = contactsOf("line");
+  ASSERT_TRUE(ofLine.success) << ofLine.message;
   int fromLine = 0;
-  for (const pfx::Contact& c : ofLine.response.contacts) {
+  for (const pfx::Contact& c : ofLine.contacts) {
     EXPECT_EQ(c.link_a, "line");
     if (c.link_b != "sheet") continue;
     ++fromLine;
@@ -308,9 +307,7 @@ TEST(Cables, TheRobotACableHoldsOnToIsNotDeleted) {
   EXPECT_NE(refused.message.find("cable 'catenary' holds on to it"), std::string::npos)
       << refused.message;
   // Nothing went: its links answer by name, its sensor publishes.
-  pfx::GetContacts contacts;
-  contacts.request.link = "pad";
-  const pfx::GetContacts::Response pad = pfx_test::call(kNode + "get_contacts", contacts).response;
+  const pfx::GetContacts::Response pad = contactsOf("pad");
   EXPECT_TRUE(pad.success) << pad.message;
   EXPECT_FALSE(pad.contacts.empty());
   Latest<geometry_msgs::WrenchStamped> wrench("/hinge_wrench");
