@@ -86,7 +86,7 @@ std::string pfxCheckCableSpec(const PfxNodeCableSpec& s) {
       checkNumber("mass_per_metre", s.massPerMetre, kPfxNodeMaxMassPerMetre, false, "kg/m"),
       checkNumber("stiffness", s.stiffness, std::numeric_limits<PfxFloat>::max(), true, "N"),
       checkCount("segments", s.segments, 1, kPfxNodeMaxCableSegments),
-      checkCount("iterations", s.iterations, 1, kPfxNodeMaxParticleIterations),
+      checkCount("iterations", s.iterations, 1, PFX_MAX_ITERATIONS),
   });
 }
 
@@ -121,7 +121,7 @@ std::string pfxCheckClothSpec(const PfxNodeClothSpec& s) {
       checkNumber("mass_per_area", s.massPerArea, kPfxNodeMaxMassPerMetre, false, "kg/m^2"),
       checkNumber("radius", s.radius, kPfxNodeMaxParticleRadius, false, "m"),
       checkNumber("stiffness", s.stiffness, std::numeric_limits<PfxFloat>::max(), true, "N/m"),
-      checkCount("iterations", s.iterations, 1, kPfxNodeMaxParticleIterations),
+      checkCount("iterations", s.iterations, 1, PFX_MAX_ITERATIONS),
       pins,
   });
 }

@@ -665,6 +665,10 @@ TEST(WorldParticles, GroupsAreAddedRemovedAndBadOnesRefused) {
   bad = rope;
   bad.iteration = 0;
   EXPECT_EQ(world.addParticleGroup(bad.desc()), PFX_ERR_INVALID_VALUE);
+  // More would hold the step for minutes: the limit of the world's own iterations.
+  bad.iteration = PFX_MAX_ITERATIONS + 1;
+  EXPECT_EQ(world.addParticleGroup(bad.desc()), PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(std::strstr(pfxGetLastErrorDetail(), "iteration"), nullptr);
   EXPECT_EQ(world.getParticleGroupCapacity(), capacity);
 
   // A body a group is pinned to cannot be truncated away.

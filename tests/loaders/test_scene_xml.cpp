@@ -333,7 +333,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "4: body 'b': filter_self=\"0x100000000\": expected a whole number in [0, "
                  "4294967295]"},
         BadInput{"zero sub-steps", scene("<world sub_steps=\"0\"/>"),
-                 "4: world: sub_steps=\"0\": expected a whole number in [1, 64]"},
+                 "4: world: sub_steps=\"0\": expected a whole number in [1, 100]"},
+        BadInput{"too many iterations", scene("<world iterations=\"1001\"/>"),
+                 "4: world: iterations=\"1001\": expected a whole number in [1, 1000]"},
         BadInput{"NaN time step", scene("<world time_step=\"nan\"/>"),
                  "4: world: time_step=\"nan\": expected 1 finite number"},
         BadInput{"negative time step", scene("<world time_step=\"-0.01\"/>"),

@@ -151,7 +151,11 @@ bool pfxDecodeParticleGroups(PfxByteReader& r, PfxSerializeImage& image) {
     if (!r.ok()) return false;
 
     // What PfxWorld::addParticleGroup checks, against the bodies of this file.
-    if (g.iteration == 0) return r.fail(PFX_ERR_INVALID_VALUE, "iteration", "is 0");
+    if (g.iteration == 0 || g.iteration > PFX_MAX_ITERATIONS) {
+      return r.fail(PFX_ERR_INVALID_VALUE, "iteration",
+                    "is " + std::to_string(g.iteration) + ", not 1 to " +
+                        std::to_string(PFX_MAX_ITERATIONS));
+    }
     if (!(g.linearDamping >= 0)) {
       return r.fail(PFX_ERR_INVALID_VALUE, "linearDamping", "is negative");
     }

@@ -96,7 +96,9 @@ bool boundsMeet(const PfxVector3& loA, const PfxVector3& hiA, const PfxVector3& 
 PfxInt32 PfxWorld::addParticleGroup(const PfxParticleGroupDesc& desc, PfxUInt32* outId) {
   const PfxParamNames at{"PfxWorld::addParticleGroup", "PfxParticleGroupDesc"};
   PfxInt32 err = PFX_OK;
-  if ((err = pfxCheckValue(at, "iteration", desc.iteration, desc.iteration > 0, "at least 1")) !=
+  if ((err = pfxCheckValue(at, "iteration", desc.iteration,
+                           desc.iteration > 0 && desc.iteration <= PFX_MAX_ITERATIONS,
+                           "1 to PFX_MAX_ITERATIONS (1000)")) !=
           PFX_OK ||
       (err = pfxCheckValue(at, "linearDamping", desc.linearDamping,
                            desc.linearDamping >= 0 && pfxIsFinite(desc.linearDamping),

@@ -224,8 +224,8 @@ class Reader {
     PfxWorldParam& p = m_build.param;
     m_build.hasPhysics = true;
     if (!vector(e, "gravity", p.gravity) || !number(e, "time_step", p.timeStep) ||
-        !positive(e, "time_step", p.timeStep) || !integer(e, "sub_steps", 1, 64, p.subStep) ||
-        !integer(e, "iterations", 1, 1000, p.iteration) ||
+        !positive(e, "time_step", p.timeStep) || !integer(e, "sub_steps", 1, PFX_MAX_SUB_STEPS, p.subStep) ||
+        !integer(e, "iterations", 1, PFX_MAX_ITERATIONS, p.iteration) ||
         !number(e, "contact_slop", p.contactSlop) ||
         !number(e, "contact_margin", p.contactMargin) ||
         !number(e, "separate_bias", p.separateBias) ||

@@ -24,7 +24,6 @@ constexpr PfxUInt32 kPfxNodeMaxClothResolution = 200;  // particles along an edg
 constexpr PfxFloat kPfxNodeMaxCableLength = 100;       // m, also a cloth's edge
 constexpr PfxFloat kPfxNodeMaxParticleRadius = 1;      // m
 constexpr PfxFloat kPfxNodeMaxMassPerMetre = 1000;     // kg/m, also kg/m^2 of cloth
-constexpr PfxUInt32 kPfxNodeMaxParticleIterations = 1000;
 
 // The world, as the link of a cable end or of a cloth's pins.
 extern const char* const kPfxNodeWorldLink;
