@@ -168,7 +168,8 @@ bool PfxNode::initialize() {
     return false;
   }
   m_jointCommands =
-      std::make_unique<PfxNodeJointCommands>(m_handle, m_privateHandle, m_simulation, m_useSimTime);
+      std::make_unique<PfxNodeJointCommands>(m_handle, m_privateHandle, m_simulation,
+                                             m_refusals, m_useSimTime);
   if (!m_jointCommands->configure(&why)) {
     ROS_FATAL_STREAM("pfx_node: " << why);
     return false;

@@ -170,10 +170,8 @@ void PfxNodeAgents::onCommand(const std::string& name, const geometry_msgs::Twis
   const PfxInt32 err = m_simulation.commandAgent(
       name, PfxFloat(twist.linear.x), PfxFloat(twist.linear.y), PfxFloat(twist.angular.z));
   if (err != PFX_OK) {
-    ROS_WARN_THROTTLE(1.0,
-                      "pfx_node: %s/cmd_vel dropped: linear.x, linear.y and angular.z "
-                      "must be finite",
-                      name.c_str());
+    m_refusals.warn(m_handle.resolveName(name + "/cmd_vel") +
+                    " dropped: linear.x, linear.y and angular.z must be finite");
   }
 }
 

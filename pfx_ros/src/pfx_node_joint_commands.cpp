@@ -35,11 +35,12 @@ bool contains(const std::vector<PfxUInt32>& joints, PfxUInt32 joint) {
 
 PfxNodeJointCommands::PfxNodeJointCommands(ros::NodeHandle& handle,
                                            ros::NodeHandle& privateHandle,
-                                           PfxNodeSimulation& simulation, bool useSimTime,
-                                           PfxUInt32 model)
+                                           PfxNodeSimulation& simulation, PfxNodeRefusalLog& log,
+                                           bool useSimTime, PfxUInt32 model)
     : m_handle(handle),
       m_privateHandle(privateHandle),
       m_simulation(simulation),
+      m_log(log),
       m_useSimTime(useSimTime),
       m_model(model) {}
 
@@ -155,21 +156,21 @@ bool PfxNodeJointCommands::readGroup(std::string* message) {
   return true;
 }
 
-bool PfxNodeJointCommands::command(const char* source, const std::vector<PfxUInt32>& joints,
+bool PfxNodeJointCommands::command(const std::string& source, const std::vector<PfxUInt32>& joints,
                                    PfxJointDrive drive, const std::vector<double>& values) {
   const std::vector<PfxFloat> targets(values.begin(), values.end());
   const std::vector<PfxFloat> noForceLimits(joints.size(), 0);
   if (const PfxInt32 err = m_simulation.setJointCommands(joints, drive, targets, noForceLimits,
                                                          m_model);
       err != PFX_OK) {
-    ROS_WARN_THROTTLE(1.0, "pfx_node: %s refused: %s", source, pfxErrorString(err));
+    m_log.warn(source + " refused: " + pfxErrorString(err));
     return false;
   }
   const PfxUrdfModel& model = m_simulation.getModel(m_model);
   for (std::size_t i = 0; i < joints.size(); ++i) {
     std::string note;
     pfxClampUrdfJointTarget(model.joints[joints[i]], drive, targets[i], &note);
-    if (!note.empty()) ROS_WARN_THROTTLE(1.0, "pfx_node: %s: %s", source, note.c_str());
+    if (!note.empty()) m_log.warn(source + ": " + note);
   }
   return true;
 }
@@ -188,39 +189,38 @@ void PfxNodeJointCommands::releaseFromTrajectories(const std::vector<PfxUInt32>&
 
 void PfxNodeJointCommands::onJointCommand(PfxUInt32 joint, const std_msgs::Float64& msg) {
   const std::string& name = m_simulation.getModel(m_model).joints[joint].name;
+  const std::string source = m_handle.resolveName(name + "/command");
   if (!std::isfinite(msg.data)) {
-    ROS_WARN_THROTTLE(1.0, "pfx_node: %s/command dropped: the value is not finite", name.c_str());
+    m_log.warn(source + " dropped: the value is not finite");
     return;
   }
-  const std::string source = name + "/command";
-  if (command(source.c_str(), {joint}, m_interfaces[joint], {msg.data})) {
+  if (command(source, {joint}, m_interfaces[joint], {msg.data})) {
     releaseFromTrajectories({joint});
   }
 }
 
 void PfxNodeJointCommands::onGroupCommand(const std_msgs::Float64MultiArray& msg) {
+  const std::string source = m_privateHandle.resolveName("joint_group_command");
   if (msg.data.size() != m_groupJoints.size()) {
-    ROS_WARN_THROTTLE(1.0, "pfx_node: joint_group_command dropped: %zu values for %zu joints",
-                      msg.data.size(), m_groupJoints.size());
+    m_log.warn(source + " dropped: " + std::to_string(msg.data.size()) + " values for " +
+               std::to_string(m_groupJoints.size()) + " joints");
     return;
   }
   for (std::size_t i = 0; i < msg.data.size(); ++i) {
     if (!std::isfinite(msg.data[i])) {
-      ROS_WARN_THROTTLE(1.0,
-                        "pfx_node: joint_group_command dropped: the value of joint '%s' is not "
-                        "finite",
-                        m_simulation.getModel(m_model).joints[m_groupJoints[i]].name.c_str());
+      m_log.warn(source + " dropped: the value of joint '" +
+                 m_simulation.getModel(m_model).joints[m_groupJoints[i]].name + "' is not finite");
       return;
     }
   }
-  if (command("joint_group_command", m_groupJoints, m_groupInterface, msg.data)) {
+  if (command(source, m_groupJoints, m_groupInterface, msg.data)) {
     releaseFromTrajectories(m_groupJoints);
   }
 }
 
 void PfxNodeJointCommands::onTrajectory(const trajectory_msgs::JointTrajectory& msg) {
-  const auto drop = [](const std::string& why) {
-    ROS_WARN("pfx_node: joint_trajectory dropped: %s", why.c_str());
+  const auto drop = [this](const std::string& why) {
+    m_log.warn(m_privateHandle.resolveName("joint_trajectory") + " dropped: " + why);
   };
   if (msg.joint_names.empty()) return drop("no joint_names");
   Trajectory next;
@@ -292,7 +292,7 @@ void PfxNodeJointCommands::update() {
   // The target is where the joint should be when the step ends, which the position drive
   // reaches within the step.
   m_current.curve.sample(end, m_positions, m_velocities);
-  if (!command("joint_trajectory", m_current.joints, kPfxJointDrivePosition, m_positions) ||
+  if (!command(m_privateHandle.resolveName("joint_trajectory"), m_current.joints, kPfxJointDrivePosition, m_positions) ||
       end > m_current.curve.getEndTime()) {
     // Done (the drives hold the last point) or refused: nothing more to send.
     m_current = Trajectory();

@@ -4,14 +4,15 @@ namespace pfx {
 
 PfxNodeModel::PfxNodeModel(PfxNodeSimulation& simulation, PfxUInt32 slot,
                            const std::string& robotNamespace, const std::string& fixedFrame,
-                           bool useSimTime)
+                           bool useSimTime, PfxNodeRefusalLog& log)
     : m_simulation(simulation), m_slot(slot), m_handle(robotNamespace) {
   // /clock is the robot of robot_description's to publish, and the agents' frames too.
   m_state = std::make_unique<PfxNodeStatePublisher>(m_handle, fixedFrame, "", false, slot);
   m_sensors = std::make_unique<PfxNodeSensors>(m_handle, fixedFrame, slot);
   // Its namespace is its private one too: <ns>/joint_trajectory, <ns>/joint_interfaces.
   m_jointCommands =
-      std::make_unique<PfxNodeJointCommands>(m_handle, m_handle, simulation, useSimTime, slot);
+      std::make_unique<PfxNodeJointCommands>(m_handle, m_handle, simulation, log, useSimTime,
+                                                         slot);
 }
 
 bool PfxNodeModel::configure(std::string* message) {

@@ -57,7 +57,7 @@ bool PfxNodeModels::add(const PfxNodeModelRequest& request, std::string* message
     return false;
   }
   auto model = std::make_unique<PfxNodeModel>(m_simulation, slot, robotNamespace, m_fixedFrame,
-                                              m_useSimTime);
+                                              m_useSimTime, m_refusals);
   if (!model->configure(message)) {
     model.reset();  // its topics go before its bodies
     m_simulation.removeModel(slot, nullptr);

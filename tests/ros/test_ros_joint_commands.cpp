@@ -473,6 +473,35 @@ TEST(JointCommands, RefusedRequestsAreAllAnsweredButNotLoggedOneLineEach) {
   EXPECT_LT(lines.size(), std::size_t(kRequests));
 }
 
+// A publisher of bad messages at 100 Hz: each is dropped, and the log has its warning once a
+// second with the count of its repeats, not a line each.
+TEST(JointCommands, RepeatedBadMessagesAreWarnedOfOnceASecondWithACount) {
+  const int kMessages = 100;
+  const std::string warning = "joint_trajectory dropped: no points";
+  shared->warnings->clear();
+  for (int i = 0; i < kMessages; ++i) {
+    shared->trajectory.publish(trajectory({"shoulder"}, {}));
+    ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_TRUE(shared->warnings->seen(warning));
+  // Once the second after the last message is over, its repeats have been counted too.
+  ros::WallDuration(2.0).sleep();
+  const std::vector<std::string> lines = shared->warnings->holding(warning);
+  long counted = 0;
+  for (const std::string& line : lines) {
+    const std::string::size_type more = line.find(" more time");
+    if (more == std::string::npos) continue;
+    const std::string::size_type start = line.find_last_not_of("0123456789", more - 1) + 1;
+    counted += std::stol(line.substr(start, more - start));
+  }
+  std::printf("%d bad trajectories in 1 s: %zu lines, %ld repeats counted\n", kMessages,
+              lines.size(), counted);
+  // About two seconds of lines; the transport may drop a message when the node falls behind.
+  EXPECT_LE(lines.size(), 4u);
+  EXPECT_LE(long(lines.size()) + counted, kMessages);
+  EXPECT_GE(long(lines.size()) + counted, kMessages / 2);
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_joint_commands");

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "pfx/high_level/pfx_joint_trajectory.h"
+#include "pfx_ros/pfx_node_refusal_log.h"
 #include "pfx_ros/pfx_node_simulation.h"
 
 namespace pfx {
@@ -36,7 +37,8 @@ class PfxNodeJointCommands {
   // onto simulated time at their arrival). `model`: the simulation's model slot whose
   // joints these are (0: the robot of robot_description).
   PfxNodeJointCommands(ros::NodeHandle& handle, ros::NodeHandle& privateHandle,
-                       PfxNodeSimulation& simulation, bool useSimTime, PfxUInt32 model = 0);
+                       PfxNodeSimulation& simulation, PfxNodeRefusalLog& log, bool useSimTime,
+                       PfxUInt32 model = 0);
 
   // Reads ~joint_interfaces ({joint: position|velocity|effort}) and ~joint_group
   // ({joints: [...], interface: ...}) and subscribes; false, with *message naming the
@@ -67,13 +69,14 @@ class PfxNodeJointCommands {
   void onGroupCommand(const std_msgs::Float64MultiArray& msg);
   void onTrajectory(const trajectory_msgs::JointTrajectory& msg);
   // Sends commands of one drive; warns with `source` and is false when refused.
-  bool command(const char* source, const std::vector<PfxUInt32>& joints, PfxJointDrive drive,
+  bool command(const std::string& source, const std::vector<PfxUInt32>& joints, PfxJointDrive drive,
                const std::vector<double>& values);
   void activate(Trajectory& next);
 
   ros::NodeHandle& m_handle;
   ros::NodeHandle& m_privateHandle;
   PfxNodeSimulation& m_simulation;
+  PfxNodeRefusalLog& m_log;  // the node's, for warnings about the topics' messages
   bool m_useSimTime;
   PfxUInt32 m_model;
   std::vector<PfxJointDrive> m_interfaces;  // per model joint

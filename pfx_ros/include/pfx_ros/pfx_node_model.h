@@ -23,9 +23,9 @@ namespace pfx {
 class PfxNodeModel {
  public:
   // `robotNamespace` is resolved as NodeHandle resolves it (relative: in the node's
-  // namespace).
+  // namespace). `log`: the node's, for warnings about its topics' messages.
   PfxNodeModel(PfxNodeSimulation& simulation, PfxUInt32 slot, const std::string& robotNamespace,
-               const std::string& fixedFrame, bool useSimTime);
+               const std::string& fixedFrame, bool useSimTime, PfxNodeRefusalLog& log);
 
   // Reads its sensors and joint command parameters and advertises and subscribes; false,
   // with *message saying why, when one is malformed (nothing is left advertised then).

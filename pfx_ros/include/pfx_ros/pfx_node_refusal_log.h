@@ -1,4 +1,5 @@
-// The node's log of refused service requests. A client that sends bad requests in a loop
+// The node's log of refused service requests and of dropped or changed topic messages. A
+// client that sends bad requests in a loop
 // would otherwise put one WARN per call on /rosout, hundreds a second, which roscpp queues
 // without bound when the rosout node falls behind. Per service, a refusal is logged with its
 // reason at most once per second of wall time; the refusals not logged meanwhile are counted,
@@ -9,7 +10,10 @@
 //
 // Wall time, not ROS time: under use_sim_time a paused node's clock stands still, and a
 // ROS_WARN_THROTTLE would then stay silent for good (and in the first simulated second).
-// The node's one thread answers services and runs the loop that flushes, so no lock.
+// A topic's messages are throttled by the text of the warning instead: a new problem shows at
+// once, the same one again at most once a second with the count of its repeats.
+// The node's one thread answers services and topics and runs the loop that flushes, so no
+// lock.
 #pragma once
 
 #include <chrono>
@@ -21,7 +25,10 @@ namespace pfx {
 class PfxNodeRefusalLog {
  public:
   void refused(const std::string& service, const std::string& why);
-  // Logs the count of each service's refusals not logged, once its second is over.
+  // A warning about a topic's message ("joint_trajectory dropped: no points").
+  void warn(const std::string& warning);
+  // Logs the count of each service's refusals and each warning's repeats not logged, once
+  // its second is over.
   void flush();
 
  private:
@@ -32,8 +39,15 @@ class PfxNodeRefusalLog {
     unsigned long unlogged = 0;
     std::string lastUnlogged;  // the reason of the last refusal counted
   };
+  struct Repeats {
+    Clock::time_point lastLine;
+    unsigned long unlogged = 0;
+  };
   static constexpr Clock::duration kPeriod = std::chrono::seconds(1);
   std::map<std::string, Service> m_services;
+  // By text; a warning leaves once its second is over with no repeat to count, so a
+  // publisher sending ever other values keeps at most a second's worth here.
+  std::map<std::string, Repeats> m_warnings;
 };
 
 // Fills `res` as a refusal of `service`'s request for the reason `why`, and logs it; true:
