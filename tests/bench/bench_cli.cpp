@@ -62,6 +62,7 @@ const char* usage() {
   return "usage: pfx_bench [--scene NAME[,NAME...]] [--engine NAME[,NAME...]] [--dt DT[,DT...]]\n"
          "                 [--iterations N[,N...]] [--substeps N[,N...]] [--threads N[,N...]]\n"
          "                 [--seconds S] [--out DIR] [--same-bits] [--characters N[,N...]]\n"
+         "                 [--limit METRIC=BOUND[,METRIC=BOUND...]]\n"
          "  Steps each scene with each engine for each combination of the settings and\n"
          "  prints one TSV row per error metric on stdout. DT is 1/60 or 0.0166.\n"
          "  Defaults: every scene, every engine built, dt 1/30,1/60,1/120,1/240,1/480,1/960,\n"
@@ -71,11 +72,15 @@ const char* usage() {
          "  and settings but another thread count (--threads 1,2,4): each gets a row\n"
          "  same_bits (1 when the final positions, orientations and velocities of all\n"
          "  bodies are bit-identical, else 0), and any 0 makes pfx_bench exit with 1.\n"
+         "  --limit joint_gap_max=0.001 makes pfx_bench exit with 1 when a run's figure of\n"
+         "  that metric is above the bound or not a number (the run blew up).\n"
          "  The scene rays measures rays per second against a 524,288-triangle terrain\n"
          "  (pfx, bullet and also embree; no time step, no plot), see bench_rays.h; the\n"
          "  scene octomap loads a 97,784-voxel OctoMap and casts rays into it (pfx only),\n"
          "  see bench_octomap.h. The scene urdf (built with the loaders) drives the joint\n"
-         "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp. The\n"
+         "  motors of urdf/arm.urdf along a reference, see bench_scenes_urdf.cpp; the scene\n"
+         "  robots drops ragdolls on 1 to 64 such arms in one world and adds rows of the\n"
+         "  cost per step and per robot, see bench_scenes_robots.cpp. The\n"
          "  scene meshfloor (pfx only, with the loaders) stands a quadruped on a\n"
          "  3,200-triangle terrain and on its bounding box, see bench_mesh_floor.h. The\n"
          "  scene serialize writes worlds of 4,000 and 100,000 bodies to a file and reads\n"
@@ -107,7 +112,7 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
     static const char* const kOptionsWithValue[] = {"--scene",    "--engine",  "--dt",
                                                     "--iterations", "--substeps", "--threads",
                                                     "--seconds",  "--out",
-                                                    "--characters"};
+                                                    "--characters", "--limit"};
     if (std::find(std::begin(kOptionsWithValue), std::end(kOptionsWithValue), option) ==
         std::end(kOptionsWithValue)) {
       error = "unknown option: " + option;
@@ -150,6 +155,22 @@ bool parseOptions(int argc, const char* const* argv, Options& options, std::stri
       }
     } else if (option == "--characters") {
       if (!parsePositiveInts(option, value, options.characterCounts, error)) return false;
+    } else if (option == "--limit") {
+      options.limits.clear();
+      for (const std::string& item : splitList(value)) {
+        const std::size_t equals = item.find('=');
+        double bound = 0;
+        if (equals == std::string::npos || equals == 0 ||
+            !parseNumber(item.substr(equals + 1), bound)) {
+          error = "--limit: not METRIC=BOUND: '" + item + "'";
+          return false;
+        }
+        options.limits.emplace_back(item.substr(0, equals), bound);
+      }
+      if (options.limits.empty()) {
+        error = "--limit: no value given";
+        return false;
+      }
     } else if (option == "--out") {
       options.outDir = value;
     }

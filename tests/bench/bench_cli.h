@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pfxbench {
@@ -23,6 +24,9 @@ struct Options {
   // Runs that differ only in their number of threads must end in bit-identical states;
   // a run that does not fails the benchmark.
   bool sameBits = false;
+  // --limit: a run whose figure of the named metric is above the bound, or not a number
+  // (a run that blew up), fails the benchmark.
+  std::vector<std::pair<std::string, double>> limits;
   bool help = false;
 };
 

@@ -41,7 +41,9 @@
 // - Precision. pfx and Bullet (Debian build) are single precision, ODE and MuJoCo double.
 // - Cost of the default solver. MuJoCo 2.2's Newton solver factorises a dense Hessian over
 //   all degrees of freedom, so its step time grows with the cube of the number of free
-//   bodies in contact; scenes beyond 500 free bodies (rain) are skipped for MuJoCo.
+//   bodies in contact; scenes beyond 500 free bodies (rain) are skipped for MuJoCo, and so
+//   are scenes whose constraint arrays (njmax x njmax doubles in mjData) would pass 2 GB:
+//   the 64 arms and 16 ragdolls of `robots`.
 // - Sub-steps. Every engine runs its collision detection again in each sub-step: pfx is
 //   stepped N times at dt / N. PfxWorldParam::subStep, which shares one collision
 //   detection among the sub-steps, is not what `substeps` measures.
@@ -61,7 +63,8 @@
 //   limited range with its default solref and solimp; bullet_multibody's are
 //   btMultiBodyJointLimitConstraints. A hinge to the world is made in Bullet against its
 //   fixed body. bullet_multibody runs only scenes whose joints form trees hanging
-//   from the world and starting at rest (the chains); its links have no damping and no cap
+//   from the world and starting at rest (the chains, the arm; not the floating ragdolls of
+//   `ragdoll` and `robots`); its links have no damping and no cap
 //   on joint speed (Bullet's defaults are 0.04 and 100 rad/s, which would mask a blow-up
 //   as a clamped speed), and its contact impulses are not capped either. MuJoCo runs
 //   every joint tree, but no closed loops and no jointed bodies that start moving. Bodies

@@ -159,6 +159,14 @@ struct MjcfWriter {
   }
 };
 
+// MuJoCo makes up to eight contacts per box pair (about 8.5 per box in the pyramid); each
+// takes four constraint rows (njmax) with the pyramidal cone and condim 3.
+int maxContactsOf(const Scene& scene) {
+  int numDynamic = 0;
+  for (const BodyDesc& body : scene.bodies) numDynamic += body.fixed ? 0 : 1;
+  return 100 + 10 * numDynamic;
+}
+
 MjcfFiles writeMjcf(const Scene& scene, const JointForest& forest,
                     const EngineSettings& settings) {
   MjcfWriter writer{scene, forest, std::vector<std::vector<int>>(scene.bodies.size()), {}};
@@ -169,11 +177,7 @@ MjcfFiles writeMjcf(const Scene& scene, const JointForest& forest,
   writer.files.texts.emplace_back();
 
   std::ostringstream out = precisionStream();
-  int numDynamic = 0;
-  for (const BodyDesc& body : scene.bodies) numDynamic += body.fixed ? 0 : 1;
-  // MuJoCo makes up to eight contacts per box pair (about 8.5 per box in the pyramid);
-  // each takes four constraint rows with the pyramidal cone and condim 3.
-  const int maxContacts = 100 + 10 * numDynamic;
+  const int maxContacts = maxContactsOf(scene);
   // The velocity servos blow the arm up within 0.1 s in the default Euler integrator at dt
   // 1/30 and 1/60.
   const char* integrator = scene.motors.empty() ? "Euler" : "implicit";
@@ -236,6 +240,10 @@ bool jointedBodiesAtRest(const Scene& scene, const JointForest& forest) {
 // constraint arrays quadratic in njmax. 210 free boxes (1260 dofs) already take about a
 // quarter of a second and 1.6 GB per step.
 constexpr int kMaxDegreesOfFreedom = 3000;
+// Nor above this many constraint rows (njmax): mjData holds efc_AR, njmax x njmax doubles,
+// and the 64 arms and 16 ragdolls of `robots` (22,800 rows, 4.2 GB) are refused there
+// ("could not create mjData").
+constexpr double kMaxConstraintArrayBytes = 2.0 * (1 << 30);
 
 // Where a joint's anchor sits on the parent's side: a point fixed in the parent body's
 // frame (the world body, id 0, for a joint to the world). The child's side is MuJoCo's
@@ -265,10 +273,19 @@ class MujocoEngine final : public Engine {
       return false;
     }
     const int dofs = degreesOfFreedom(scene, forest);
-    if (dofs <= kMaxDegreesOfFreedom) return true;
-    reason = "mujoco: " + std::to_string(dofs) +
-             " degrees of freedom; its default Newton solver factorises a dense Hessian of "
-             "that size every iteration, which is out of reach here";
+    if (dofs > kMaxDegreesOfFreedom) {
+      reason = "mujoco: " + std::to_string(dofs) +
+               " degrees of freedom; its default Newton solver factorises a dense Hessian of "
+               "that size every iteration, which is out of reach here";
+      return false;
+    }
+    const double rows = 4.0 * maxContactsOf(scene);
+    if (8 * rows * rows <= kMaxConstraintArrayBytes) return true;
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "mujoco: %.0f constraint rows; mjData's njmax x njmax array would take %.1f GB",
+                  rows, 8 * rows * rows / 1e9);
+    reason = text;
     return false;
   }
 

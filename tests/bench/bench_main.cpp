@@ -192,6 +192,13 @@ int main(int argc, char** argv) {
   } else {
     rays.otherScenes = false;
   }
+  for (const auto& [name, bound] : options.limits) {
+    Metric metric;
+    if (!metricByName(name, metric)) {
+      std::fprintf(stderr, "--limit: unknown metric '%s'\n", name.c_str());
+      return 2;
+    }
+  }
   std::vector<const EngineInfo*> engines;
   std::vector<Scene> scenes;
   if (rays.otherScenes && (!selectEngines(options, engines) || !selectScenes(options, scenes))) {
@@ -252,6 +259,14 @@ int main(int argc, char** argv) {
       writeTsvRow(std::cout, row);
       if (tsvFile) writeTsvRow(tsvFile, row);
       rows.push_back(row);
+      for (const auto& [name, bound] : options.limits) {
+        if (name != row.metric || value <= bound) continue;
+        ++failures;
+        char text[160];
+        std::snprintf(text, sizeof(text), ": %s %.6g is beyond the limit %.6g", name.c_str(),
+                      value, bound);
+        progress.log(label + text);
+      }
     }
     if (options.sameBits && !result.stopped) {
       const std::string group = describeJobWithoutThreads(job);

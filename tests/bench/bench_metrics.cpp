@@ -99,7 +99,10 @@ double MetricRecorder::value(Metric metric) const {
     }
     case Metric::JointGapMax: return m_jointGap;
     case Metric::PositionError:
-    case Metric::BytesPerBody: break;
+    case Metric::BytesPerBody:
+    case Metric::MsPerStep:
+    case Metric::MsPerStepPerRobot:
+    case Metric::CpuMsPerStepPerRobot: break;
   }
   return kNaN;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace pfxbench {
 
@@ -75,6 +76,19 @@ double deepestOverlap(const Scene& scene, const std::vector<BodyState>& states) 
   };
   std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return lowX(i) < lowX(j); });
 
+  // Bodies held by a joint never collide in any engine (bench_engine.h): boxes bounding
+  // two links of an arm may overlap at their hinge by construction.
+  std::vector<std::pair<int, int>> jointed;
+  for (const JointDesc& joint : scene.joints) {
+    if (joint.bodyA == kWorld) continue;
+    jointed.emplace_back(std::min(joint.bodyA, joint.bodyB), std::max(joint.bodyA, joint.bodyB));
+  }
+  std::sort(jointed.begin(), jointed.end());
+  auto isJointed = [&](std::size_t i, std::size_t j) {
+    const std::pair<int, int> pair(static_cast<int>(std::min(i, j)), static_cast<int>(std::max(i, j)));
+    return std::binary_search(jointed.begin(), jointed.end(), pair);
+  };
+
   double deepest = 0;
   for (std::size_t oi = 0; oi < n; ++oi) {
     const std::size_t i = order[oi];
@@ -85,6 +99,7 @@ double deepestOverlap(const Scene& scene, const std::vector<BodyState>& states) 
       if (scene.bodies[i].fixed && scene.bodies[j].fixed) continue;
       const double reach = ri + scene.bodies[j].shape.outerRadius();
       if ((states[i].position - states[j].position).squaredNorm() > reach * reach) continue;
+      if (isJointed(i, j)) continue;
       const std::optional<double> depth =
           overlapDepth(scene.bodies[i].shape, states[i], scene.bodies[j].shape, states[j]);
       if (depth) deepest = std::max(deepest, *depth);

@@ -16,8 +16,8 @@ namespace pfxbench {
 std::optional<double> overlapDepth(const ShapeDesc& a, const BodyState& poseA,
                                    const ShapeDesc& b, const BodyState& poseB);
 
-// Deepest overlap between any two bodies of which at least one is dynamic, over the shapes
-// overlapDepth handles. NaN if a pose is not finite.
+// Deepest overlap between any two bodies of which at least one is dynamic and that no joint
+// holds together, over the shapes overlapDepth handles. NaN if a pose is not finite.
 double deepestOverlap(const Scene& scene, const std::vector<BodyState>& states);
 
 }  // namespace pfxbench

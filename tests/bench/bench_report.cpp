@@ -21,6 +21,7 @@ const char* metricUnit(const std::string& metric) {
   if (metric == "energy_drift" || metric == "momentum_drift") return "relative";
   if (metric == "escaped") return "bodies";
   if (metric == "bytes_per_body") return "bytes";
+  if (metric.find("ms_per_step") != std::string::npos) return "ms";
   return "m";
 }
 

@@ -262,6 +262,13 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
     double value = recorder.value(metric);
     if (metric == Metric::PositionError) value = positionError;
     if (metric == Metric::BytesPerBody) value = heapBytesPerBody(engine, scene, settings, steps);
+    if (metric == Metric::MsPerStep) value = 1e3 * result.wallSecondsPerSimSecond * settings.dt;
+    if (metric == Metric::MsPerStepPerRobot) {
+      value = 1e3 * result.wallSecondsPerSimSecond * settings.dt / scene.robots;
+    }
+    if (metric == Metric::CpuMsPerStepPerRobot) {
+      value = 1e3 * result.cpuSecondsPerSimSecond * settings.dt / scene.robots;
+    }
     result.metrics.emplace_back(metric, value);
   }
   result.ok = true;

@@ -22,7 +22,7 @@ const SceneEntry kScenes[] = {
     {"bullet", buildBulletScene}, {"chain", buildChainScene},
     {"longchain", buildLongChainScene}, {"ragdoll", buildRagdollScene},
 #ifdef PFX_BENCH_HAVE_LOADERS
-    {"urdf", buildUrdfScene},
+    {"urdf", buildUrdfScene}, {"robots", buildRobotsScene},
 #endif
 };
 
@@ -154,8 +154,40 @@ const char* metricName(Metric metric) {
     case Metric::PositionError: return "position_error";
     case Metric::JointGapMax: return "joint_gap_max";
     case Metric::BytesPerBody: return "bytes_per_body";
+    case Metric::MsPerStep: return "ms_per_step";
+    case Metric::MsPerStepPerRobot: return "ms_per_step_per_robot";
+    case Metric::CpuMsPerStepPerRobot: return "cpu_ms_per_step_per_robot";
   }
   return "unknown";
+}
+
+bool metricByName(const std::string& name, Metric& metric) {
+  for (int i = 0; i <= static_cast<int>(Metric::CpuMsPerStepPerRobot); ++i) {
+    if (name == metricName(static_cast<Metric>(i))) {
+      metric = static_cast<Metric>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+void appendScene(Scene& scene, const Scene& part, const Vec3& offset) {
+  const int firstBody = static_cast<int>(scene.bodies.size());
+  const int firstJoint = static_cast<int>(scene.joints.size());
+  for (BodyDesc body : part.bodies) {
+    body.position += offset;
+    scene.bodies.push_back(body);
+  }
+  for (JointDesc joint : part.joints) {
+    if (joint.bodyA != kWorld) joint.bodyA += firstBody;
+    joint.bodyB += firstBody;
+    joint.anchor += offset;
+    scene.joints.push_back(joint);
+  }
+  for (JointMotorDesc motor : part.motors) {
+    motor.joint += firstJoint;
+    scene.motors.push_back(motor);
+  }
 }
 
 bool Scene::hasMetric(Metric metric) const {

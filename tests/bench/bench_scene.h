@@ -111,9 +111,17 @@ enum class Metric {
   PositionError,
   JointGapMax,
   // Heap the engine holds per body of the scene after a few steps (bench_run.cpp).
-  BytesPerBody
+  BytesPerBody,
+  // What a step costs (bench_run.cpp): wall time, wall time per robot of Scene::robots, and
+  // processor time of all threads per robot, which on a shared machine does not count the
+  // waits for a core.
+  MsPerStep,
+  MsPerStepPerRobot,
+  CpuMsPerStepPerRobot
 };
 const char* metricName(Metric metric);
+// The metric of that name; false for a name no metric has.
+bool metricByName(const std::string& name, Metric& metric);
 
 struct Aabb {
   Vec3 min = Vec3::Constant(-std::numeric_limits<double>::infinity());
@@ -140,6 +148,8 @@ struct Scene {
   // A body faster than this (m/s) at a sample means the run blew up: it stops there and
   // its figures are NaN, so that an exploded run cannot pass for an accurate one.
   double speedLimit = std::numeric_limits<double>::infinity();
+  // Robots the scene holds, the divisor of the per-robot cost metrics.
+  int robots = 1;
   bool hasMetric(Metric metric) const;
 };
 
@@ -155,6 +165,10 @@ struct JointForest {
 // False, with the reason, when the joints close a loop or name a body that cannot take a
 // joint (out of range, fixed, or both ends the same).
 bool buildJointForest(const Scene& scene, JointForest& forest, std::string& reason);
+
+// Adds a copy of `part`'s bodies, joints and motors, moved by `offset`, to `scene`; joints
+// to the world stay joints to the world.
+void appendScene(Scene& scene, const Scene& part, const Vec3& offset);
 
 // Names of every scene this build knows, in the order of the default sweep.
 const std::vector<std::string>& sceneNames();
@@ -173,11 +187,17 @@ void buildBulletScene(std::vector<Scene>& variants);
 void buildChainScene(std::vector<Scene>& variants);
 void buildLongChainScene(std::vector<Scene>& variants);
 void buildRagdollScene(std::vector<Scene>& variants);
+// One ragdoll of 11 bodies, 70 kg, standing with its arms stretched out sideways, feet at
+// y = 0 of its own frame, placed at `origin` turned by `turn`: ball joints at the neck,
+// spine, shoulders and hips, hinges limited to +-1.2 rad at the elbows and knees.
+void addRagdoll(Scene& scene, const Vec3& origin, const Quat& turn);
 
 #ifdef PFX_BENCH_HAVE_LOADERS
 // The package's arm (urdf/arm.urdf) driven by its joint motors (bench_scenes_urdf.cpp).
 // Leaves `variants` empty, saying why on stderr, when the file cannot be read.
 void buildUrdfScene(std::vector<Scene>& variants);
+// Many copies of that arm with ragdolls dropped on them (bench_scenes_robots.cpp).
+void buildRobotsScene(std::vector<Scene>& variants);
 #endif
 
 }  // namespace pfxbench

@@ -70,9 +70,7 @@ namespace pfxbench {
 
 namespace {
 
-// One ragdoll of 11 bodies, 70 kg, standing with its arms stretched out sideways, feet at
-// y = 0: ball joints at the neck, spine, shoulders and hips, hinges limited to +-1.2 rad at
-// the elbows and knees. Poses are given in the ragdoll's own frame.
+// Poses are given in the ragdoll's own frame (see addRagdoll).
 struct RagdollPart {
   ShapeDesc shape;
   double mass;
@@ -86,6 +84,8 @@ struct RagdollJoint {
   Vec3 anchor;
   Vec3 axis;
 };
+
+}  // namespace
 
 void addRagdoll(Scene& scene, const Vec3& origin, const Quat& turn) {
   constexpr double pelvis = 1.05;  // height of the pelvis centre
@@ -136,8 +136,6 @@ void addRagdoll(Scene& scene, const Vec3& origin, const Quat& turn) {
     scene.joints.push_back(joint);
   }
 }
-
-}  // namespace
 
 // Eight ragdolls dropped lying flat, each turned 45 degrees from the one below, onto one
 // spot of the ground: a pile of limbs pressing on jointed limbs, joint limits under load.

@@ -232,8 +232,11 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     grow(head);
   }
 
-  // Diagonal blocks and couplings to the parent.
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
+  m_treeStarts[m_numTrees] = m_numNodes;
+  // Each tree's blocks, then its factorization: trees share no node, and a tree's nodes
+  // are set up in order, since a body node reads the rows its parent joint node was given,
+  // so tree after tree on any thread gives the same bits as one pass over the forest.
+  auto setUpNode = [&](std::size_t n) {
     Node& node = m_nodes[n];
     node.coupling.setZero();
     if (node.body >= 0) {
@@ -251,7 +254,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
             -kJointTreeRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
     }
-    if (node.parent < 0) continue;
+    if (node.parent < 0) return;
     // H(node, parent) couples a joint's rows with one of its bodies' velocities. Nodes
     // come parents first, so a joint parent already has its rows.
     const Node& parent = m_nodes[node.parent];
@@ -266,18 +269,16 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
     node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
-  }
-  m_treeStarts[m_numTrees] = m_numNodes;
-  // A tree's first node is a body or a joint whose first child is a body.
-  for (PfxUInt32 t = 0; t < m_numTrees; ++t) {
-    std::size_t first = m_treeStarts[t];
-    while (m_nodes[first].body < 0) ++first;
-    for (std::size_t n = first; n < m_treeStarts[t + 1]; ++n) {
-      if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[first].body;
-    }
-  }
+  };
   pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
+      for (std::size_t n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) setUpNode(n);
+      // A tree's first node is a body or a joint whose first child is a body.
+      std::size_t firstBody = m_treeStarts[t];
+      while (m_nodes[firstBody].body < 0) ++firstBody;
+      for (std::size_t n = firstBody; n < m_treeStarts[t + 1]; ++n) {
+        if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[firstBody].body;
+      }
       pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
     }
   });

@@ -14,6 +14,10 @@ namespace {
 
 constexpr PfxFloat kUnboundedImpulse = std::numeric_limits<PfxFloat>::max();
 constexpr PfxUInt32 kJointsPerTask = 64;
+// The geometric stiffness's chunks of bodies: each looks through every joint, so a few per
+// thread.
+constexpr PfxUInt32 kMinStiffenedBodiesPerChunk = 64;
+constexpr PfxUInt32 kMaxStiffenedChunks = 16;
 
 struct JointBodies {
   const PfxRigidState& stateA;
@@ -255,25 +259,40 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
     }
   }
-  for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
-    const PfxConstraintPair& pair = param.jointPairs[i];
-    if (!pfxGetActive(pair)) continue;
-    const PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
-    PfxVector3 linearImpulse;
-    for (int k = 0; k < 3; ++k) linearImpulse[k] = joint.m_constraints[k].m_constraintRow.m_accumImpulse;
-    const PfxFloat impulse = linearImpulse.norm();
-    const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
-    if (pfxGetReceivesA(pair)) {
-      addGeometricStiffness(param.offsetSolverBodies[idA], impulse,
-                            param.offsetRigidStates[idA].getOrientation() * joint.m_anchorA,
-                            param.timeStep);
+  // A body takes the stiffness of its joints in joint order, which fixes its bits; the
+  // bodies are split into chunks that each look through every joint for their own bodies,
+  // so that the chunks, and the threads, share no body.
+  const PfxUInt32 numChunks = pfxNumChunks(taskManager, param.numRigidBodies,
+                                           kMinStiffenedBodiesPerChunk, kMaxStiffenedChunks);
+  pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 firstChunk, PfxUInt32 lastChunk) {
+    const PfxUInt32 begin = pfxChunkBegin(param.numRigidBodies, numChunks, firstChunk);
+    const PfxUInt32 end = pfxChunkBegin(param.numRigidBodies, numChunks, lastChunk);
+    auto inChunk = [&](PfxUInt32 id) { return id >= begin && id < end; };
+    for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
+      const PfxConstraintPair& pair = param.jointPairs[i];
+      if (!pfxGetActive(pair)) continue;
+      const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+      const bool stiffensA = pfxGetReceivesA(pair) && inChunk(idA);
+      const bool stiffensB = pfxGetReceivesB(pair) && inChunk(idB);
+      if (!stiffensA && !stiffensB) continue;
+      const PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
+      PfxVector3 linearImpulse;
+      for (int k = 0; k < 3; ++k) {
+        linearImpulse[k] = joint.m_constraints[k].m_constraintRow.m_accumImpulse;
+      }
+      const PfxFloat impulse = linearImpulse.norm();
+      if (stiffensA) {
+        addGeometricStiffness(param.offsetSolverBodies[idA], impulse,
+                              param.offsetRigidStates[idA].getOrientation() * joint.m_anchorA,
+                              param.timeStep);
+      }
+      if (stiffensB) {
+        addGeometricStiffness(param.offsetSolverBodies[idB], impulse,
+                              param.offsetRigidStates[idB].getOrientation() * joint.m_anchorB,
+                              param.timeStep);
+      }
     }
-    if (pfxGetReceivesB(pair)) {
-      addGeometricStiffness(param.offsetSolverBodies[idB], impulse,
-                            param.offsetRigidStates[idB].getOrientation() * joint.m_anchorB,
-                            param.timeStep);
-    }
-  }
+  });
   pfxParallelFor(taskManager, param.numJointPairs, kJointsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
     for (PfxUInt32 i = begin; i < end; ++i) {
