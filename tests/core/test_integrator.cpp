@@ -105,7 +105,7 @@ TEST(Integrator, IntermediateAxisSpinKeepsAngularMomentumAndFlips) {
 // velocity to the body frame and back every step rounded it afresh each time, with a bias,
 // and the momentum drifted 1.1e-3 in float (8.6e-5 at 1/60): the error grew as the step
 // shrank. Added as an increment, the velocity keeps its bits wherever the spin barely
-// changes, and the drift stays near 1e-5 (see README, Integrator).
+// changes, and the drift stays within about 1e-5 (see README, Integrator).
 TEST(Integrator, SmallStepsDoNotAccumulateRoundOff) {
   const PfxRigidBody body = makeBody(1, pfxCalcInertiaBox(PfxVector3(0.5f, 0.25f, 0.125f), 1));
   PfxRigidState state;
