@@ -235,7 +235,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // Diagonal blocks and couplings to the parent.
   for (std::size_t n = 0; n < m_numNodes; ++n) {
     Node& node = m_nodes[n];
-    node.coupling.setZero();
+    node.toParent.setZero();
     if (node.body >= 0) {
       node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
     } else {
@@ -265,7 +265,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
-    node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
+    node.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
   m_treeStarts[m_numTrees] = m_numNodes;
   // A tree's first node is a body or a joint whose first child is a body.
