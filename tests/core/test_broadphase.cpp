@@ -680,6 +680,66 @@ TEST(FindPairs, MatchesBruteForceOnRandomScenes) {
   }
 }
 
+// The sleeping bodies' proxies kept apart, as a world keeps them while they sleep, give the
+// same pairs as every proxy in one array, on one thread and in parallel chunks.
+TEST(FindPairs, SleepingProxiesApartGiveThePairsOfOneArray) {
+  PfxTbbTaskManager threads;
+  ASSERT_EQ(PFX_OK, threads.initialize(4));
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    std::mt19937 rng(seed);
+    Scene scene = randomScene(1200, rng, seed % 2 ? 25.0f : 12.0f);
+    ProxyArrays out(scene.states.size());
+    PfxUpdateBroadphaseProxiesParam up = out.param(scene);
+    up.worldExtent = PfxVector3::Constant(40);
+    PfxUpdateBroadphaseProxiesResult upResult;
+    ASSERT_EQ(PFX_OK, pfxUpdateBroadphaseProxies(up, upResult));
+    const std::vector<PfxBroadphasePair> expected =
+        referencePairs(out.arrays[0].data(), upResult.numProxies);
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<PfxBroadphaseProxy> awake, sleeping;
+      for (PfxUInt32 i = 0; i < upResult.numProxies; ++i) {
+        const PfxBroadphaseProxy& proxy = out.arrays[axis][i];
+        (pfxGetSleeping(proxy) ? sleeping : awake).push_back(proxy);
+      }
+      ASSERT_GT(sleeping.size(), 200u);
+      const PfxUInt32 maxPairs = 40000;
+      for (PfxTaskManager* taskManager : {static_cast<PfxTaskManager*>(nullptr),
+                                          static_cast<PfxTaskManager*>(&threads)}) {
+        PairBuffers buffers(maxPairs);
+        PfxFindPairsParam param =
+            buffers.param(awake, static_cast<PfxUInt32>(awake.size()), maxPairs, axis);
+        param.sleepingProxies = sleeping.data();
+        param.numSleepingProxies = static_cast<PfxUInt32>(sleeping.size());
+        PfxFindPairsResult result;
+        ASSERT_EQ(PFX_OK, pfxFindPairs(param, result, taskManager));
+        EXPECT_EQ(expected.size(), result.numPairs) << "seed " << seed << " axis " << axis;
+        EXPECT_TRUE(sameBytes(resultPairs(result), expected)) << "seed " << seed << " axis "
+                                                              << axis;
+      }
+      // Refused, with nothing written: a sleeping proxy not marked asleep, and sleeping
+      // proxies out of order.
+      PairBuffers buffers(maxPairs);
+      fillPattern(buffers.pairs);
+      const std::vector<PfxBroadphasePair> untouched = buffers.pairs;
+      PfxFindPairsParam param =
+          buffers.param(awake, static_cast<PfxUInt32>(awake.size()), maxPairs, axis);
+      std::vector<PfxBroadphaseProxy> bad = sleeping;
+      bad[7] = awake[0];
+      param.sleepingProxies = bad.data();
+      param.numSleepingProxies = static_cast<PfxUInt32>(bad.size());
+      PfxFindPairsResult result;
+      EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxFindPairs(param, result));
+      bad = sleeping;
+      std::reverse(bad.begin(), bad.end());
+      param.sleepingProxies = bad.data();
+      EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxFindPairs(param, result));
+      param.sleepingProxies = nullptr;
+      EXPECT_EQ(PFX_ERR_NULL_POINTER, pfxFindPairs(param, result));
+      EXPECT_TRUE(sameBytes(buffers.pairs, untouched));
+    }
+  }
+}
+
 // Two overlapping awake boxes, ids 3 and 8.
 std::vector<PfxBroadphaseProxy> twoBodyProxies(const BodyDesc& a, const BodyDesc& b) {
   Scene scene;
