@@ -556,6 +556,31 @@ void PfxWorld::bindJoints(Param& param) {
   param.numJointCouplings = getNumJointCouplings();
 }
 
+// Builds and sorts along the sweep axis the proxies of the bodies `skip` leaves in;
+// returns how many there are and how many lie outside the world.
+PfxInt32 PfxWorld::buildProxies(const PfxUInt8* skip, PfxBroadphaseProxy* proxies,
+                                PfxUInt32& numProxies, PfxUInt32& numOutOfWorld) {
+  PfxUpdateBroadphaseProxiesParam param;
+  param.workBuff = m_proxySortWork.data();
+  param.workBytes = static_cast<PfxUInt32>(m_proxySortWork.size() * sizeof(PfxSortData32));
+  param.offsetRigidStates = m_states.data();
+  param.offsetCollidables = m_collidables.data();
+  param.numRigidBodies = getNumRigidBodies();
+  param.skipBodies = skip;
+  PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
+  *arrays[m_sweepAxis] = proxies;
+  param.worldCenter = m_param.worldCenter;
+  param.worldExtent = m_param.worldExtent;
+  param.outOfWorldBehavior = m_param.outOfWorldBehavior;
+  param.timeStep = m_param.timeStep;
+  PfxUpdateBroadphaseProxiesResult result;
+  const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
+  numProxies = result.numProxies;
+  numOutOfWorld = result.numOutOfWorldProxies;
+  m_stats.numProxiesUpdated += result.numProxies;
+  return err;
+}
+
 // The sleeping bodies' proxies, built and sorted once for as long as the same bodies sleep.
 // The sweep axis is chosen here too, over all bodies, and kept until the next build: the
 // pairs come out the same along any axis, and a new axis would need this build again.
@@ -567,60 +592,27 @@ PfxInt32 PfxWorld::buildSleepingProxies() {
     m_skipForSleepingProxies[i] = removed || !m_states[i].isAsleep();
   }
   m_sweepAxis = pfxChooseSweepAxis(m_states.data(), numBodies);
-  PfxUpdateBroadphaseProxiesParam param;
-  param.workBuff = m_proxySortWork.data();
-  param.workBytes = static_cast<PfxUInt32>(m_proxySortWork.size() * sizeof(PfxSortData32));
-  param.offsetRigidStates = m_states.data();
-  param.offsetCollidables = m_collidables.data();
-  param.numRigidBodies = numBodies;
-  param.skipBodies = m_skipForSleepingProxies.data();
-  PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
-  *arrays[m_sweepAxis] = m_sleepingProxies.data();
-  param.worldCenter = m_param.worldCenter;
-  param.worldExtent = m_param.worldExtent;
-  param.outOfWorldBehavior = m_param.outOfWorldBehavior;
-  param.timeStep = m_param.timeStep;
-  PfxUpdateBroadphaseProxiesResult result;
-  if (const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
-      err != PFX_OK) {
-    return err;
-  }
-  m_numSleepingProxies = result.numProxies;
-  m_numSleepingOutOfWorld = result.numOutOfWorldProxies;
-  m_sleepingProxiesStale = false;
-  m_stats.numProxiesUpdated += m_numSleepingProxies;
-  return PFX_OK;
+  const PfxInt32 err = buildProxies(m_skipForSleepingProxies.data(), m_sleepingProxies.data(),
+                                    m_numSleepingProxies, m_numSleepingOutOfWorld);
+  m_sleepingProxiesStale = err != PFX_OK;
+  return err;
 }
 
 PfxInt32 PfxWorld::updateBroadphase() {
-  const PfxUInt32 numBodies = getNumRigidBodies();
   m_stats.numProxiesUpdated = 0;
   const bool keepSleeping = m_numSleepingBodies > 0 && !m_skipForAwakeProxies.empty();
   if (!keepSleeping) {
     m_numSleepingProxies = m_numSleepingOutOfWorld = 0;
     m_sleepingProxiesStale = true;
-    m_sweepAxis = pfxChooseSweepAxis(m_states.data(), numBodies);
+    m_sweepAxis = pfxChooseSweepAxis(m_states.data(), getNumRigidBodies());
   } else if (m_sleepingProxiesStale) {
     if (const PfxInt32 err = buildSleepingProxies(); err != PFX_OK) return err;
   }
-  PfxUpdateBroadphaseProxiesParam param;
-  param.workBuff = m_proxySortWork.data();
-  param.workBytes = static_cast<PfxUInt32>(m_proxySortWork.size() * sizeof(PfxSortData32));
-  param.offsetRigidStates = m_states.data();
-  param.offsetCollidables = m_collidables.data();
-  param.numRigidBodies = numBodies;
-  param.skipBodies = keepSleeping ? m_skipForAwakeProxies.data() : skippedBodies();
-  PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
-  *arrays[m_sweepAxis] = m_proxies.data();
-  param.worldCenter = m_param.worldCenter;
-  param.worldExtent = m_param.worldExtent;
-  param.outOfWorldBehavior = m_param.outOfWorldBehavior;
-  param.timeStep = m_param.timeStep;
-  PfxUpdateBroadphaseProxiesResult result;
-  const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
-  m_numProxies = result.numProxies;
-  m_stats.numProxiesUpdated += result.numProxies;
-  m_stats.numOutOfWorld = result.numOutOfWorldProxies + m_numSleepingOutOfWorld;
+  PfxUInt32 numOutOfWorld = 0;
+  const PfxInt32 err =
+      buildProxies(keepSleeping ? m_skipForAwakeProxies.data() : skippedBodies(),
+                   m_proxies.data(), m_numProxies, numOutOfWorld);
+  m_stats.numOutOfWorld = numOutOfWorld + m_numSleepingOutOfWorld;
   return err;
 }
 

@@ -458,6 +458,8 @@ class PfxWorld {
   void removeCouplingSlot(PfxUInt32 id);
   void eraseJointedPairKey(const PfxJoint& joint);
   void reserveSleepingProxies();
+  PfxInt32 buildProxies(const PfxUInt8* skip, PfxBroadphaseProxy* proxies,
+                        PfxUInt32& numProxies, PfxUInt32& numOutOfWorld);
   PfxInt32 buildSleepingProxies();
   const PfxUInt8* skippedBodies() const {
     return m_numRemovedBodies > 0 ? m_removedBodies.data() : nullptr;

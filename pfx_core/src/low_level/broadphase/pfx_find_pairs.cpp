@@ -187,32 +187,31 @@ PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result
           PFX_OK) {
     return err;
   }
-  const PfxUInt64 proxyBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * param.numProxies;
-  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes) ||
-      pfxRangesOverlap(param.pairBuff, pairBytes, param.proxies, proxyBytes) ||
-      pfxRangesOverlap(param.workBuff, pairBytes, param.proxies, proxyBytes)) {
+  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes)) {
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::pairBuff, workBuff and proxies share "
-                          "bytes");
+                          "pfxFindPairs: PfxFindPairsParam::pairBuff and workBuff share bytes");
   }
-  if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) {
-    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::proxies are not sorted along axis %d "
-                          "(pfxParallelSort them after pfxUpdateBroadphaseProxy)",
-                          axis);
-  }
-  const PfxUInt64 sleepingBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * param.numSleepingProxies;
-  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.sleepingProxies, sleepingBytes) ||
-      pfxRangesOverlap(param.workBuff, pairBytes, param.sleepingProxies, sleepingBytes)) {
-    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::sleepingProxies share bytes with "
-                          "pairBuff or workBuff");
-  }
-  if (!isSortedAlongAxis(param.sleepingProxies, param.numSleepingProxies, axis)) {
-    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::sleepingProxies are not sorted along "
-                          "axis %d",
-                          axis);
+  const struct {
+    const PfxBroadphaseProxy* proxies;
+    PfxUInt32 count;
+    const char* field;
+  } proxyArrays[2] = {{param.proxies, param.numProxies, "proxies"},
+                      {param.sleepingProxies, param.numSleepingProxies, "sleepingProxies"}};
+  for (const auto& array : proxyArrays) {
+    const PfxUInt64 bytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * array.count;
+    if (pfxRangesOverlap(param.pairBuff, pairBytes, array.proxies, bytes) ||
+        pfxRangesOverlap(param.workBuff, pairBytes, array.proxies, bytes)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxFindPairs: PfxFindPairsParam::%s share bytes with pairBuff or "
+                            "workBuff",
+                            array.field);
+    }
+    if (!isSortedAlongAxis(array.proxies, array.count, axis)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxFindPairs: PfxFindPairsParam::%s are not sorted along axis %d "
+                            "(pfxParallelSort them after pfxUpdateBroadphaseProxy)",
+                            array.field, axis);
+    }
   }
   SleepingProxies sleeping;
   sleeping.proxies = param.sleepingProxies;
