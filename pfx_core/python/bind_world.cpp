@@ -117,6 +117,8 @@ void bindStats(py::module_& m) {
       .def_readonly("num_contact_pairs", &PfxWorldStats::numContactPairs, "Pairs with points.")
       .def_readonly("num_contact_points", &PfxWorldStats::numContactPoints, "Contact points.")
       .def_readonly("num_out_of_world", &PfxWorldStats::numOutOfWorld, "Bodies out of bounds.")
+      .def_readonly("num_proxies_updated", &PfxWorldStats::numProxiesUpdated,
+                    "Broadphase proxies built and sorted in the last step.")
       .def_readonly("max_penetration", &PfxWorldStats::maxPenetration, "Deepest overlap (m).")
       .def_readonly("max_joint_gap", &PfxWorldStats::maxJointGap, "Widest joint anchor gap (m).")
       .def_readonly("energy_change", &PfxWorldStats::energyChange, "J (measure_conservation).")

@@ -651,24 +651,37 @@ std::vector<PfxBroadphasePair> resultPairs(const PfxFindPairsResult& result) {
   return std::vector<PfxBroadphasePair>(result.pairs, result.pairs + result.numPairs);
 }
 
+// A random scene's proxies, sorted along each axis, and the pairs brute force finds in them.
+struct RandomProxies {
+  explicit RandomProxies(std::size_t n) : out(n) {}
+  ProxyArrays out;
+  PfxUInt32 numProxies = 0;
+  std::vector<PfxBroadphasePair> expected;
+};
+
+RandomProxies randomProxies(unsigned seed, PfxUInt32 n, PfxFloat spread) {
+  std::mt19937 rng(seed);
+  Scene scene = randomScene(n, rng, spread);
+  RandomProxies r(scene.states.size());
+  PfxUpdateBroadphaseProxiesParam up = r.out.param(scene);
+  up.worldExtent = PfxVector3::Constant(40);
+  PfxUpdateBroadphaseProxiesResult upResult;
+  EXPECT_EQ(PFX_OK, pfxUpdateBroadphaseProxies(up, upResult));
+  r.numProxies = upResult.numProxies;
+  r.expected = referencePairs(r.out.arrays[0].data(), r.numProxies);
+  return r;
+}
+
 TEST(FindPairs, MatchesBruteForceOnRandomScenes) {
   for (unsigned seed = 1; seed <= 6; ++seed) {
-    std::mt19937 rng(seed);
-    Scene scene = randomScene(400, rng, seed % 2 ? 15.0f : 8.0f);
-    ProxyArrays out(scene.states.size());
-    PfxUpdateBroadphaseProxiesParam up = out.param(scene);
-    up.worldExtent = PfxVector3::Constant(40);
-    PfxUpdateBroadphaseProxiesResult upResult;
-    ASSERT_EQ(PFX_OK, pfxUpdateBroadphaseProxies(up, upResult));
-    const std::vector<PfxBroadphasePair> expected =
-        referencePairs(out.arrays[0].data(), upResult.numProxies);
+    const RandomProxies r = randomProxies(seed, 400, seed % 2 ? 15.0f : 8.0f);
+    const std::vector<PfxBroadphasePair>& expected = r.expected;
     ASSERT_GT(expected.size(), 50u) << "scene too sparse to test anything";
 
     for (int axis = 0; axis < 3; ++axis) {
       const PfxUInt32 maxPairs = 20000;
       PairBuffers buffers(maxPairs);
-      PfxFindPairsParam param = buffers.param(out.arrays[axis], upResult.numProxies, maxPairs,
-                                              axis);
+      PfxFindPairsParam param = buffers.param(r.out.arrays[axis], r.numProxies, maxPairs, axis);
       PfxFindPairsResult result;
       ASSERT_EQ(PFX_OK, pfxFindPairs(param, result));
       EXPECT_EQ(static_cast<void*>(buffers.pairs.data()), static_cast<void*>(result.pairs));
@@ -676,6 +689,59 @@ TEST(FindPairs, MatchesBruteForceOnRandomScenes) {
       EXPECT_EQ(result.numPairs, result.numPairsFound);
       EXPECT_TRUE(sameBytes(resultPairs(result), expected)) << "seed " << seed << " axis "
                                                             << axis;
+    }
+  }
+}
+
+// The sleeping bodies' proxies kept apart, as a world keeps them while they sleep, give the
+// same pairs as every proxy in one array, on one thread and in parallel chunks.
+TEST(FindPairs, SleepingProxiesApartGiveThePairsOfOneArray) {
+  PfxTbbTaskManager threads;
+  ASSERT_EQ(PFX_OK, threads.initialize(4));
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const RandomProxies r = randomProxies(seed, 1200, seed % 2 ? 25.0f : 12.0f);
+    const std::vector<PfxBroadphasePair>& expected = r.expected;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<PfxBroadphaseProxy> awake, sleeping;
+      for (PfxUInt32 i = 0; i < r.numProxies; ++i) {
+        const PfxBroadphaseProxy& proxy = r.out.arrays[axis][i];
+        (pfxGetSleeping(proxy) ? sleeping : awake).push_back(proxy);
+      }
+      ASSERT_GT(sleeping.size(), 200u);
+      const PfxUInt32 maxPairs = 40000;
+      for (PfxTaskManager* taskManager : {static_cast<PfxTaskManager*>(nullptr),
+                                          static_cast<PfxTaskManager*>(&threads)}) {
+        PairBuffers buffers(maxPairs);
+        PfxFindPairsParam param =
+            buffers.param(awake, static_cast<PfxUInt32>(awake.size()), maxPairs, axis);
+        param.sleepingProxies = sleeping.data();
+        param.numSleepingProxies = static_cast<PfxUInt32>(sleeping.size());
+        PfxFindPairsResult result;
+        ASSERT_EQ(PFX_OK, pfxFindPairs(param, result, taskManager));
+        EXPECT_EQ(expected.size(), result.numPairs) << "seed " << seed << " axis " << axis;
+        EXPECT_TRUE(sameBytes(resultPairs(result), expected)) << "seed " << seed << " axis "
+                                                              << axis;
+      }
+      // Refused, with nothing written: a sleeping proxy not marked asleep, and sleeping
+      // proxies out of order.
+      PairBuffers buffers(maxPairs);
+      fillPattern(buffers.pairs);
+      const std::vector<PfxBroadphasePair> untouched = buffers.pairs;
+      PfxFindPairsParam param =
+          buffers.param(awake, static_cast<PfxUInt32>(awake.size()), maxPairs, axis);
+      std::vector<PfxBroadphaseProxy> bad = sleeping;
+      bad[7] = awake[0];
+      param.sleepingProxies = bad.data();
+      param.numSleepingProxies = static_cast<PfxUInt32>(bad.size());
+      PfxFindPairsResult result;
+      EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxFindPairs(param, result));
+      bad = sleeping;
+      std::reverse(bad.begin(), bad.end());
+      param.sleepingProxies = bad.data();
+      EXPECT_EQ(PFX_ERR_INVALID_VALUE, pfxFindPairs(param, result));
+      param.sleepingProxies = nullptr;
+      EXPECT_EQ(PFX_ERR_NULL_POINTER, pfxFindPairs(param, result));
+      EXPECT_TRUE(sameBytes(buffers.pairs, untouched));
     }
   }
 }

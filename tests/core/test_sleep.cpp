@@ -153,6 +153,42 @@ TEST(Sleep, StillIslandsFallAsleepWholeAndCostNothing) {
   }
 }
 
+// A sleeping body costs the broad phase nothing: its proxy is built and sorted in the step
+// after it fell asleep, then kept until it wakes; the ground's is built every step.
+TEST(Sleep, ASleepingPilesProxiesAreKeptNotUpdated) {
+  TwoStacks s;
+  s.settle();
+  const PfxWorldStats& stats = s.world.getStats();
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 7u);  // the ground, and the six boxes set aside
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_EQ(s.world.step(), PFX_OK);
+    EXPECT_EQ(stats.numProxiesUpdated, 1u);
+  }
+  // A box dropped on stack a: its own proxy every step, until it wakes the stack, which
+  // then sleeps again with it.
+  PfxBodyInit init;
+  init.position = PfxVector3(-3, 2.5f, 0);
+  PfxUInt32 dropped = 0;
+  ASSERT_EQ(pfxAddBody(s.world, pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f)), init, &dropped), PFX_OK);
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 2u + 6u);  // the sleeping set is rebuilt once
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 2u);
+  ASSERT_TRUE(stepUntil(s.world, [&] { return s.world.getRigidState(s.a[0]).isAwake(); }, 120));
+  EXPECT_TRUE(allAwake(s.world, s.a));
+  EXPECT_TRUE(allAsleep(s.world, s.b));
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 1u + 4u + 3u);  // awake: the ground, stack a, the box
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 1u + 4u);
+  ASSERT_TRUE(stepUntil(s.world, [&] { return everythingAsleep(s.world); }, 600));
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  ASSERT_EQ(s.world.step(), PFX_OK);
+  EXPECT_EQ(stats.numProxiesUpdated, 1u);
+  EXPECT_GT(s.world.getRigidState(dropped).getPosition().y(), 1.5f);
+}
+
 // Sleeping contacts are contacts, and sleeping bodies are in the way of rays: whoever lists
 // the world's contacts (getContactPair) or casts rays gets the same answers from a sleeping
 // pile as from an awake one, and neither query wakes it.

@@ -109,6 +109,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_islandMarks.resize(capacity);
   world.m_proxies.resize(capacity);
   world.m_proxySortWork.resize(capacity);
+  if (world.m_param.enableSleep) world.reserveSleepingProxies();
 
   world.m_removedBodies.assign(numBodies, 0);
   world.m_removedJoints.assign(image.joints.size(), 0);

@@ -99,6 +99,11 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numRemovedBodies = 0;
   m_numRemovedJoints = 0;
   m_numProxies = 0;
+  m_sleepingProxies.clear();
+  m_skipForAwakeProxies.clear();
+  m_skipForSleepingProxies.clear();
+  m_numSleepingProxies = m_numSleepingOutOfWorld = 0;
+  m_sleepingProxiesStale = true;
   m_rayProxiesStale = true;
   m_numPairs = 0;
   m_numFoundPairs = 0;
@@ -204,6 +209,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_islandMarks.resize(m_states.capacity());
   m_proxies.resize(m_states.capacity());
   m_proxySortWork.resize(m_states.capacity());
+  if (m_param.enableSleep) reserveSleepingProxies();
   m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
@@ -323,6 +329,15 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   m_states[id].setLinearVelocity(target.getLinearVelocity());
   m_states[id].setAngularVelocity(target.getAngularVelocity());
   return PFX_OK;
+}
+
+// Room for every body to sleep, taken with the bodies' own arrays so that a step in which
+// bodies fall asleep allocates nothing.
+void PfxWorld::reserveSleepingProxies() {
+  m_sleepingProxies.resize(m_states.capacity());
+  m_skipForAwakeProxies.resize(m_states.capacity());
+  m_skipForSleepingProxies.resize(m_states.capacity());
+  m_sleepingProxiesStale = true;
 }
 
 // Sized in the step for the bodies, joints and pairs there are then, not each time a body
@@ -502,6 +517,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
   m_numRemovedBodies = static_cast<PfxUInt32>(
       std::count(m_removedBodies.begin(), m_removedBodies.end(), PfxUInt8(1)));
   m_numProxies = 0;
+  m_sleepingProxiesStale = true;
   m_rayProxiesStale = true;
   return generateIslands();
 }
@@ -540,27 +556,63 @@ void PfxWorld::bindJoints(Param& param) {
   param.numJointCouplings = getNumJointCouplings();
 }
 
-PfxInt32 PfxWorld::updateBroadphase() {
-  const PfxUInt32 numBodies = getNumRigidBodies();
-  const int axis = pfxChooseSweepAxis(m_states.data(), numBodies);
+// Builds and sorts along the sweep axis the proxies of the bodies `skip` leaves in;
+// returns how many there are and how many lie outside the world.
+PfxInt32 PfxWorld::buildProxies(const PfxUInt8* skip, PfxBroadphaseProxy* proxies,
+                                PfxUInt32& numProxies, PfxUInt32& numOutOfWorld) {
   PfxUpdateBroadphaseProxiesParam param;
   param.workBuff = m_proxySortWork.data();
   param.workBytes = static_cast<PfxUInt32>(m_proxySortWork.size() * sizeof(PfxSortData32));
   param.offsetRigidStates = m_states.data();
   param.offsetCollidables = m_collidables.data();
-  param.numRigidBodies = numBodies;
-  param.skipBodies = skippedBodies();
+  param.numRigidBodies = getNumRigidBodies();
+  param.skipBodies = skip;
   PfxBroadphaseProxy** arrays[3] = {&param.proxiesX, &param.proxiesY, &param.proxiesZ};
-  *arrays[axis] = m_proxies.data();
+  *arrays[m_sweepAxis] = proxies;
   param.worldCenter = m_param.worldCenter;
   param.worldExtent = m_param.worldExtent;
   param.outOfWorldBehavior = m_param.outOfWorldBehavior;
   param.timeStep = m_param.timeStep;
   PfxUpdateBroadphaseProxiesResult result;
   const PfxInt32 err = pfxUpdateBroadphaseProxies(param, result, &m_taskManager);
-  m_numProxies = result.numProxies;
-  m_stats.numOutOfWorld = result.numOutOfWorldProxies;
-  m_sweepAxis = axis;
+  numProxies = result.numProxies;
+  numOutOfWorld = result.numOutOfWorldProxies;
+  m_stats.numProxiesUpdated += result.numProxies;
+  return err;
+}
+
+// The sleeping bodies' proxies, built and sorted once for as long as the same bodies sleep.
+// The sweep axis is chosen here too, over all bodies, and kept until the next build: the
+// pairs come out the same along any axis, and a new axis would need this build again.
+PfxInt32 PfxWorld::buildSleepingProxies() {
+  const PfxUInt32 numBodies = getNumRigidBodies();
+  for (PfxUInt32 i = 0; i < numBodies; ++i) {
+    const bool removed = m_removedBodies[i] != 0;
+    m_skipForAwakeProxies[i] = removed || m_states[i].isAsleep();
+    m_skipForSleepingProxies[i] = removed || !m_states[i].isAsleep();
+  }
+  m_sweepAxis = pfxChooseSweepAxis(m_states.data(), numBodies);
+  const PfxInt32 err = buildProxies(m_skipForSleepingProxies.data(), m_sleepingProxies.data(),
+                                    m_numSleepingProxies, m_numSleepingOutOfWorld);
+  m_sleepingProxiesStale = err != PFX_OK;
+  return err;
+}
+
+PfxInt32 PfxWorld::updateBroadphase() {
+  m_stats.numProxiesUpdated = 0;
+  const bool keepSleeping = m_numSleepingBodies > 0 && !m_skipForAwakeProxies.empty();
+  if (!keepSleeping) {
+    m_numSleepingProxies = m_numSleepingOutOfWorld = 0;
+    m_sleepingProxiesStale = true;
+    m_sweepAxis = pfxChooseSweepAxis(m_states.data(), getNumRigidBodies());
+  } else if (m_sleepingProxiesStale) {
+    if (const PfxInt32 err = buildSleepingProxies(); err != PFX_OK) return err;
+  }
+  PfxUInt32 numOutOfWorld = 0;
+  const PfxInt32 err =
+      buildProxies(keepSleeping ? m_skipForAwakeProxies.data() : skippedBodies(),
+                   m_proxies.data(), m_numProxies, numOutOfWorld);
+  m_stats.numOutOfWorld = numOutOfWorld + m_numSleepingOutOfWorld;
   return err;
 }
 
@@ -575,6 +627,8 @@ PfxInt32 PfxWorld::findPairs() {
     param.numProxies = m_numProxies;
     param.maxPairs = m_maxPairs;
     param.axis = m_sweepAxis;
+    param.sleepingProxies = m_sleepingProxies.data();
+    param.numSleepingProxies = m_numSleepingProxies;
     PfxFindPairsResult result;
     const PfxInt32 err = pfxFindPairs(param, result, &m_taskManager);
     if (err == PFX_ERR_OUT_OF_MAX_PAIRS || (err != PFX_OK && m_maxPairs == 0)) {
@@ -593,7 +647,22 @@ PfxInt32 PfxWorld::findPairs() {
   }
 }
 
-// A manifold slot for a new pair: a freed one, or a new one at the end.
+// Room for the manifolds of `numNewPairs` more pairs, those the free slots cannot take:
+// exactly the slots needed when the pool first grows (a scene built at once finds all its
+// pairs in its first step; doubling from 64 left 10,001 resting spheres with 16,384 slots
+// of 836 bytes), then half as many again each time, so that a growing scene seldom moves
+// them. The free list can hold every slot, so that freeing one never allocates.
+void PfxWorld::reserveManifolds(PfxUInt32 numNewPairs) {
+  const std::size_t numFree = m_freeManifolds.size();
+  const std::size_t needed = m_manifolds.size() + (numNewPairs > numFree ? numNewPairs - numFree : 0);
+  if (needed <= m_manifolds.capacity()) return;
+  const std::size_t capacity = std::max(needed, m_manifolds.capacity() * 3 / 2);
+  m_manifolds.reserve(capacity);
+  m_freeManifolds.reserve(capacity);
+}
+
+// A manifold slot for a new pair: a freed one, or a new one at the end (reserveManifolds
+// made room for it).
 PfxUInt32 PfxWorld::takeManifold() {
   if (!m_freeManifolds.empty()) {
     const PfxUInt32 contactId = m_freeManifolds.back();
@@ -601,10 +670,6 @@ PfxUInt32 PfxWorld::takeManifold() {
     return contactId;
   }
   const PfxUInt32 contactId = static_cast<PfxUInt32>(m_manifolds.size());
-  if (m_manifolds.size() == m_manifolds.capacity()) {
-    m_manifolds.reserve(std::max<std::size_t>(64, m_manifolds.size() * 2));
-    m_freeManifolds.reserve(m_manifolds.capacity());
-  }
   m_manifolds.emplace_back();
   return contactId;
 }
@@ -632,6 +697,7 @@ void PfxWorld::composeStablePairs() {
   for (PfxUInt32 i = 0; i < result.numOutRemovePairs; ++i) {
     m_freeManifolds.push_back(pfxGetContactId(result.outRemovePairs[i]));
   }
+  reserveManifolds(result.numOutNewPairs);
   for (PfxUInt32 i = 0; i < result.numOutNewPairs; ++i) {
     PfxBroadphasePair& pair = result.outNewPairs[i];
     const PfxUInt32 contactId = takeManifold();
@@ -656,6 +722,7 @@ void PfxWorld::assignSimplePairs() {
     m_freeManifolds.push_back(pfxGetContactId(m_pairs[i - 1]));
   }
   growTo(m_pairs, m_numFoundPairs);
+  reserveManifolds(m_numFoundPairs);
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
     m_pairs[i] = m_foundPairs[i];
     const PfxUInt32 contactId = takeManifold();

@@ -134,6 +134,7 @@ PfxInt32 PfxWorld::removeRigidBody(PfxUInt32 id) {
   m_torques[id].setZero();
   m_removedBodies[id] = 1;
   ++m_numRemovedBodies;
+  m_sleepingProxiesStale = true;
   m_rayProxiesStale = true;
   return PFX_OK;
 }

@@ -85,6 +85,7 @@ void PfxWorld::putToSleep(PfxUInt32 id) {
   state.setAngularVelocity(PfxVector3::Zero());
   state.sleep();
   ++m_numSleepingBodies;
+  m_sleepingProxiesStale = true;
 }
 
 void PfxWorld::wakeBody(PfxUInt32 id) {
@@ -92,6 +93,7 @@ void PfxWorld::wakeBody(PfxUInt32 id) {
   if (state.isAwake()) return;
   state.wakeup();
   --m_numSleepingBodies;
+  m_sleepingProxiesStale = true;
   m_pairsToRestore = true;
 }
 

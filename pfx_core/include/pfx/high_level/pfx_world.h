@@ -124,6 +124,10 @@ struct PfxWorldStats {
   PfxUInt32 numContactPairs = 0;   // pairs with at least one contact point
   PfxUInt32 numContactPoints = 0;
   PfxUInt32 numOutOfWorld = 0;
+  // Broadphase proxies the step built and sorted: one per body awake or fixed, and, in a
+  // step after bodies fell asleep or woke, one per sleeping body too; a sleeping body's
+  // proxy is otherwise kept as it was.
+  PfxUInt32 numProxiesUpdated = 0;
   PfxFloat maxPenetration = 0;     // deepest overlap among contact points (m, >= 0)
   // Largest distance between the two anchors of a joint whose translations are all locked,
   // after the step (m); 0 without such joints.
@@ -401,6 +405,7 @@ class PfxWorld {
   void reserveBodies(std::size_t n);
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
+  void reserveManifolds(PfxUInt32 numNewPairs);
   PfxUInt32 takeManifold();
   void composeStablePairs();
   void assignSimplePairs();
@@ -452,6 +457,10 @@ class PfxWorld {
   void removeJointSlot(PfxUInt32 id);
   void removeCouplingSlot(PfxUInt32 id);
   void eraseJointedPairKey(const PfxJoint& joint);
+  void reserveSleepingProxies();
+  PfxInt32 buildProxies(const PfxUInt8* skip, PfxBroadphaseProxy* proxies,
+                        PfxUInt32& numProxies, PfxUInt32& numOutOfWorld);
+  PfxInt32 buildSleepingProxies();
   const PfxUInt8* skippedBodies() const {
     return m_numRemovedBodies > 0 ? m_removedBodies.data() : nullptr;
   }
@@ -481,6 +490,16 @@ class PfxWorld {
   std::vector<PfxSortData32> m_proxySortWork;
   PfxUInt32 m_numProxies = 0;
   int m_sweepAxis = 0;
+  // The sleeping bodies' proxies, sorted along m_sweepAxis, built when bodies fall asleep
+  // or wake and kept while they sleep, so that a sleeping body costs the broad phase no
+  // update and no sort. The masks tell the two builds which bodies to leave out; all three
+  // are sized only once sleep is enabled and used.
+  std::vector<PfxBroadphaseProxy> m_sleepingProxies;
+  std::vector<PfxUInt8> m_skipForAwakeProxies;     // removed or asleep
+  std::vector<PfxUInt8> m_skipForSleepingProxies;  // removed or awake
+  PfxUInt32 m_numSleepingProxies = 0;
+  PfxUInt32 m_numSleepingOutOfWorld = 0;
+  bool m_sleepingProxiesStale = true;
 
   // Pairs of the current frame (m_pairs) and the scratch the stages write into.
   std::vector<PfxBroadphasePair> m_pairs;

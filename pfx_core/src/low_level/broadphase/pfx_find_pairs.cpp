@@ -65,27 +65,60 @@ PfxUInt32 pfxGetPairBytesOfFindPairs(PfxUInt32 maxPairs) {
 
 namespace {
 
-// Sweeps the proxies [begin, end) against those after them; writes the first `capacity`
-// pairs found to `out` and returns how many there are.
-PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies, int axis,
-                PfxUInt32 begin, PfxUInt32 end, PfxBroadphasePair* out, PfxUInt32 capacity) {
+// The sleeping proxies and the longest of their boxes along the sweep axis: a sleeping
+// box that overlaps a box starting at `min` starts at `min - longest` or later.
+struct SleepingProxies {
+  const PfxBroadphaseProxy* proxies = nullptr;
+  PfxUInt32 count = 0;
+  PfxUInt16 longest = 0;
+};
+
+// Writes the pair to `out` while there is room; returns the count with it.
+PfxUInt32 record(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b,
+                 PfxBroadphasePair* out, PfxUInt32 numFound, PfxUInt32 capacity) {
+  if (numFound < capacity) {
+    pfxInitializePair(out[numFound], pfxGetObjectId(a), pfxGetMotionType(a), pfxGetObjectId(b),
+                      pfxGetMotionType(b));
+  }
+  return numFound + 1;
+}
+
+// Sweeps the proxies [begin, end) against those after them and against the sleeping ones;
+// writes the first `capacity` pairs found to `out` and returns how many there are.
+PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies,
+                const SleepingProxies& sleeping, int axis, PfxUInt32 begin, PfxUInt32 end,
+                PfxBroadphasePair* out, PfxUInt32 capacity) {
   PfxUInt32 numFound = 0;
   const int axis1 = (axis + 1) % 3;
   const int axis2 = (axis + 2) % 3;
+  const auto startsBefore = [axis](const PfxBroadphaseProxy& p, PfxUInt16 value) {
+    return pfxGetXMin(p, axis) < value;
+  };
   for (PfxUInt32 i = begin; i < end; ++i) {
     const PfxBroadphaseProxy& a = proxies[i];
+    const PfxUInt16 first = pfxGetXMin(a, axis);
     const PfxUInt16 last = pfxGetXMax(a, axis);
     const CrossSection sectionA = crossSectionOf(a, axis1, axis2);
     for (PfxUInt32 j = i + 1; j < numProxies && pfxGetXMin(proxies[j], axis) <= last; ++j) {
       const PfxBroadphaseProxy& b = proxies[j];
-      if (!crossSectionsOverlap(sectionA, crossSectionOf(b, axis1, axis2)) || !isPair(a, b)) {
-        continue;
+      if (crossSectionsOverlap(sectionA, crossSectionOf(b, axis1, axis2)) && isPair(a, b)) {
+        numFound = record(a, b, out, numFound, capacity);
       }
-      if (numFound < capacity) {
-        pfxInitializePair(out[numFound], pfxGetObjectId(a), pfxGetMotionType(a),
-                          pfxGetObjectId(b), pfxGetMotionType(b));
+    }
+    // A fixed body wakes nothing, and a sleeping one nothing asleep.
+    if (sleeping.count == 0 || pfxGetSleeping(a) ||
+        pfxGetMotionType(a) == kPfxMotionTypeFixed) {
+      continue;
+    }
+    const PfxUInt16 from = first > sleeping.longest ? PfxUInt16(first - sleeping.longest) : 0;
+    for (const PfxBroadphaseProxy* b =
+             std::lower_bound(sleeping.proxies, sleeping.proxies + sleeping.count, from,
+                              startsBefore);
+         b < sleeping.proxies + sleeping.count && pfxGetXMin(*b, axis) <= last; ++b) {
+      if (pfxGetXMax(*b, axis) >= first &&
+          crossSectionsOverlap(sectionA, crossSectionOf(*b, axis1, axis2)) && isPair(a, *b)) {
+        numFound = record(a, *b, out, numFound, capacity);
       }
-      ++numFound;
     }
   }
   return numFound;
@@ -99,15 +132,16 @@ constexpr PfxUInt32 kMaxChunks = 64;
 // buffer; the pairs are then laid out chunk after chunk, which is the order of the sweep
 // over all proxies at once, up to maxPairs of them. A chunk that found more than its share
 // sweeps again straight into its place. Returns the number of pairs found.
-PfxUInt32 sweepInChunks(const PfxFindPairsParam& param, PfxBroadphasePair* pairs,
-                        PfxUInt32 numChunks, PfxTaskManager* taskManager) {
+PfxUInt32 sweepInChunks(const PfxFindPairsParam& param, const SleepingProxies& sleeping,
+                        PfxBroadphasePair* pairs, PfxUInt32 numChunks,
+                        PfxTaskManager* taskManager) {
   PfxBroadphasePair* work = static_cast<PfxBroadphasePair*>(param.workBuff);
   const PfxUInt32 share = param.maxPairs / numChunks;
   auto chunkBegin = [&](PfxUInt32 c) { return pfxChunkBegin(param.numProxies, numChunks, c); };
   PfxUInt32 found[kMaxChunks];
   pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 c = first; c < last; ++c) {
-      found[c] = sweep(param.proxies, param.numProxies, param.axis, chunkBegin(c),
+      found[c] = sweep(param.proxies, param.numProxies, sleeping, param.axis, chunkBegin(c),
                        chunkBegin(c + 1), work + std::size_t(c) * share, share);
     }
   });
@@ -125,8 +159,8 @@ PfxUInt32 sweepInChunks(const PfxFindPairsParam& param, PfxBroadphasePair* pairs
         const PfxBroadphasePair* collected = work + std::size_t(c) * share;
         std::copy(collected, collected + room, pairs + offsets[c]);
       } else {
-        sweep(param.proxies, param.numProxies, param.axis, chunkBegin(c), chunkBegin(c + 1),
-              pairs + offsets[c], room);
+        sweep(param.proxies, param.numProxies, sleeping, param.axis, chunkBegin(c),
+              chunkBegin(c + 1), pairs + offsets[c], room);
       }
     }
   });
@@ -145,34 +179,62 @@ PfxInt32 pfxFindPairs(const PfxFindPairsParam& param, PfxFindPairsResult& result
   if ((err = pfxCheckValue(at, "axis", axis, axis >= 0 && axis <= 2, "0, 1 or 2")) != PFX_OK ||
       (err = pfxCheckRequired(at, {{param.proxies, "proxies"}}, "numProxies",
                               param.numProxies)) != PFX_OK ||
+      (err = pfxCheckRequired(at, {{param.sleepingProxies, "sleepingProxies"}},
+                              "numSleepingProxies", param.numSleepingProxies)) != PFX_OK ||
       (err = pfxCheckBuffer(at, "pairBuff", param.pairBuff, param.pairBytes, pairBytes)) !=
           PFX_OK ||
       (err = pfxCheckBuffer(at, "workBuff", param.workBuff, param.workBytes, pairBytes)) !=
           PFX_OK) {
     return err;
   }
-  const PfxUInt64 proxyBytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * param.numProxies;
-  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes) ||
-      pfxRangesOverlap(param.pairBuff, pairBytes, param.proxies, proxyBytes) ||
-      pfxRangesOverlap(param.workBuff, pairBytes, param.proxies, proxyBytes)) {
+  if (pfxRangesOverlap(param.pairBuff, pairBytes, param.workBuff, pairBytes)) {
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::pairBuff, workBuff and proxies share "
-                          "bytes");
+                          "pfxFindPairs: PfxFindPairsParam::pairBuff and workBuff share bytes");
   }
-  if (!isSortedAlongAxis(param.proxies, param.numProxies, axis)) {
-    return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "pfxFindPairs: PfxFindPairsParam::proxies are not sorted along axis %d "
-                          "(pfxParallelSort them after pfxUpdateBroadphaseProxy)",
-                          axis);
+  const struct {
+    const PfxBroadphaseProxy* proxies;
+    PfxUInt32 count;
+    const char* field;
+  } proxyArrays[2] = {{param.proxies, param.numProxies, "proxies"},
+                      {param.sleepingProxies, param.numSleepingProxies, "sleepingProxies"}};
+  for (const auto& array : proxyArrays) {
+    const PfxUInt64 bytes = PfxUInt64(sizeof(PfxBroadphaseProxy)) * array.count;
+    if (pfxRangesOverlap(param.pairBuff, pairBytes, array.proxies, bytes) ||
+        pfxRangesOverlap(param.workBuff, pairBytes, array.proxies, bytes)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxFindPairs: PfxFindPairsParam::%s share bytes with pairBuff or "
+                            "workBuff",
+                            array.field);
+    }
+    if (!isSortedAlongAxis(array.proxies, array.count, axis)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxFindPairs: PfxFindPairsParam::%s are not sorted along axis %d "
+                            "(pfxParallelSort them after pfxUpdateBroadphaseProxy)",
+                            array.field, axis);
+    }
+  }
+  SleepingProxies sleeping;
+  sleeping.proxies = param.sleepingProxies;
+  sleeping.count = param.numSleepingProxies;
+  for (PfxUInt32 i = 0; i < sleeping.count; ++i) {
+    const PfxBroadphaseProxy& p = sleeping.proxies[i];
+    if (!pfxGetSleeping(p)) {
+      return pfxRejectParam(PFX_ERR_INVALID_VALUE,
+                            "pfxFindPairs: PfxFindPairsParam::sleepingProxies[%u] (body %u) is "
+                            "not marked asleep",
+                            i, pfxGetObjectId(p));
+    }
+    sleeping.longest = std::max<PfxUInt16>(
+        sleeping.longest, PfxUInt16(pfxGetXMax(p, axis) - pfxGetXMin(p, axis)));
   }
 
   PfxBroadphasePair* pairs = static_cast<PfxBroadphasePair*>(param.pairBuff);
   const PfxUInt32 numChunks =
       pfxNumChunks(taskManager, param.numProxies, kMinProxiesPerChunk, kMaxChunks);
   const PfxUInt32 numFound =
-      numChunks == 1 ? sweep(param.proxies, param.numProxies, axis, 0, param.numProxies, pairs,
-                             param.maxPairs)
-                     : sweepInChunks(param, pairs, numChunks, taskManager);
+      numChunks == 1 ? sweep(param.proxies, param.numProxies, sleeping, axis, 0,
+                             param.numProxies, pairs, param.maxPairs)
+                     : sweepInChunks(param, sleeping, pairs, numChunks, taskManager);
 
   const PfxUInt32 numStored = numFound < param.maxPairs ? numFound : param.maxPairs;
   pfxParallelSort(pairs, numStored, param.workBuff, param.workBytes, taskManager);

@@ -20,8 +20,7 @@ using PfxTreeVector = Eigen::Matrix<double, 6, 1>;
 
 struct PfxBlockTreeNode {
   PfxTreeBlock diagonalInverse;  // holds D until factored, then D^-1 after elimination
-  PfxTreeBlock toParent;         // L = D^-1 H(node, parent)
-  PfxTreeBlock coupling;         // H(node, parent)
+  PfxTreeBlock toParent;         // holds H(node, parent) until factored, then L = D^-1 H
   PfxTreeVector value;           // right-hand side, then solution
   PfxInt32 parent;               // node index, -1 at a root
 };
@@ -88,10 +87,13 @@ void pfxFactorBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
     Node& node = nodes[k];
     node.diagonalInverse = pfxInvertDefiniteBlock(node.diagonalInverse);
     if (node.parent < 0) continue;
-    node.toParent.noalias() = node.diagonalInverse * node.coupling;
+    // H is needed only here, so it lives in toParent until L replaces it: a node of
+    // three blocks instead of four (a contact tree holds two nodes per resting body).
+    const PfxTreeBlock coupling = node.toParent;
+    node.toParent.noalias() = node.diagonalInverse * coupling;
     PfxTreeBlock& parentPivot = nodes[node.parent].diagonalInverse;
     for (int j = 0; j < 6; ++j) {
-      for (int i = j; i < 6; ++i) parentPivot(i, j) -= node.coupling.col(i).dot(node.toParent.col(j));
+      for (int i = j; i < 6; ++i) parentPivot(i, j) -= coupling.col(i).dot(node.toParent.col(j));
     }
   }
 }

@@ -451,7 +451,7 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
   // parent already has its rows.
   for (std::size_t n = 0; n < m_numNodes; ++n) {
     Node& node = m_nodes[n];
-    node.coupling.setZero();
+    node.toParent.setZero();
     if (node.body >= 0) {
       node.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
     } else {
@@ -486,7 +486,7 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
     const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
     const PfxTreeBlock rows = faceJacobian(m_manifolds[pfxGetContactId(pair)], face,
                                            PfxUInt32(body) == pfxGetObjectIdB(pair));
-    node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
+    node.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
   pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
                  [&](PfxUInt32 first, PfxUInt32 last) {

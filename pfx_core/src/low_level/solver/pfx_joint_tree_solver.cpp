@@ -238,7 +238,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // so tree after tree on any thread gives the same bits as one pass over the forest.
   auto setUpNode = [&](std::size_t n) {
     Node& node = m_nodes[n];
-    node.coupling.setZero();
+    node.toParent.setZero();
     if (node.body >= 0) {
       node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
     } else {
@@ -268,7 +268,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
       rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
     }
-    node.coupling = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
+    node.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   };
   pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
