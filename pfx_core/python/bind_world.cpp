@@ -80,6 +80,8 @@ void bindWorldParam(py::module_& m) {
                      "Distance at which speculative contacts start (m).")
       .def_readwrite("restitution_threshold", &PfxWorldParam::restitutionThreshold,
                      "Approach speed below which nothing bounces (m/s).")
+      .def_readwrite("enable_shock_propagation", &PfxWorldParam::enableShockPropagation,
+                     "After the iterations, stop bodies sinking into those under them.")
       .def_readwrite("measure_conservation", &PfxWorldParam::measureConservation,
                      "Report energy and momentum changes in the statistics.")
       .def_readwrite("out_of_world_behavior", &PfxWorldParam::outOfWorldBehavior,

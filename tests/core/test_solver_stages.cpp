@@ -220,6 +220,9 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
   solve.restitutionThreshold = -1;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_INVALID_VALUE);
   solve.restitutionThreshold = 0.2f;
+  solve.gravity = PfxVector3(0, kNaN, 0);
+  EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_INVALID_VALUE);
+  solve.gravity = PfxVector3(0, -9.8f, 0);
   solve.contactPairs = &farPair;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_RANGE);
   solve.contactPairs = &s.pair;

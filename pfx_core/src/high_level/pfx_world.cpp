@@ -870,6 +870,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.iteration = m_param.iteration;
     param.timeStep = timeStep;
     param.restitutionThreshold = m_param.restitutionThreshold;
+    if (m_param.enableShockPropagation) param.gravity = m_param.gravity;
     if (const PfxInt32 err = pfxSolveConstraints(param, &m_taskManager); err != PFX_OK) {
       return err;
     }

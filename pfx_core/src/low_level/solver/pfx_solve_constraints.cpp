@@ -10,6 +10,8 @@
 #include "low_level/solver/pfx_joint_coupling_row.h"
 #include "low_level/solver/pfx_joint_row.h"
 #include "low_level/solver/pfx_joint_tree_solver.h"
+#include "low_level/solver/pfx_normal_block.h"
+#include "low_level/solver/pfx_shock_propagation.h"
 #include "low_level/solver/pfx_tree_contact_rows.h"
 
 namespace pfx {
@@ -43,51 +45,15 @@ void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
 // below the contact slop.
 constexpr PfxFloat kNegligibleTreeContactShortfall = PfxFloat(1e-4);
 
-// Sweeps of the small problem of one manifold's normal rows; it converges in a few.
-constexpr int kBlockSweeps = 6;
-
-// Solves the normal rows of one manifold together, as a small projected Gauss-Seidel on
-// the manifold's own coupling matrix K: the points of one face hold a body up jointly, and
-// solving them one at a time lets it rock between them, which tall stacks turn into sway.
-// `residual` is each row's target velocity minus its current velocity; `impulse` is the
-// accumulated impulse, updated; `delta` receives the change to apply.
-// The sweeps for a manifold of N points, N known at compile time so that the loops unroll.
-template <PfxUInt32 N>
-void sweepNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
-                      PfxFloat* impulse, PfxFloat* delta) {
-  // The coupling matrix and its diagonal's reciprocals, read once: the sweeps below are the
-  // solver's innermost loop.
-  PfxFloat k[N][N];
-  PfxFloat inverseDiagonal[N];
-  PfxFloat remaining[N];  // residual minus K * delta
-  for (PfxUInt32 i = 0; i < N; ++i) {
-    for (PfxUInt32 j = 0; j < N; ++j) k[i][j] = manifold.getNormalCoupling(i, j);
-    inverseDiagonal[i] = k[i][i] > 0 ? PfxFloat(1) / k[i][i] : PfxFloat(0);
-    remaining[i] = residual[i];
-    delta[i] = 0;
-  }
-  for (int sweep = 0; sweep < kBlockSweeps; ++sweep) {
-    for (PfxUInt32 i = 0; i < N; ++i) {
-      const PfxFloat updated =
-          std::max(impulse[i] + delta[i] + remaining[i] * inverseDiagonal[i], PfxFloat(0)) -
-          impulse[i];
-      const PfxFloat change = updated - delta[i];
-      delta[i] = updated;
-      for (PfxUInt32 j = 0; j < N; ++j) remaining[j] -= k[j][i] * change;
-    }
-  }
-  for (PfxUInt32 i = 0; i < N; ++i) impulse[i] += delta[i];
-}
-
+// The manifold's coupling matrix, read once: the block sweeps are the solver's innermost loop.
 void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residual,
                       PfxFloat* impulse, PfxFloat* delta) {
-  switch (manifold.getNumContacts()) {
-    case 1: sweepNormalBlock<1>(manifold, residual, impulse, delta); break;
-    case 2: sweepNormalBlock<2>(manifold, residual, impulse, delta); break;
-    case 3: sweepNormalBlock<3>(manifold, residual, impulse, delta); break;
-    case 4: sweepNormalBlock<4>(manifold, residual, impulse, delta); break;
-    default: break;
+  const PfxUInt32 n = manifold.getNumContacts();
+  PfxNormalCoupling k;
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    for (PfxUInt32 j = 0; j < n; ++j) k[i][j] = manifold.getNormalCoupling(i, j);
   }
+  pfxSolveNormalBlock(n, k, residual, impulse, delta);
 }
 
 void applyNormalImpulses(const PfxContactManifold& manifold, const PfxFloat* delta,
@@ -314,6 +280,7 @@ struct SolverWorkLayout {
   std::size_t bodyBatchBytes = 0;
   std::size_t contactBatchBytes = 0;
   std::size_t jointBatchBytes = 0;
+  std::size_t shockBytes = 0;
 
   SolverWorkLayout(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs, PfxUInt32 numJointPairs) {
     if (numJointPairs > 0) {
@@ -328,10 +295,11 @@ struct SolverWorkLayout {
     }
     contactBatchBytes = PfxConstraintBatches::getWorkBytes(numContactPairs);
     jointBatchBytes = PfxConstraintBatches::getWorkBytes(numJointPairs);
+    if (numContactPairs > 0) shockBytes = PfxShockPropagation::getWorkBytes(numContactPairs);
   }
   std::size_t total() const {
     return std::size_t(jointTreeBytes) + boundedRowBytes + contactTreeBytes + bodyBatchBytes +
-           contactBatchBytes + jointBatchBytes;
+           contactBatchBytes + jointBatchBytes + shockBytes;
   }
 };
 
@@ -360,6 +328,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                                pfxIsFinite(param.restitutionThreshold),
                            "finite and not negative")) != PFX_OK ||
       (err = pfxCheckTimeStep(at, param.timeStep)) != PFX_OK ||
+      (err = pfxCheckValue(at, "gravity", param.gravity.norm(), pfxIsFinite(param.gravity),
+                           "finite")) != PFX_OK ||
       (err = pfxCheckPairsInRange(at, "contactPairs", param.contactPairs, param.numContactPairs,
                                   param.numRigidBodies, "numContactManifolds",
                                   param.numContactManifolds)) != PFX_OK ||
@@ -441,6 +411,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                        return treeBody >= 0 ? PfxUInt32(treeBody) : id;
                      },
                      taskManager);
+  cursor += layout.jointBatchBytes;
+  unsigned char* const shockWork = cursor;
 
   // work(sweep, ...) over numSweeps sweeps of the contacts, or one of the joints.
   auto sweepContacts = [&](PfxUInt32 numSweeps, auto&& work) {
@@ -474,7 +446,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
 
   if (param.numJointPairs == 0 && param.numJointCouplings == 0) {
     // Only contacts: the warm start and the first sweep, then the trees, then the other
-    // sweeps and the restitution pass, each run of sweeps in one parallel loop.
+    // sweeps, shock propagation and the restitution pass, each run of sweeps in one
+    // parallel loop.
     sweepContacts(2, [](PfxUInt32 sweep, PfxContactManifold& m, const PairBodies& p) {
       if (sweep == 0) {
         warmStart(m, p);
@@ -483,12 +456,19 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       }
     });
     solveContactTrees();
-    sweepContacts(param.iteration, [&](PfxUInt32 sweep, PfxContactManifold& m, const PairBodies& p) {
-      if (sweep + 1 < param.iteration) {
-        solveContacts(m, p);
-      } else {
-        restitution(m, p);
-      }
+    PfxShockPropagation shock;
+    shock.build(shockWork, param.contactPairs, param.numContactPairs,
+                param.offsetContactManifolds, param.offsetRigidStates, param.offsetSolverBodies,
+                param.gravity.isZero(0) ? PfxVector3(PfxVector3::Zero())
+                                        : PfxVector3(-param.gravity.normalized()));
+    sweepContacts(param.iteration - 1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
+      solveContacts(m, p);
+    });
+    // Before restitution, which aims at bounces from the approach velocities alone.
+    shock.propagate(false);
+    shock.propagate(true);
+    sweepContacts(1, [&](PfxUInt32, PfxContactManifold& m, const PairBodies& p) {
+      restitution(m, p);
     });
   } else {
     sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });

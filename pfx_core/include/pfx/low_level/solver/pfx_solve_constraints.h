@@ -43,6 +43,10 @@ struct PfxSolveConstraintsParam {
   PfxFloat timeStep = PfxFloat(1) / 60;
   // Approach speeds below this do not bounce, so that resting contacts stay at rest.
   PfxFloat restitutionThreshold = 0.2f;
+  // Gravity, to tell which body of a contact holds the other up for shock propagation after
+  // the iterations: a pass from the ground upwards that stops each body sinking into the
+  // ones under it. Zero (the default) does without it; so do steps with joints or couplings.
+  PfxVector3 gravity = PfxVector3::Zero();
 };
 
 // Work memory for the direct solves over the joints' and the contacts' trees and for the
