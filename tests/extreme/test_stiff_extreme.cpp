@@ -158,6 +158,7 @@ TEST(StiffExtreme, ThirtyBoxTowerStandsForAMinute) {
 TEST(StiffExtreme, DeepPileAtFourIterationsDoesNotSinkIntoItself) {
   PfxWorldParam param = worldParam();
   param.iteration = 4;
+  param.enableShockPropagation = true;
   PfxWorld world;
   ASSERT_EQ(world.initialize(param), PFX_OK);
   addGround(world);
