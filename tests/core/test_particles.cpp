@@ -656,9 +656,10 @@ TEST(Particles, BatchesNameEachConstraintOnceAndNoParticleTwiceInAPhase) {
   Batched batched;
   ASSERT_EQ(batchBuilder(b, batched, n), PFX_OK) << pfxGetLastErrorDetail();
   // The cloth's rows, columns, lines of either diagonal, and for bending the even and the
-  // odd particles of each row and column; the rope's links, and its angles, one chain each.
+  // odd particles of each row and column; the rope's links one more chain. Its angles, a
+  // lone chain, are taken one by one.
   EXPECT_EQ(batched.distance.numChains, nv + nu + 2 * (nu + nv - 3) + 2 * (nv + nu) + 1);
-  EXPECT_EQ(batched.angle.numChains, 1u);
+  EXPECT_EQ(batched.angle.numChains, b.angleConstraints.size());
   const auto checkPhases = [&](const PfxParticleConstraintBatches& batches, PfxUInt32 count,
                                auto particlesOf) {
     ASSERT_EQ(batches.numConstraints, count);
@@ -752,10 +753,11 @@ TEST(Particles, BatchingRefusesMissingParticlesAndSmallBuffers) {
   EXPECT_EQ(pfxBatchParticleConstraints(param), PFX_ERR_NULL_POINTER);
   EXPECT_EQ(batched.distance.numPhases, 7u) << "untouched after a refusal";
   EXPECT_EQ(order, std::vector<PfxUInt32>(b.distanceConstraints.size(), 0));
-  // A rope is one chain, its links in order.
-  EXPECT_EQ(good.numChains, 1u);
-  EXPECT_EQ(good.numPhases, 1u);
-  for (PfxUInt32 i = 0; i < goodOrder.size(); ++i) EXPECT_EQ(goodOrder[i], i);
+  // A lone rope, one chain, is taken link by link: two phases, alternate links.
+  EXPECT_EQ(good.numChains, 9u);
+  EXPECT_EQ(good.numPhases, 2u);
+  EXPECT_EQ(goodOrder[0], 0u);
+  EXPECT_EQ(goodOrder[1], 2u);
 }
 
 // Contacts between two groups: a particle of A resting on one of B is found and pushed out;
