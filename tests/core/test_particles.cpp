@@ -608,7 +608,7 @@ TEST_F(ParticleBadInput, ContactsNamingMissingBodiesOrShapesAreRejected) {
 namespace {
 
 struct Batched {
-  std::vector<PfxUInt32> distanceOrder, angleOrder;
+  std::vector<PfxUInt32> distanceOrder, angleOrder, distanceChainStart, angleChainStart;
   PfxParticleConstraintBatches distance, angle;
   std::vector<PfxVector4> work;
 };
@@ -616,8 +616,12 @@ struct Batched {
 PfxInt32 batchBuilder(const PfxParticleGroupBuilder& b, Batched& out, PfxUInt32 numParticles) {
   out.distanceOrder.assign(b.distanceConstraints.size(), 0);
   out.angleOrder.assign(b.angleConstraints.size(), 0);
+  out.distanceChainStart.assign(b.distanceConstraints.size() + 1, 0);
+  out.angleChainStart.assign(b.angleConstraints.size() + 1, 0);
   out.distance.order = out.distanceOrder.data();
   out.angle.order = out.angleOrder.data();
+  out.distance.chainStart = out.distanceChainStart.data();
+  out.angle.chainStart = out.angleChainStart.data();
   const PfxUInt32 bytes = pfxGetWorkBytesOfBatchParticleConstraints(
       numParticles, static_cast<PfxUInt32>(
                         std::max(b.distanceConstraints.size(), b.angleConstraints.size())));
@@ -637,30 +641,48 @@ PfxInt32 batchBuilder(const PfxParticleGroupBuilder& b, Batched& out, PfxUInt32 
 
 }  // namespace
 
-// Phases of a cloth with bending and a hair: each constraint once, no particle twice in a
+// Chains and phases of a cloth with bending and a hair: each constraint once, each chain a
+// run of constraints that start where the one before ended, no particle in two chains of a
 // phase; the solve takes them and refuses batches made for other constraints.
 TEST(Particles, BatchesNameEachConstraintOnceAndNoParticleTwiceInAPhase) {
   PfxParticleGroupBuilder b;
   PfxParticleGroupBuilder::Material material;
   material.bendCompliance = PfxFloat(0.1);
-  b.addCloth(PfxVector3::Zero(), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 12, 9, material);
+  const PfxUInt32 nu = 12, nv = 9;
+  b.addCloth(PfxVector3::Zero(), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), nu, nv, material);
   b.addRope(PfxVector3(0, 1, 0), PfxVector3(1, 1, 0), 30, material);
   const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
   ASSERT_GT(b.angleConstraints.size(), 0u);
   Batched batched;
   ASSERT_EQ(batchBuilder(b, batched, n), PFX_OK) << pfxGetLastErrorDetail();
+  // The cloth's rows, columns, lines of either diagonal, and for bending the even and the
+  // odd particles of each row and column; the rope's links one more chain. Its angles, a
+  // lone chain, are taken one by one.
+  EXPECT_EQ(batched.distance.numChains, nv + nu + 2 * (nu + nv - 3) + 2 * (nv + nu) + 1);
+  EXPECT_EQ(batched.angle.numChains, b.angleConstraints.size());
   const auto checkPhases = [&](const PfxParticleConstraintBatches& batches, PfxUInt32 count,
                                auto particlesOf) {
     ASSERT_EQ(batches.numConstraints, count);
-    EXPECT_GT(batches.numPhases, 1u);
-    EXPECT_EQ(batches.phaseStart[batches.numPhases], count) << "nothing left over";
+    EXPECT_GE(batches.numPhases, 1u);
+    EXPECT_EQ(batches.phaseStart[batches.numPhases], batches.numChains) << "nothing left over";
+    EXPECT_EQ(batches.chainStart[batches.numChains], count);
     std::vector<int> seen(count, 0);
     for (PfxUInt32 phase = 0; phase < batches.numPhases; ++phase) {
-      std::vector<int> used(n, 0);
-      for (PfxUInt32 k = batches.phaseStart[phase]; k < batches.phaseStart[phase + 1]; ++k) {
-        ++seen[batches.order[k]];
-        for (const PfxUInt32 p : particlesOf(batches.order[k])) {
-          EXPECT_EQ(used[p]++, 0) << "particle " << p << " twice in phase " << phase;
+      std::vector<PfxUInt32> chainOf(n, ~0u);
+      for (PfxUInt32 chain = batches.phaseStart[phase]; chain < batches.phaseStart[phase + 1];
+           ++chain) {
+        for (PfxUInt32 k = batches.chainStart[chain]; k < batches.chainStart[chain + 1]; ++k) {
+          ++seen[batches.order[k]];
+          const std::vector<PfxUInt32> members = particlesOf(batches.order[k]);
+          if (k > batches.chainStart[chain]) {
+            EXPECT_EQ(particlesOf(batches.order[k - 1])[1], members[0])
+                << "constraint " << batches.order[k] << " does not continue its chain";
+          }
+          for (const PfxUInt32 p : members) {
+            EXPECT_TRUE(chainOf[p] == ~0u || chainOf[p] == chain)
+                << "particle " << p << " in two chains of phase " << phase;
+            chainOf[p] = chain;
+          }
         }
       }
     }
@@ -731,7 +753,8 @@ TEST(Particles, BatchingRefusesMissingParticlesAndSmallBuffers) {
   EXPECT_EQ(pfxBatchParticleConstraints(param), PFX_ERR_NULL_POINTER);
   EXPECT_EQ(batched.distance.numPhases, 7u) << "untouched after a refusal";
   EXPECT_EQ(order, std::vector<PfxUInt32>(b.distanceConstraints.size(), 0));
-  // A rope is a chain: two phases, alternate links.
+  // A lone rope, one chain, is taken link by link: two phases, alternate links.
+  EXPECT_EQ(good.numChains, 9u);
   EXPECT_EQ(good.numPhases, 2u);
   EXPECT_EQ(goodOrder[0], 0u);
   EXPECT_EQ(goodOrder[1], 2u);

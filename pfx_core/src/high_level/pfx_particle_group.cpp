@@ -91,27 +91,51 @@ PfxUInt32 PfxParticleGroupBuilder::addCloth(const PfxVector3& corner, const PfxV
                                        material));
     }
   }
+  // Each line of links listed end to end, every link starting where the one before ended:
+  // the solve takes such a run as a chain and carries a correction along the whole line in
+  // one pass (pfx_batch_particle_constraints.h).
   const PfxFloat stretch = material.stretchCompliance;
   for (PfxUInt32 j = 0; j < nv; ++j) {
-    for (PfxUInt32 i = 0; i < nu; ++i) {
-      if (i + 1 < nu) addDistance(at(i, j), at(i + 1, j), stretch);
-      if (j + 1 < nv) addDistance(at(i, j), at(i, j + 1), stretch);
-      // Shear along both diagonals, so the cloth keeps no preferred direction.
-      if (i + 1 < nu && j + 1 < nv) {
-        addDistance(at(i, j), at(i + 1, j + 1), stretch);
-        addDistance(at(i + 1, j), at(i, j + 1), stretch);
-        triangleIndices.insert(triangleIndices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-        triangleIndices.insert(triangleIndices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-      }
+    for (PfxUInt32 i = 0; i + 1 < nu; ++i) addDistance(at(i, j), at(i + 1, j), stretch);
+  }
+  for (PfxUInt32 i = 0; i < nu; ++i) {
+    for (PfxUInt32 j = 0; j + 1 < nv; ++j) addDistance(at(i, j), at(i, j + 1), stretch);
+  }
+  // Shear along both diagonals, so the cloth keeps no preferred direction: the lines of
+  // (i, j) - (i + 1, j + 1) from the bottom row and the left column, then those of
+  // (i + 1, j) - (i, j + 1) from the bottom row and the right column.
+  const auto diagonal = [&](PfxUInt32 i, PfxUInt32 j) {
+    for (; i + 1 < nu && j + 1 < nv; ++i, ++j) addDistance(at(i, j), at(i + 1, j + 1), stretch);
+  };
+  for (PfxUInt32 j = nv - 1; j > 0; --j) diagonal(0, j - 1);
+  for (PfxUInt32 i = 1; i + 1 < nu; ++i) diagonal(i, 0);
+  const auto antiDiagonal = [&](PfxUInt32 i, PfxUInt32 j) {
+    for (; i > 0 && j + 1 < nv; --i, ++j) addDistance(at(i, j), at(i - 1, j + 1), stretch);
+  };
+  for (PfxUInt32 i = 1; i < nu; ++i) antiDiagonal(i, 0);
+  for (PfxUInt32 j = 1; j + 1 < nv; ++j) antiDiagonal(nu - 1, j);
+  for (PfxUInt32 j = 0; j + 1 < nv; ++j) {
+    for (PfxUInt32 i = 0; i + 1 < nu; ++i) {
+      triangleIndices.insert(triangleIndices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      triangleIndices.insert(triangleIndices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
   }
   if (material.bendCompliance >= 0) {
     // Bending as distance constraints that skip a particle: cheap, and soft through their
     // compliance; angle constraints across a grid would fight each other at the corners.
+    // Two chains along each row and column, of the even and of the odd particles.
     for (PfxUInt32 j = 0; j < nv; ++j) {
-      for (PfxUInt32 i = 0; i < nu; ++i) {
-        if (i + 2 < nu) addDistance(at(i, j), at(i + 2, j), material.bendCompliance);
-        if (j + 2 < nv) addDistance(at(i, j), at(i, j + 2), material.bendCompliance);
+      for (PfxUInt32 start = 0; start < 2; ++start) {
+        for (PfxUInt32 i = start; i + 2 < nu; i += 2) {
+          addDistance(at(i, j), at(i + 2, j), material.bendCompliance);
+        }
+      }
+    }
+    for (PfxUInt32 i = 0; i < nu; ++i) {
+      for (PfxUInt32 start = 0; start < 2; ++start) {
+        for (PfxUInt32 j = start; j + 2 < nv; j += 2) {
+          addDistance(at(i, j), at(i, j + 2), material.bendCompliance);
+        }
       }
     }
   }

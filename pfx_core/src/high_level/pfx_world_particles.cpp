@@ -44,11 +44,19 @@ void copyInto(std::vector<T>& to, const T* from, PfxUInt32 count) {
   to.assign(from, from + count);
 }
 
+void pointBatchesAtBuffers(PfxParticleGroup& g) {
+  g.distanceBatches.order = g.distanceOrder.data();
+  g.distanceBatches.chainStart = g.distanceChainStart.data();
+  g.angleBatches.order = g.angleOrder.data();
+  g.angleBatches.chainStart = g.angleChainStart.data();
+}
+
 PfxInt32 batchConstraints(PfxParticleGroup& g) {
   g.distanceOrder.resize(g.distanceConstraints.size());
   g.angleOrder.resize(g.angleConstraints.size());
-  g.distanceBatches.order = g.distanceOrder.data();
-  g.angleBatches.order = g.angleOrder.data();
+  g.distanceChainStart.resize(g.distanceConstraints.size() + 1);
+  g.angleChainStart.resize(g.angleConstraints.size() + 1);
+  pointBatchesAtBuffers(g);
   const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
   const PfxUInt32 numConstraints =
       static_cast<PfxUInt32>(std::max(g.distanceConstraints.size(), g.angleConstraints.size()));
@@ -443,8 +451,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       if (!group || group->asleep || round >= iterationsOf(id)) continue;
       PfxParticleGroup& g = *group;
       PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
-      g.distanceBatches.order = g.distanceOrder.data();
-      g.angleBatches.order = g.angleOrder.data();
+      pointBatchesAtBuffers(g);
       PfxSolveParticleConstraintsParam param;
       param.particles = g.particles.data();
       param.numParticles = static_cast<PfxUInt32>(g.particles.size());
@@ -466,6 +473,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       param.timeStep = timeStep;
       param.iteration = rounds > 1 ? 1 : g.iteration;
       param.continueSubStep = round > 0;
+      param.iterationsDone = round;
       if (const PfxInt32 err = pfxSolveCheckedParticleConstraints(param, &m_taskManager);
           err != PFX_OK) {
         return err;

@@ -52,10 +52,10 @@ struct PfxParticleGroup {
   std::vector<PfxParticleContact> contacts;
   PfxUInt32 numContacts = 0;
   std::vector<PfxVector4> detectWork;  // 16-byte elements, so that the buffer is aligned
-  // The solve's phases (pfxBatchParticleConstraints), made on the group's first sub-step
-  // from the constraints alone, so that a loaded group solves in the same order. Their
-  // order pointers are set to the two vectors before each use.
-  std::vector<PfxUInt32> distanceOrder, angleOrder;
+  // The solve's chains and phases (pfxBatchParticleConstraints), made on the group's first
+  // sub-step from the constraints alone, so that a loaded group solves in the same order.
+  // Their order and chain start pointers are set to the four vectors before each use.
+  std::vector<PfxUInt32> distanceOrder, angleOrder, distanceChainStart, angleChainStart;
   PfxParticleConstraintBatches distanceBatches, angleBatches;
   bool batched = false;
   // Sleep: steps the group has been still, and whether it sleeps (skipped by the step).

@@ -16,6 +16,8 @@ constexpr PfxFloat kPi = PfxFloat(3.14159265358979323846);
 constexpr PfxFloat kMinLength = PfxFloat(1e-9);
 // Constraints of one phase per task: enough work to pay for handing it to a thread.
 constexpr PfxUInt32 kConstraintsPerTask = 256;
+// Chains of a phase solved side by side on one thread (solveInPhases).
+constexpr PfxUInt32 kChainsInStep = 4;
 
 const PfxParamNames kSolveParticleConstraintsAt{"pfxSolveParticleConstraints",
                                                 "PfxSolveParticleConstraintsParam"};
@@ -285,35 +287,67 @@ PfxInt32 checkBatches(const char* field, const PfxParticleConstraintBatches* bat
                       PfxUInt32 numConstraints) {
   if (!batches) return PFX_OK;
   if (batches->numConstraints != numConstraints || batches->numPhases > PFX_MAX_PARTICLE_PHASES ||
-      (numConstraints > 0 && !batches->order) ||
-      batches->phaseStart[batches->numPhases] > numConstraints) {
+      batches->numChains > numConstraints || (numConstraints > 0 && !batches->order) ||
+      !batches->chainStart || batches->phaseStart[batches->numPhases] > batches->numChains ||
+      batches->chainStart[batches->numChains] != numConstraints) {
     return pfxRejectParam(PFX_ERR_INVALID_VALUE,
-                          "%s: %s::%s were made for %u constraints in %u phases, but there are "
-                          "%u (pfxBatchParticleConstraints)",
-                          kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param, field, batches->numConstraints,
-                          batches->numPhases, numConstraints);
+                          "%s: %s::%s were made for %u constraints in %u chains and %u phases, "
+                          "but there are %u (pfxBatchParticleConstraints)",
+                          kSolveParticleConstraintsAt.stage, kSolveParticleConstraintsAt.param,
+                          field, batches->numConstraints, batches->numChains, batches->numPhases,
+                          numConstraints);
   }
   return PFX_OK;
 }
 
-// Each phase in parallel, then the left-over constraints one by one.
+// Each phase's chains in parallel, then the left-over chains one by one; each chain in
+// sequence, every other chain from its end, so that neighbouring rows of a cloth carry their
+// corrections opposite ways and no edge is where all of them pile up; `iteration` of the
+// sub-step turns them all on odd iterations, so that a chain of many iterations does not creep
+// toward one end.
 template <typename Solve>
-PfxInt32 solveInPhases(const PfxParticleConstraintBatches& batches, PfxTaskManager* taskManager,
-                       const Solve& solve) {
+PfxInt32 solveInPhases(const PfxParticleConstraintBatches& batches, PfxUInt32 iteration,
+                       PfxTaskManager* taskManager, const Solve& solve) {
+  // kChainsInStep chains at a time, a constraint of each in turn: a chain's constraints wait
+  // for each other, chains of a phase do not, so the processor overlaps their square roots
+  // and divisions. They share no particle, so the bits are those of one chain after another.
+  const auto solveChains = [&](PfxUInt32 begin, PfxUInt32 end) {
+    for (PfxUInt32 chain = begin; chain < end; chain += kChainsInStep) {
+      const PfxUInt32 numChains = std::min(kChainsInStep, end - chain);
+      PfxUInt32 next[kChainsInStep], left[kChainsInStep];
+      bool fromEnd[kChainsInStep];
+      PfxUInt32 longest = 0;
+      for (PfxUInt32 c = 0; c < numChains; ++c) {
+        const PfxUInt32 first = batches.chainStart[chain + c];
+        left[c] = batches.chainStart[chain + c + 1] - first;
+        fromEnd[c] = ((chain + c + iteration) & 1) != 0;
+        next[c] = fromEnd[c] ? first + left[c] - 1 : first;
+        longest = std::max(longest, left[c]);
+      }
+      for (PfxUInt32 k = 0; k < longest; ++k) {
+        for (PfxUInt32 c = 0; c < numChains; ++c) {
+          if (k >= left[c]) continue;
+          solve(batches.order[next[c]]);
+          next[c] = fromEnd[c] ? next[c] - 1 : next[c] + 1;
+        }
+      }
+    }
+  };
   for (PfxUInt32 phase = 0; phase < batches.numPhases; ++phase) {
     const PfxUInt32 first = batches.phaseStart[phase];
     const PfxUInt32 count = batches.phaseStart[phase + 1] - first;
-    const PfxInt32 err = pfxParallelFor(taskManager, count, kConstraintsPerTask,
+    const PfxUInt32 constraints = batches.chainStart[first + count] - batches.chainStart[first];
+    // About kConstraintsPerTask constraints per task, whole chains.
+    const PfxUInt32 chainsPerTask =
+        std::max<PfxUInt32>(1, PfxUInt32(PfxUInt64(kConstraintsPerTask) * count /
+                                         std::max<PfxUInt32>(constraints, 1)));
+    const PfxInt32 err = pfxParallelFor(taskManager, count, chainsPerTask,
                                         [&](PfxUInt32 begin, PfxUInt32 end) {
-                                          for (PfxUInt32 k = begin; k < end; ++k) {
-                                            solve(batches.order[first + k]);
-                                          }
+                                          solveChains(first + begin, first + end);
                                         });
     if (err != PFX_OK) return err;
   }
-  for (PfxUInt32 k = batches.phaseStart[batches.numPhases]; k < batches.numConstraints; ++k) {
-    solve(batches.order[k]);
-  }
+  solveChains(batches.phaseStart[batches.numPhases], batches.numChains);
   return PFX_OK;
 }
 
@@ -472,6 +506,7 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
     }
   }
   for (PfxUInt32 iteration = 0; iteration < param.iteration; ++iteration) {
+    const PfxUInt32 subStepIteration = param.iterationsDone + iteration;
     const auto distance = [&](PfxUInt32 i) {
       solveDistance(param.distanceConstraints[i], particles, alphaScale);
     };
@@ -480,8 +515,9 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
     };
     if (param.distanceBatches) {
       PfxInt32 err = PFX_OK;
-      if ((err = solveInPhases(*param.distanceBatches, taskManager, distance)) != PFX_OK ||
-          (err = solveInPhases(*param.angleBatches, taskManager, angle)) != PFX_OK) {
+      if ((err = solveInPhases(*param.distanceBatches, subStepIteration, taskManager,
+                                   distance)) != PFX_OK ||
+          (err = solveInPhases(*param.angleBatches, subStepIteration, taskManager, angle)) != PFX_OK) {
         return err;
       }
     } else {

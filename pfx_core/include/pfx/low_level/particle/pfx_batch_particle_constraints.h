@@ -1,34 +1,43 @@
-// Stage: splits a group's distance and angle constraints into phases in which no two
-// constraints share a particle (a greedy graph colouring), run once when the constraints
-// are set. pfxSolveParticleConstraints then solves a phase's constraints in parallel: they
-// move different particles, so the result is the same bits whatever the thread count, as
-// the seed's parallel solver does with its contact batches.
+// Stage: splits a group's distance and angle constraints into chains, and the chains into
+// phases in which no two chains share a particle (a greedy graph colouring), run once when
+// the constraints are set. pfxSolveParticleConstraints then solves a phase's chains in
+// parallel, each chain's constraints one after another: the chains move different particles,
+// so the result is the same bits whatever the thread count, as the seed's parallel solver
+// does with its contact batches.
 //
-// The order matters beyond speed. Solved one after another in the order a builder lists
-// them (each particle's links, row after row), one Gauss-Seidel sweep carries a correction
-// along a whole row of a cloth in a single pass; where a cloth lands, the corrections pile
-// up at the far end of the sweep and become velocity, and at one iteration per sub-step a
-// cloth of rigid links gains energy until it overflows. In phases a correction travels at
-// most one link per phase, alike in every direction.
+// A chain is a run of constraints listed one after another, each starting where the one
+// before ended (a distance constraint's A is the previous one's B; an angle constraint's A
+// and B are the previous one's B and C): a rope's links, a cloth's row, column or diagonal
+// as PfxParticleGroupBuilder lists them. Solved in sequence, a chain carries a correction
+// from end to end in one pass, where phases of single links carried it one link per phase
+// (a 128 x 128 cloth of rigid links draped over a sphere at 4 sub-steps of one iteration:
+// 10.4 % stretched in phases of links, 7.8 % in chains). The solve runs every other chain
+// of a phase from its end, so that neighbouring rows carry their corrections opposite ways:
+// all one way, a 20 x 20 cloth draped over a sphere took 5.4 s to come to rest against
+// 3.6 s; alternating each chain's direction from pass to pass instead left it shaking
+// between the two (not at rest in 8 s).
 #pragma once
 
 #include "pfx/base_level/particle/pfx_particle.h"
 
 namespace pfx {
 
-// Phases beyond this many are not made: the constraints that would need more share a
-// particle with constraints of every phase (a particle with more than this many links) and
-// are solved one by one after the phases.
+// Phases beyond this many are not made: the chains that would need more share a particle
+// with chains of every phase (a particle on more than this many chains) and are solved one
+// by one after the phases.
 constexpr PfxUInt32 PFX_MAX_PARTICLE_PHASES = 64;
 
-// The solve order of one kind of constraint: constraint indices phase by phase, each phase in
-// increasing index order.
+// The solve order of one kind of constraint: constraint indices chain by chain, the chains
+// phase by phase, each phase's chains in the order their constraints are listed.
 struct PfxParticleConstraintBatches {
-  PfxUInt32* order = nullptr;  // numConstraints entries, the caller's
+  PfxUInt32* order = nullptr;       // numConstraints entries, the caller's
+  PfxUInt32* chainStart = nullptr;  // numConstraints + 1 entries, the caller's
   PfxUInt32 numConstraints = 0;
+  PfxUInt32 numChains = 0;
   PfxUInt32 numPhases = 0;
-  // Phase k is order[phaseStart[k]] .. order[phaseStart[k + 1] - 1]; those from
-  // phaseStart[numPhases] to numConstraints are the ones left over, solved serially.
+  // Chain c is order[chainStart[c]] .. order[chainStart[c + 1] - 1]; phase k is chains
+  // phaseStart[k] .. phaseStart[k + 1] - 1; the chains from phaseStart[numPhases] to
+  // numChains are the ones left over, solved serially.
   PfxUInt32 phaseStart[PFX_MAX_PARTICLE_PHASES + 1] = {};
 };
 
@@ -42,7 +51,8 @@ struct PfxBatchParticleConstraintsParam {
   PfxUInt32 numDistanceConstraints = 0;
   const PfxParticleAngleConstraint* angleConstraints = nullptr;
   PfxUInt32 numAngleConstraints = 0;
-  // Filled: their order arrays must hold numDistanceConstraints and numAngleConstraints.
+  // Filled: their order arrays must hold numDistanceConstraints and numAngleConstraints
+  // entries, their chainStart arrays one more.
   PfxParticleConstraintBatches* distanceBatches = nullptr;
   PfxParticleConstraintBatches* angleBatches = nullptr;
 };
@@ -50,10 +60,10 @@ struct PfxBatchParticleConstraintsParam {
 PfxUInt32 pfxGetWorkBytesOfBatchParticleConstraints(PfxUInt32 numParticles,
                                                     PfxUInt32 numConstraints);
 
-// Rejects null arrays with a count or null batches (PFX_ERR_NULL_POINTER), a work buffer
-// that is too small (PFX_ERR_OUT_OF_BUFFER) or misaligned (PFX_ERR_INVALID_ALIGNMENT) and a
-// constraint naming a particle beyond numParticles (PFX_ERR_OUT_OF_RANGE); the batches are
-// untouched then. The same constraints give the same batches. Allocates nothing.
+// Rejects null arrays with a count or null batches, orders or chain starts
+// (PFX_ERR_NULL_POINTER), a work buffer that is too small (PFX_ERR_OUT_OF_BUFFER) or
+// misaligned (PFX_ERR_INVALID_ALIGNMENT) and a constraint naming a particle beyond
+// numParticles (PFX_ERR_OUT_OF_RANGE); the batches are untouched then. The same constraints give the same batches. Allocates nothing.
 PfxInt32 pfxBatchParticleConstraints(const PfxBatchParticleConstraintsParam& param);
 
 }  // namespace pfx

@@ -27,9 +27,9 @@ struct PfxSolveParticleConstraintsParam {
   PfxUInt32 numDistanceConstraints = 0;
   PfxParticleAngleConstraint* angleConstraints = nullptr;
   PfxUInt32 numAngleConstraints = 0;
-  // Optional, both or neither: the phases of pfxBatchParticleConstraints for these
-  // constraints. Without them the constraints are solved one after another in the order
-  // given; with them phase by phase, each phase's constraints in parallel on the task
+  // Optional, both or neither: the chains and phases of pfxBatchParticleConstraints for
+  // these constraints. Without them the constraints are solved one after another in the
+  // order given; with them phase by phase, each phase's chains in parallel on the task
   // manager, the same bits whatever the thread count.
   const PfxParticleConstraintBatches* distanceBatches = nullptr;
   const PfxParticleConstraintBatches* angleBatches = nullptr;
@@ -51,6 +51,9 @@ struct PfxSolveParticleConstraintsParam {
   // between two groups after each iteration of both); calls of one iteration each then give
   // the same bits as one call of as many iterations.
   bool continueSubStep = false;
+  // With continueSubStep, the iterations of the sub-step that earlier calls solved: with
+  // batches, odd iterations of a sub-step solve each chain the other way round.
+  PfxUInt32 iterationsDone = 0;
 };
 
 // Rejects null arrays with a count (PFX_ERR_NULL_POINTER); a constraint, tether, pin or
