@@ -72,8 +72,8 @@ struct PfxJoint {
 
 // Checks what pfxInitialize...Joint and the application set: ids, limits (lower <= upper),
 // bias, weight and damping in [0, 1], non-negative friction and drive force, finite values,
-// anchors, limits, drive targets and rows' accumulated impulses whose squares are finite,
-// orthonormal frames. PFX_OK or the error code naming what is wrong.
+// rows' accumulated impulses whose squares are finite, orthonormal frames. PFX_OK or the
+// error code naming what is wrong.
 PfxInt32 pfxCheckJoint(const PfxJoint& joint);
 
 // The six coordinates of the joint for the given states of its bodies: B's anchor in A's
