@@ -487,3 +487,87 @@ TEST(FuzzRegressions, PositionWhoseSquareOverflowsIsRefusedWithNothingChanged) {
   EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(1)), far), PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(world.getNumRigidBodies(), 1u);
 }
+
+// A saved hinge whose limits or drive target were 3.4e38 (a double file's value beyond float
+// read as the largest float; finite, so taken) formed errors and velocities from them that
+// overflowed, and the pendulum turned NaN in the first step. pfxCheckJoint (addJoint,
+// setJoint, the file reader) needs the limits and the drive target to have finite squares
+// now, the rule of body velocities; the force limit may still be the largest float (none).
+TEST(FuzzRegressions, JointLimitOrDriveTargetWhoseSquareOverflowsIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxUInt32 jointId = 0;
+  addPendulum(world, &jointId);
+  const PfxJoint before = world.getJoint(jointId);
+  PfxJoint driven = before;
+  PfxJointConstraint& twist = driven.m_constraints[kPfxJointAxisTwist];
+  twist.m_drive = kPfxJointDriveVelocity;
+  twist.m_driveTarget = kLargestFloat;
+  twist.m_driveMaxForce = kLargestFloat;
+  EXPECT_EQ(pfxCheckJoint(driven), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.setJoint(jointId, driven), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.addJoint(driven), PFX_ERR_INVALID_VALUE);
+  PfxJoint limited = before;
+  PfxJointConstraint& slide = limited.m_constraints[kPfxJointAxisX];
+  slide.m_lock = kPfxJointLockLimit;
+  slide.m_movableLowerLimit = -kLargestFloat;
+  slide.m_movableUpperLimit = 1;
+  EXPECT_EQ(world.setJoint(jointId, limited), PFX_ERR_INVALID_VALUE);
+  slide.m_movableLowerLimit = slide.m_movableUpperLimit = kLargestFloat;
+  EXPECT_EQ(world.setJoint(jointId, limited), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumJoints(), 1u);
+  EXPECT_EQ(world.getJoint(jointId).m_constraints[kPfxJointAxisX].m_lock,
+            before.m_constraints[kPfxJointAxisX].m_lock);
+  EXPECT_EQ(world.getJoint(jointId).m_constraints[kPfxJointAxisTwist].m_drive,
+            before.m_constraints[kPfxJointAxisTwist].m_drive);
+
+  // A file carrying such a target is refused by the reader, with the joint named.
+  const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
+  twist.m_driveTarget = mark;
+  ASSERT_EQ(world.setJoint(jointId, driven), PFX_OK);
+  PfxWorld loaded;
+  std::string error;
+  EXPECT_EQ(loadWithValueReplaced(world, mark, kLargestFloat, loaded, error),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+}
+
+// Within that rule a joint may still ask for more than a body can take: a position drive
+// 1e18 m or rad from its target with no force limit asked for 6e19 m/s, and an effort of
+// 1e18 N on a bar of 1e-12 kg made 1.7e28 m/s; both turned the pendulum NaN. The velocity a
+// joint row aims for, and what an effort adds to a velocity, are cut to kPfxMaxLinearSpeed
+// and kPfxMaxAngularSpeed now, as stage (1) cuts a force's.
+TEST(FuzzRegressions, JointDrivesAndLimitsFarAwayStepToFiniteStates) {
+  const PfxFloat far = PfxFloat(1e18);
+  for (const PfxUInt32 axis : {PfxUInt32(kPfxJointAxisX), PfxUInt32(kPfxJointAxisTwist)}) {
+    for (const PfxUInt8 drive : {PfxUInt8(kPfxJointDriveVelocity),
+                                 PfxUInt8(kPfxJointDrivePosition), PfxUInt8(kPfxJointDriveEffort),
+                                 PfxUInt8(kPfxJointDriveNone)}) {
+      PfxWorld world;
+      ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+      PfxUInt32 jointId = 0;
+      const PfxUInt32 bar = addPendulum(world, &jointId);
+      PfxRigidBody light = world.getRigidBody(bar);
+      light.setMass(kPfxMinMass);
+      light.setInertia(PfxMatrix3::Identity() * kPfxMinMoment);
+      ASSERT_EQ(world.setRigidBody(bar, light), PFX_OK);
+      PfxJoint joint = world.getJoint(jointId);
+      PfxJointConstraint& c = joint.m_constraints[axis];
+      c.m_lock = kPfxJointLockFree;
+      c.m_drive = drive;
+      c.m_driveTarget = far;
+      c.m_driveMaxForce = kLargestFloat;
+      if (drive == kPfxJointDriveNone) {  // a limit far away, the axis held at it
+        c.m_lock = kPfxJointLockLimit;
+        c.m_movableLowerLimit = c.m_movableUpperLimit = far;
+      }
+      ASSERT_EQ(world.setJoint(jointId, joint), PFX_OK);
+      for (int step = 0; step < 3; ++step) {
+        ASSERT_EQ(world.step(), PFX_OK);
+        ASSERT_TRUE(world.getRigidState(bar).isValid())
+            << "axis " << axis << ", drive " << int(drive) << ", step " << step;
+      }
+    }
+  }
+}

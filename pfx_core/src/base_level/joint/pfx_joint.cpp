@@ -91,15 +91,17 @@ PfxInt32 pfxCheckJoint(const PfxJoint& joint) {
     if (c.m_lock > kPfxJointLockLimit || c.m_drive > kPfxJointDriveEffort) {
       return PFX_ERR_INVALID_FLAG;
     }
-    // The rows' impulses are what the next step warm starts with: held to the rule of body
-    // velocities (PfxRigidState::isValid), as one of 3.4e38 N s made its bodies infinite.
-    const PfxFloat warmStartLock = c.m_constraintRow.m_accumImpulse;
-    const PfxFloat warmStartDrive = c.m_driveRow.m_accumImpulse;
-    const bool finite = pfxIsFinite(c.m_movableLowerLimit) && pfxIsFinite(c.m_movableUpperLimit) &&
-                        pfxIsFinite(c.m_driveTarget) && pfxIsFinite(c.m_driveMaxForce) &&
-                        pfxIsFinite(c.m_friction) &&
-                        pfxIsFinite(warmStartLock * warmStartLock) &&
-                        pfxIsFinite(warmStartDrive * warmStartDrive);
+    // The rows' impulses are what the next step warm starts with, and the limits and the
+    // drive target are what the rows' errors and velocities are formed from: held to the rule
+    // of body velocities (PfxRigidState::isValid), a finite square, as an impulse of 3.4e38
+    // N s, and a limit or drive target of 3.4e38, made the bodies infinite in the first step.
+    // The force limit stays free: its largest value means no limit.
+    const auto finiteSquare = [](PfxFloat x) { return pfxIsFinite(x * x); };
+    const bool finite = finiteSquare(c.m_movableLowerLimit) &&
+                        finiteSquare(c.m_movableUpperLimit) && finiteSquare(c.m_driveTarget) &&
+                        pfxIsFinite(c.m_driveMaxForce) && pfxIsFinite(c.m_friction) &&
+                        finiteSquare(c.m_constraintRow.m_accumImpulse) &&
+                        finiteSquare(c.m_driveRow.m_accumImpulse);
     if (!finite || !inUnitRange(c.m_bias) || !inUnitRange(c.m_weight) ||
         !inUnitRange(c.m_damping) || c.m_friction < 0 || c.m_driveMaxForce < 0) {
       return PFX_ERR_INVALID_VALUE;

@@ -1,6 +1,7 @@
 #include "pfx/low_level/rigidbody/pfx_apply_external_force.h"
 
 #include "low_level/pfx_param_checks.h"
+#include "low_level/rigidbody/pfx_speed_limit.h"
 
 namespace pfx {
 
@@ -12,18 +13,7 @@ bool movedByForces(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
 }
 
-using WideVector = Eigen::Matrix<long double, 3, 1>;
-
-WideVector wide(const PfxVector3& v) { return v.cast<long double>(); }
-
-PfxVector3 cutToSpeed(const WideVector& velocity, PfxFloat maxSpeed) {
-  const long double speed = velocity.norm();
-  return (speed > maxSpeed ? WideVector(velocity * (maxSpeed / speed)) : velocity)
-      .cast<PfxFloat>();
-}
-
-// Past the speed limits the sums are formed again in long double: a force of 1e19 N on a body
-// of 1e-12 kg overflows float on its way to a velocity, and a cut of infinity has no direction.
+// Past the speed limits the sums are formed again in long double (pfxCutToSpeed).
 void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3& force,
                 const PfxVector3& torque, const PfxVector3& gravity, PfxFloat timeStep) {
   const PfxVector3& linear = state.getLinearVelocity();
@@ -31,9 +21,10 @@ void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3
   state.setLinearVelocity(
       pushed.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed
           ? pushed
-          : cutToSpeed(wide(linear) + (wide(force) * (long double)body.getMassInv() + wide(gravity)) *
-                                          (long double)timeStep,
-                       kPfxMaxLinearSpeed));
+          : pfxCutToSpeed(pfxWide(linear) + (pfxWide(force) * (long double)body.getMassInv() +
+                                             pfxWide(gravity)) *
+                                                (long double)timeStep,
+                          kPfxMaxLinearSpeed));
   const PfxMatrix3 rotation = state.getOrientation().toRotationMatrix();
   const PfxMatrix3 inertiaInvWorld = pfxRotateInertia(rotation, body.getInertiaInv());
   const PfxVector3& angular = state.getAngularVelocity();
@@ -41,9 +32,9 @@ void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3
   state.setAngularVelocity(
       turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed
           ? turned
-          : cutToSpeed(wide(angular) + inertiaInvWorld.cast<long double>() * wide(torque) *
-                                           (long double)timeStep,
-                       kPfxMaxAngularSpeed));
+          : pfxCutToSpeed(pfxWide(angular) + inertiaInvWorld.cast<long double>() *
+                                                 pfxWide(torque) * (long double)timeStep,
+                          kPfxMaxAngularSpeed));
 }
 
 bool validStep(const PfxVector3& gravity, PfxFloat timeStep) {

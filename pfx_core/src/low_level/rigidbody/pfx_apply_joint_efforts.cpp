@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "low_level/pfx_param_checks.h"
+#include "low_level/rigidbody/pfx_speed_limit.h"
 #include "low_level/solver/pfx_joint_row.h"
 
 namespace pfx {
@@ -17,14 +18,31 @@ bool pushes(const PfxJointConstraint& c) {
   return c.m_drive == kPfxJointDriveEffort && c.m_lock != kPfxJointLockLocked;
 }
 
-// v += m^-1 J^T impulse for one side of the row.
+// v += m^-1 J^T impulse for one side of the row, each speed then cut to the limits of stage
+// (1), as a force's: an effort of 1e18 N on a body of 1e-12 kg made 1.7e28 m/s, whose square
+// overflows.
 void applyImpulse(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3& linear,
                   const PfxVector3& angular, PfxFloat impulse) {
   if (!movedByEfforts(state)) return;
   const PfxMatrix3 inertiaInv =
       pfxRotateInertia(state.getOrientation().toRotationMatrix(), body.getInertiaInv());
-  state.setLinearVelocity(state.getLinearVelocity() + (body.getMassInv() * impulse) * linear);
-  state.setAngularVelocity(state.getAngularVelocity() + impulse * (inertiaInv * angular));
+  const PfxVector3& linearVelocity = state.getLinearVelocity();
+  const PfxVector3 pushed = linearVelocity + (body.getMassInv() * impulse) * linear;
+  state.setLinearVelocity(
+      pushed.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed
+          ? pushed
+          : pfxCutToSpeed(pfxWide(linearVelocity) + (long double)body.getMassInv() *
+                                                        (long double)impulse * pfxWide(linear),
+                          kPfxMaxLinearSpeed));
+  const PfxVector3& angularVelocity = state.getAngularVelocity();
+  const PfxVector3 turned = angularVelocity + impulse * (inertiaInv * angular);
+  state.setAngularVelocity(
+      turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed
+          ? turned
+          : pfxCutToSpeed(pfxWide(angularVelocity) +
+                              (long double)impulse *
+                                  (inertiaInv.cast<long double>() * pfxWide(angular)),
+                          kPfxMaxAngularSpeed));
 }
 
 }  // namespace

@@ -53,6 +53,14 @@ void setRow(PfxConstraintRow& row, const PfxJoint& joint, PfxUInt32 axis,
   row.m_accumImpulse = std::clamp(row.m_accumImpulse * warmStartFactor, lower, upper);
 }
 
+// A velocity a row aims for along `axis`, cut to the speeds a body keeps (kPfxMaxLinearSpeed,
+// kPfxMaxAngularSpeed): a position drive 1e18 m from its target with no force limit asked
+// for 6e19 m/s, and the bodies it reached had velocities whose squares overflowed.
+PfxFloat withinSpeedLimit(PfxUInt32 axis, PfxFloat velocity) {
+  const PfxFloat limit = axis < 3 ? kPfxMaxLinearSpeed : kPfxMaxAngularSpeed;
+  return std::clamp(velocity, -limit, limit);
+}
+
 void unsetRow(PfxConstraintRow& row) {
   row.m_jacDiagInv = 0;
   row.m_rhs = 0;
@@ -81,7 +89,8 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     c.m_rowType = kPfxJointRowEquality;
     setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse,
            c.m_weight, warmStartFactor, bodies);
-    c.m_pushRhs = -c.m_bias * error / timeStep * c.m_constraintRow.m_jacDiagInv;
+    c.m_pushRhs =
+        withinSpeedLimit(axis, -c.m_bias * error / timeStep) * c.m_constraintRow.m_jacDiagInv;
     return;
   }
   // The nearer limit, as a one-sided row along +direction (lower) or -direction (upper).
@@ -92,7 +101,10 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   c.m_rowType = kPfxJointRowLimit;
   setRow(c.m_constraintRow, joint, axis, signedDirection, gap > 0 ? -gap / timeStep : 0, 0,
          kUnboundedImpulse, c.m_weight, warmStartFactor, bodies);
-  if (gap < 0) c.m_pushRhs = -c.m_bias * gap / timeStep * c.m_constraintRow.m_jacDiagInv;
+  if (gap < 0) {
+    c.m_pushRhs =
+        withinSpeedLimit(axis, -c.m_bias * gap / timeStep) * c.m_constraintRow.m_jacDiagInv;
+  }
 }
 
 // The velocities along an axis that keep it within its limits over the step (beyond a
@@ -148,8 +160,8 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     return;
   }
   c.m_driveRowUsed = 1;
-  setRow(c.m_driveRow, joint, axis, direction, target, -bound, bound, c.m_weight,
-         warmStartFactor, bodies);
+  setRow(c.m_driveRow, joint, axis, direction, withinSpeedLimit(axis, target), -bound, bound,
+         c.m_weight, warmStartFactor, bodies);
 }
 
 void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,

@@ -1,0 +1,22 @@
+// The speed limits of stage (1) (kPfxMaxLinearSpeed, kPfxMaxAngularSpeed) for what pushes
+// a body before the solver: external forces and joint efforts.
+#pragma once
+
+#include "pfx/base_level/rigidbody/pfx_rigid_state.h"
+
+namespace pfx {
+
+using PfxWideVector = Eigen::Matrix<long double, 3, 1>;
+
+inline PfxWideVector pfxWide(const PfxVector3& v) { return v.cast<long double>(); }
+
+// `velocity` cut to `maxSpeed`, direction kept. Taken in long double because a push past the
+// limits may overflow float on its way to a velocity (1e19 N on a body of 1e-12 kg), and a
+// cut of infinity has no direction.
+inline PfxVector3 pfxCutToSpeed(const PfxWideVector& velocity, PfxFloat maxSpeed) {
+  const long double speed = velocity.norm();
+  return (speed > maxSpeed ? PfxWideVector(velocity * (maxSpeed / speed)) : velocity)
+      .cast<PfxFloat>();
+}
+
+}  // namespace pfx
