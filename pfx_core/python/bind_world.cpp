@@ -81,7 +81,7 @@ void bindWorldParam(py::module_& m) {
       .def_readwrite("restitution_threshold", &PfxWorldParam::restitutionThreshold,
                      "Approach speed below which nothing bounces (m/s).")
       .def_readwrite("enable_shock_propagation", &PfxWorldParam::enableShockPropagation,
-                     "After the iterations, stop bodies sinking into those under them.")
+                     "After the iterations, stop bodies sinking into those under them (off by default).")
       .def_readwrite("measure_conservation", &PfxWorldParam::measureConservation,
                      "Report energy and momentum changes in the statistics.")
       .def_readwrite("out_of_world_behavior", &PfxWorldParam::outOfWorldBehavior,
