@@ -648,15 +648,16 @@ PfxInt32 PfxWorld::findPairs() {
 }
 
 // Room for the manifolds of `numNewPairs` more pairs, those the free slots cannot take:
-// exactly the slots needed when the pool first grows (a scene built at once finds all its
-// pairs in its first step; doubling from 64 left 10,001 resting spheres with 16,384 slots
-// of 836 bytes), then half as many again each time, so that a growing scene seldom moves
+// a quarter more than needed when the pool first grows (a scene built at once finds most
+// of its pairs in its first step; doubling from 64 left 10,001 resting spheres with 16,384
+// slots of 836 bytes, and exactly as many as needed had a settling pile allocate again in
+// a later step), then half as many again each time, so that a growing scene seldom moves
 // them. The free list can hold every slot, so that freeing one never allocates.
 void PfxWorld::reserveManifolds(PfxUInt32 numNewPairs) {
   const std::size_t numFree = m_freeManifolds.size();
   const std::size_t needed = m_manifolds.size() + (numNewPairs > numFree ? numNewPairs - numFree : 0);
   if (needed <= m_manifolds.capacity()) return;
-  const std::size_t capacity = std::max(needed, m_manifolds.capacity() * 3 / 2);
+  const std::size_t capacity = std::max(needed + needed / 4, m_manifolds.capacity() * 3 / 2);
   m_manifolds.reserve(capacity);
   m_freeManifolds.reserve(capacity);
 }
