@@ -13,28 +13,24 @@ bool movedByForces(const PfxRigidState& state) {
   return pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake();
 }
 
-// Past the speed limits the sums are formed again in long double (pfxCutToSpeed).
+// Past the speed limits the sums are formed again in long double (pfxWithinSpeed).
 void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3& force,
                 const PfxVector3& torque, const PfxVector3& gravity, PfxFloat timeStep) {
   const PfxVector3& linear = state.getLinearVelocity();
   const PfxVector3 pushed = linear + (force * body.getMassInv() + gravity) * timeStep;
-  state.setLinearVelocity(
-      pushed.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed
-          ? pushed
-          : pfxCutToSpeed(pfxWide(linear) + (pfxWide(force) * (long double)body.getMassInv() +
-                                             pfxWide(gravity)) *
-                                                (long double)timeStep,
-                          kPfxMaxLinearSpeed));
+  state.setLinearVelocity(pfxWithinSpeed(pushed, kPfxMaxLinearSpeed, [&]() -> PfxWideVector {
+    return pfxWide(linear) +
+           (pfxWide(force) * (long double)body.getMassInv() + pfxWide(gravity)) *
+               (long double)timeStep;
+  }));
   const PfxMatrix3 rotation = state.getOrientation().toRotationMatrix();
   const PfxMatrix3 inertiaInvWorld = pfxRotateInertia(rotation, body.getInertiaInv());
   const PfxVector3& angular = state.getAngularVelocity();
   const PfxVector3 turned = angular + inertiaInvWorld * torque * timeStep;
-  state.setAngularVelocity(
-      turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed
-          ? turned
-          : pfxCutToSpeed(pfxWide(angular) + inertiaInvWorld.cast<long double>() *
-                                                 pfxWide(torque) * (long double)timeStep,
-                          kPfxMaxAngularSpeed));
+  state.setAngularVelocity(pfxWithinSpeed(turned, kPfxMaxAngularSpeed, [&]() -> PfxWideVector {
+    return pfxWide(angular) +
+           inertiaInvWorld.cast<long double>() * pfxWide(torque) * (long double)timeStep;
+  }));
 }
 
 bool validStep(const PfxVector3& gravity, PfxFloat timeStep) {

@@ -28,21 +28,16 @@ void applyImpulse(PfxRigidState& state, const PfxRigidBody& body, const PfxVecto
       pfxRotateInertia(state.getOrientation().toRotationMatrix(), body.getInertiaInv());
   const PfxVector3& linearVelocity = state.getLinearVelocity();
   const PfxVector3 pushed = linearVelocity + (body.getMassInv() * impulse) * linear;
-  state.setLinearVelocity(
-      pushed.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed
-          ? pushed
-          : pfxCutToSpeed(pfxWide(linearVelocity) + (long double)body.getMassInv() *
-                                                        (long double)impulse * pfxWide(linear),
-                          kPfxMaxLinearSpeed));
+  state.setLinearVelocity(pfxWithinSpeed(pushed, kPfxMaxLinearSpeed, [&]() -> PfxWideVector {
+    return pfxWide(linearVelocity) +
+           (long double)body.getMassInv() * (long double)impulse * pfxWide(linear);
+  }));
   const PfxVector3& angularVelocity = state.getAngularVelocity();
   const PfxVector3 turned = angularVelocity + impulse * (inertiaInv * angular);
-  state.setAngularVelocity(
-      turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed
-          ? turned
-          : pfxCutToSpeed(pfxWide(angularVelocity) +
-                              (long double)impulse *
-                                  (inertiaInv.cast<long double>() * pfxWide(angular)),
-                          kPfxMaxAngularSpeed));
+  state.setAngularVelocity(pfxWithinSpeed(turned, kPfxMaxAngularSpeed, [&]() -> PfxWideVector {
+    return pfxWide(angularVelocity) +
+           (long double)impulse * (inertiaInv.cast<long double>() * pfxWide(angular));
+  }));
 }
 
 }  // namespace

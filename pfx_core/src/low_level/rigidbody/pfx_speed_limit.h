@@ -19,4 +19,12 @@ inline PfxVector3 pfxCutToSpeed(const PfxWideVector& velocity, PfxFloat maxSpeed
       .cast<PfxFloat>();
 }
 
+// `pushed`, a velocity summed in float, when it keeps to `maxSpeed`; else `wideSum()`, the
+// same sum in long double, cut to it.
+template <typename WideSum>
+PfxVector3 pfxWithinSpeed(const PfxVector3& pushed, PfxFloat maxSpeed, WideSum wideSum) {
+  return pushed.squaredNorm() <= maxSpeed * maxSpeed ? pushed
+                                                     : pfxCutToSpeed(wideSum(), maxSpeed);
+}
+
 }  // namespace pfx
