@@ -12,11 +12,24 @@ bash scripts/install_deps.sh all
 jobs=$(nproc)
 # ROS's Python tools need Debian's python3, not a pyenv one first on PATH.
 export PYENV_VERSION=system
-# Each stage's start and its seconds, so that the CI log shows where the time goes.
+# Each stage's start, its seconds and its processor seconds (all its programs, both cores),
+# so that the CI log shows where the time goes; the processor time varies less than the
+# wall time with what else the machine runs.
+# `times` must run in this shell (a pipe or $(...) would ask a subshell, which has no
+# children); its second line holds the finished children's user and system time, "XmY.YYYs".
+times_file=$(mktemp)
+trap 'rm -f "$times_file"' EXIT
 stage_started=$SECONDS
+stage_cpu_started=0
 stage() {
-  echo "== stage: $1 at $(date -u +%T) (previous stage took $((SECONDS - stage_started)) s)"
+  local cpu
+  times >"$times_file"
+  cpu=$(sed -n 2p "$times_file" | awk '{ n = 0; for (i = 1; i <= 2; i++) { split($i, t, "m");
+    n += t[1] * 60 + t[2] } printf "%d", n }')
+  echo "== stage: $1 at $(date -u +%T) (previous stage took $((SECONDS - stage_started)) s," \
+    "$((cpu - stage_cpu_started)) processor s)"
   stage_started=$SECONDS
+  stage_cpu_started=$cpu
 }
 
 # Builds from scratch: the core and loaders compiled in batches of sources and the suites'
