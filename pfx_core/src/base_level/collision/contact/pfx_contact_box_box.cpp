@@ -117,19 +117,22 @@ class BoxBoxContact {
     const PfxFloat faceTolerance =
         PfxFloat(1e-3) * std::min(m_a.half.maxCoeff(), m_b.half.maxCoeff()) + PfxFloat(1e-5);
     m_mergeDistance = PfxFloat(1e-2) * faceTolerance;
-    // Faces are preferred within a tolerance: they give full manifolds for resting
-    // contact, and an edge pair that only ties a face adds nothing but jitter.
-    if (edge.found && edge.separation > bestFace + faceTolerance &&
+    // Faces are preferred within a tolerance of the best axis: they give full manifolds for
+    // resting contact, and an edge pair that only ties a face adds nothing but jitter.
+    const bool faceAQualifies = faceA.separation + faceTolerance >= separation;
+    const bool faceBQualifies = faceB.separation + faceTolerance >= separation;
+    if (!faceAQualifies && !faceBQualifies && edge.found &&
         edgeContact(edge, rotation, translation)) {
       return;
     }
-    bool referenceIsA = faceA.separation + faceTolerance >= faceB.separation;
-    if (std::abs(faceA.separation - faceB.separation) <= faceTolerance) {
+    bool referenceIsA = faceA.separation >= faceB.separation;
+    if (faceAQualifies && faceBQualifies) {
       // A tie: the larger face is the reference, so that the smaller one is clipped to it.
       referenceIsA = faceArea(m_a.half, faceA.axis) >= faceArea(m_b.half, faceB.axis);
     }
-    const PfxFloat nearest = referenceIsA ? faceContact(m_a, faceA, m_b, true, apart)
-                                          : faceContact(m_b, faceB, m_a, false, apart);
+    const PfxFloat nearest =
+        referenceIsA ? faceContact(m_a, faceA, m_b, true, apart, separation)
+                     : faceContact(m_b, faceB, m_a, false, apart, separation);
     if (apart && nearest > gap.distance + faceTolerance) {
       m_sink.add(gap.normal, gap.pointA, gap.pointB, gap.distance);
     }
@@ -152,12 +155,14 @@ class BoxBoxContact {
   }
 
   // Clips the face of `incident` that most opposes the reference face to the reference
-  // face's rectangle; every clipped point within the threshold is a contact. Works in the
-  // reference box's frame, where the rectangle's sides are axis planes. Returns the nearest
-  // distance reported (the largest float when none); for boxes `apart`, as
-  // pfxContactPolyhedra does, nothing stands for a face clipped away entirely.
+  // face's rectangle; every clipped point within the threshold is a contact, its distance
+  // never below `leastDistance`, the separation along the best axis (see
+  // pfxContactPolyhedra). Works in the reference box's frame, where the rectangle's sides are
+  // axis planes. Returns the nearest distance reported (the largest float when none); for
+  // boxes `apart`, as pfxContactPolyhedra does, nothing stands for a face clipped away
+  // entirely.
   PfxFloat faceContact(const BoxPose& reference, const FaceAxis& face, const BoxPose& incident,
-                       bool referenceIsA, bool apart) {
+                       bool referenceIsA, bool apart, PfxFloat leastDistance) {
     const PfxTransform3& refTransform = *reference.transform;
     const PfxMatrix3 rotation = refTransform.linear().transpose() * incident.transform->linear();
     const PfxVector3 centre = refTransform.linear().transpose() *
@@ -210,7 +215,7 @@ class BoxBoxContact {
     PfxFloat nearest = std::numeric_limits<PfxFloat>::max();
     for (PfxUInt32 i = 0; i < count; ++i) {
       const PfxVector3& p = polygon[i];
-      const PfxFloat distance = normal.dot(p) - reference.half[k];
+      const PfxFloat distance = std::max(normal.dot(p) - reference.half[k], leastDistance);
       const PfxVector3 onIncident = refTransform * p;
       const PfxVector3 onReference = refTransform * PfxVector3(p - normal * distance);
       if (referenceIsA) {

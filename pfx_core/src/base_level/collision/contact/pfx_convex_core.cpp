@@ -53,9 +53,17 @@ PfxVector3 PfxConvexCore::supportLocal(const PfxVector3& dir) const {
                         signOf(dir[2]) * m_size[2]);
     case kPfxShapeCapsule: return PfxVector3(signOf(dir[0]) * m_size[0], 0, 0);
     case kPfxShapeCylinder: {
+      // The rim is the support unless the direction lies along the axis to rounding, judged
+      // against the direction's axial part: GJK asks along its closest point, a few
+      // hundredths of a millimetre long near contact, and an absolute floor there took the
+      // cap's centre for the support, so two overlapping cylinders seemed 0.04 mm apart.
       const PfxFloat radial = std::hypot(dir[1], dir[2]);
-      const PfxFloat scale = radial > PFX_EPSILON ? m_size[1] / radial : PfxFloat(0);
-      return PfxVector3(signOf(dir[0]) * m_size[0], dir[1] * scale, dir[2] * scale);
+      PfxVector3 point(signOf(dir[0]) * m_size[0], 0, 0);
+      if (radial > PFX_EPSILON * std::abs(dir[0])) {
+        point[1] = m_size[1] * (dir[1] / radial);
+        point[2] = m_size[1] * (dir[2] / radial);
+      }
+      return point;
     }
     default: {
       PfxUInt32 best = 0;
