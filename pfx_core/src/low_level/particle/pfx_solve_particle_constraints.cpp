@@ -18,7 +18,7 @@ constexpr PfxFloat kMinLength = PfxFloat(1e-9);
 constexpr PfxUInt32 kConstraintsPerTask = 256;
 // Chains of a phase solved side by side on one thread (solveChainsInSequence).
 constexpr PfxUInt32 kChainsInStep = 4;
-// Links of a distance chain solved as one system (solveDistanceChain): the scratch lives on
+// Links of a distance chain solved as one system (solveDistanceChains): the scratch lives on
 // the stack, so a longer chain is solved in pieces of this many, one after another.
 constexpr PfxUInt32 kMaxDirectLinks = 256;
 
@@ -126,55 +126,94 @@ void solveDistance(PfxParticleDistanceConstraint& c, PfxParticle* particles, Pfx
 // pass (the direct solve of "Direct position-based solver for stiff rods", Deul et al. 2018,
 // on a chain of distance constraints). A link with no mass to move or no direction is left
 // out, as solveDistance leaves it.
-void solveDistanceChain(const PfxUInt32* links, PfxUInt32 numLinks,
-                        PfxParticleDistanceConstraint* constraints, PfxParticle* particles,
-                        PfxFloat alphaScale) {
+//
+// Up to kChainsInStep chains (each at most kMaxDirectLinks links) are solved side by side: the
+// forward sweep divides by each row's pivot, which waits for the row before, and taking the
+// chains' rows in turn lets the processor overlap their divisions (one chain at a time, that
+// sweep was two fifths of the solve of a 64 x 64 cloth). The chains share no particle, so the
+// bits are those of one chain after another.
+struct DistanceChain {
+  const PfxUInt32* links;
+  PfxUInt32 numLinks;
+};
+
+struct DistanceChainSystem {
   PfxVector3 direction[kMaxDirectLinks];
-  // Filled as the matrix's row i (its diagonal, the entry beside it toward link i + 1 and the
-  // right-hand side), then overwritten by the forward sweep with the eliminated row.
+  // Row i of the matrix (its diagonal, the entry beside it toward link i + 1, and the
+  // right-hand side), then after the forward sweep the eliminated row.
   PfxFloat diagonal[kMaxDirectLinks], beside[kMaxDirectLinks], rhs[kMaxDirectLinks];
-  for (PfxUInt32 i = 0; i < numLinks; ++i) {
-    const PfxParticleDistanceConstraint& c = constraints[links[i]];
+};
+
+void setUpDistanceChain(const DistanceChain& chain, const PfxParticleDistanceConstraint* constraints,
+                        const PfxParticle* particles, PfxFloat alphaScale,
+                        DistanceChainSystem& system) {
+  for (PfxUInt32 i = 0; i < chain.numLinks; ++i) {
+    const PfxParticleDistanceConstraint& c = constraints[chain.links[i]];
     const PfxParticle& a = particles[c.m_particleA];
     const PfxParticle& b = particles[c.m_particleB];
     const PfxVector3 d = a.m_position - b.m_position;
     const PfxFloat length = d.norm();
     const PfxFloat w = a.m_massInv + b.m_massInv;
     if (w == 0 || length < kMinLength) {
-      direction[i] = PfxVector3::Zero();
-      diagonal[i] = 1;
-      rhs[i] = 0;
+      system.direction[i] = PfxVector3::Zero();
+      system.diagonal[i] = 1;
+      system.rhs[i] = 0;
     } else {
-      direction[i] = d / length;
+      // One division for the three components (d / length divides each).
+      system.direction[i] = d * (1 / length);
       const PfxFloat alpha = c.m_compliance * alphaScale;
-      diagonal[i] = w + alpha;
-      rhs[i] = -(length - c.m_restLength) - alpha * c.m_lambda;
+      system.diagonal[i] = w + alpha;
+      system.rhs[i] = -(length - c.m_restLength) - alpha * c.m_lambda;
     }
     // Link i - 1 ends at link i's particle A.
-    if (i > 0) beside[i - 1] = -a.m_massInv * direction[i - 1].dot(direction[i]);
+    if (i > 0) {
+      system.beside[i - 1] = -a.m_massInv * system.direction[i - 1].dot(system.direction[i]);
+    }
   }
-  beside[numLinks - 1] = 0;
-  // Forward sweep: row i loses its entry left of the diagonal (that of row i - 1 beside it,
-  // by symmetry); `beside` becomes the eliminated rows' entries over their pivots.
-  PfxFloat left = 0;
-  for (PfxUInt32 i = 0; i < numLinks; ++i) {
-    const PfxFloat inversePivot =
-        1 / (i > 0 ? diagonal[i] - left * beside[i - 1] : diagonal[i]);
-    if (i > 0) rhs[i] -= left * rhs[i - 1];
-    rhs[i] *= inversePivot;
-    left = beside[i];
-    beside[i] *= inversePivot;
-  }
-  // Back substitution, each link's multiplier applied as soon as it is known.
+  system.beside[chain.numLinks - 1] = 0;
+}
+
+// Back substitution, each link's multiplier applied as soon as it is known.
+void applyDistanceChain(const DistanceChain& chain, const DistanceChainSystem& system,
+                        PfxParticleDistanceConstraint* constraints, PfxParticle* particles) {
   PfxFloat dLambda = 0;
-  for (PfxUInt32 i = numLinks; i-- > 0;) {
-    dLambda = rhs[i] - beside[i] * dLambda;
-    PfxParticleDistanceConstraint& c = constraints[links[i]];
+  for (PfxUInt32 i = chain.numLinks; i-- > 0;) {
+    dLambda = system.rhs[i] - system.beside[i] * dLambda;
+    PfxParticleDistanceConstraint& c = constraints[chain.links[i]];
     c.m_lambda += dLambda;
     PfxParticle& a = particles[c.m_particleA];
     PfxParticle& b = particles[c.m_particleB];
-    a.m_position += a.m_massInv * dLambda * direction[i];
-    b.m_position -= b.m_massInv * dLambda * direction[i];
+    a.m_position += a.m_massInv * dLambda * system.direction[i];
+    b.m_position -= b.m_massInv * dLambda * system.direction[i];
+  }
+}
+
+void solveDistanceChains(const DistanceChain* chains, PfxUInt32 numChains,
+                         PfxParticleDistanceConstraint* constraints, PfxParticle* particles,
+                         PfxFloat alphaScale) {
+  DistanceChainSystem systems[kChainsInStep];
+  PfxUInt32 longest = 0;
+  for (PfxUInt32 c = 0; c < numChains; ++c) {
+    setUpDistanceChain(chains[c], constraints, particles, alphaScale, systems[c]);
+    longest = std::max(longest, chains[c].numLinks);
+  }
+  // Forward sweep: row i loses its entry left of the diagonal (that of row i - 1 beside it,
+  // by symmetry); `beside` becomes the eliminated rows' entries over their pivots.
+  PfxFloat left[kChainsInStep] = {};
+  for (PfxUInt32 i = 0; i < longest; ++i) {
+    for (PfxUInt32 c = 0; c < numChains; ++c) {
+      if (i >= chains[c].numLinks) continue;
+      DistanceChainSystem& s = systems[c];
+      const PfxFloat inversePivot =
+          1 / (i > 0 ? s.diagonal[i] - left[c] * s.beside[i - 1] : s.diagonal[i]);
+      if (i > 0) s.rhs[i] -= left[c] * s.rhs[i - 1];
+      s.rhs[i] *= inversePivot;
+      left[c] = s.beside[i];
+      s.beside[i] *= inversePivot;
+    }
+  }
+  for (PfxUInt32 c = 0; c < numChains; ++c) {
+    applyDistanceChain(chains[c], systems[c], constraints, particles);
   }
 }
 
@@ -587,19 +626,32 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
     if (param.distanceBatches) {
       const PfxParticleConstraintBatches& distanceBatches = *param.distanceBatches;
       const PfxParticleConstraintBatches& angleBatches = *param.angleBatches;
-      // A chain of one link, a lone rope's, is solveDistance.
+      // A chain of one link, a lone rope's, is solveDistance; one longer than a system holds
+      // is solved in pieces, one after another. The chains left over after the phases may
+      // share particles and are solved one at a time.
       const auto distanceChains = [&](PfxUInt32 begin, PfxUInt32 end) {
+        const PfxUInt32 atOnce =
+            begin >= distanceBatches.phaseStart[distanceBatches.numPhases] ? 1 : kChainsInStep;
+        DistanceChain sideBySide[kChainsInStep];
+        PfxUInt32 numSideBySide = 0;
         for (PfxUInt32 chain = begin; chain < end; ++chain) {
           const PfxUInt32* links = distanceBatches.order + distanceBatches.chainStart[chain];
           const PfxUInt32 numLinks =
               distanceBatches.chainStart[chain + 1] - distanceBatches.chainStart[chain];
           if (numLinks == 1) {
             distance(links[0]);
-            continue;
+          } else if (numLinks > kMaxDirectLinks) {
+            for (PfxUInt32 done = 0; done < numLinks; done += kMaxDirectLinks) {
+              const DistanceChain piece{links + done, std::min(kMaxDirectLinks, numLinks - done)};
+              solveDistanceChains(&piece, 1, param.distanceConstraints, particles, alphaScale);
+            }
+          } else {
+            sideBySide[numSideBySide++] = {links, numLinks};
           }
-          for (PfxUInt32 done = 0; done < numLinks; done += kMaxDirectLinks) {
-            solveDistanceChain(links + done, std::min(kMaxDirectLinks, numLinks - done),
-                               param.distanceConstraints, particles, alphaScale);
+          if (numSideBySide == atOnce || (chain + 1 == end && numSideBySide > 0)) {
+            solveDistanceChains(sideBySide, numSideBySide, param.distanceConstraints, particles,
+                                alphaScale);
+            numSideBySide = 0;
           }
         }
       };
