@@ -14,7 +14,7 @@
 // every other chain of a phase from its end, so that neighbouring chains carry their
 // corrections opposite ways. A 128 x 128 cloth of rigid links draped over a sphere at 4
 // sub-steps of one iteration ended 10.4 % stretched in phases of single links, 7.8 % in
-// chains solved link after link, 0.41 % with each chain solved at once.
+// chains solved link after link, 0.34 % with each chain solved at once.
 #pragma once
 
 #include "pfx/base_level/particle/pfx_particle.h"
