@@ -720,6 +720,43 @@ TEST(Particles, BatchesNameEachConstraintOnceAndNoParticleTwiceInAPhase) {
   EXPECT_EQ(std::memcmp(before.data(), b.particles.data(), n * sizeof(PfxParticle)), 0);
 }
 
+// A chain of rigid links is solved as one system: four ropes side by side (so that they are
+// chains, not single links), straight and stretched by a tenth, are back at their rest
+// lengths after one iteration, where link after link one pass took back only a part, and
+// their centres of mass have not moved (the links only push particles against each other).
+TEST(Particles, OneIterationTakesAChainOfLinksBackToItsRestLength) {
+  PfxParticleGroupBuilder b;
+  const PfxUInt32 numRopes = 4, perRope = 100;
+  const PfxFloat restLength = PfxFloat(1) / (perRope - 1);
+  for (PfxUInt32 r = 0; r < numRopes; ++r) {
+    b.addRope(PfxVector3(0, 0, PfxFloat(r)), PfxVector3(PfxFloat(1.1), 0, PfxFloat(r)), perRope,
+              PfxParticleGroupBuilder::Material());
+  }
+  for (PfxParticleDistanceConstraint& c : b.distanceConstraints) c.m_restLength = restLength;
+  const PfxUInt32 n = static_cast<PfxUInt32>(b.particles.size());
+  Batched batched;
+  ASSERT_EQ(batchBuilder(b, batched, n), PFX_OK) << pfxGetLastErrorDetail();
+  ASSERT_EQ(batched.distance.numChains, numRopes);
+  PfxVector3 centreBefore = PfxVector3::Zero();
+  for (const PfxParticle& p : b.particles) centreBefore += p.m_position / PfxFloat(n);
+  PfxSolveParticleConstraintsParam solve;
+  solve.particles = b.particles.data();
+  solve.numParticles = n;
+  solve.distanceConstraints = b.distanceConstraints.data();
+  solve.numDistanceConstraints = static_cast<PfxUInt32>(b.distanceConstraints.size());
+  solve.distanceBatches = &batched.distance;
+  solve.angleBatches = &batched.angle;
+  ASSERT_EQ(pfxSolveParticleConstraints(solve), PFX_OK) << pfxGetLastErrorDetail();
+  for (const PfxParticleDistanceConstraint& c : b.distanceConstraints) {
+    const PfxFloat length =
+        (b.particles[c.m_particleA].m_position - b.particles[c.m_particleB].m_position).norm();
+    EXPECT_NEAR(length, restLength, 1e-6) << "link " << c.m_particleA << "-" << c.m_particleB;
+  }
+  PfxVector3 centreAfter = PfxVector3::Zero();
+  for (const PfxParticle& p : b.particles) centreAfter += p.m_position / PfxFloat(n);
+  EXPECT_LT((centreAfter - centreBefore).norm(), 1e-5);
+}
+
 TEST(Particles, BatchingRefusesMissingParticlesAndSmallBuffers) {
   PfxParticleGroupBuilder b;
   b.addRope(PfxVector3::Zero(), PfxVector3(1, 0, 0), 10, PfxParticleGroupBuilder::Material());

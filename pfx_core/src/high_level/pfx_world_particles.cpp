@@ -541,11 +541,29 @@ void PfxWorld::updateParticleSleep() {
                         !bodyMoves(m_states[pin.m_rigidBodyId], m_param));
     }
     group->sleepCount = still ? group->sleepCount + 1 : 0;
-    if (group->sleepCount >= stepsToSleep) {
-      // Its contacts stay as they are, for the queries, until it wakes and finds new ones.
-      group->asleep = true;
-      for (PfxParticle& p : group->particles) p.m_velocity.setZero();
+  }
+  // Groups whose bounds meet fall asleep together, when the last of them has been still long
+  // enough: one asleep beside an awake one would be woken by it on the next step, and two that
+  // came to rest a step apart then took turns waking each other and never slept.
+  const PfxFloat margin = m_param.contactMargin;
+  for (const auto& group : m_particleGroups) {
+    if (!group || group->asleep || group->sleepCount < stepsToSleep) continue;
+    PfxVector3 lo, hi;
+    boundsOf(*group, margin, lo, hi);
+    bool neighboursStill = true;
+    for (const auto& other : m_particleGroups) {
+      if (!neighboursStill || !other || other == group || other->asleep ||
+          other->sleepCount >= stepsToSleep || other->particles.empty()) {
+        continue;
+      }
+      PfxVector3 otherLo, otherHi;
+      boundsOf(*other, margin, otherLo, otherHi);
+      neighboursStill = !boundsMeet(lo, hi, otherLo, otherHi);
     }
+    if (!neighboursStill) continue;
+    // Its contacts stay as they are, for the queries, until it wakes and finds new ones.
+    group->asleep = true;
+    for (PfxParticle& p : group->particles) p.m_velocity.setZero();
   }
 }
 

@@ -121,7 +121,8 @@ void findNearBodies(const PfxDetectParticleContactsParam& param, NearBodies& nea
 // particle's sphere passes the narrow phase's checks: its particle was checked.
 PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleContactsParam& param,
                             const PfxContactQueryInput& query, PfxFloat radius,
-                            PfxQueryContact* found, PfxUInt32 maxFound) {
+                            PfxContactCandidate* candidates, PfxQueryContact* found,
+                            PfxUInt32 maxFound) {
   const PfxVector3 center = query.transform.translation();
   const PfxVector3 reach = PfxVector3::Constant(radius + query.contactThreshold);
   PfxUInt32 numFound = 0;
@@ -133,7 +134,6 @@ PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleConta
                                 body.filterSelf, body.filterTarget)) {
       continue;
     }
-    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
     const auto contact = body.checked ? pfxContactCheckedCollidables : pfxContactCollidables;
     const PfxUInt32 count = contact(*query.collidable, query.transform,
                                     param.rigidBodies.offsetCollidables[body.id], body.transform,
@@ -147,31 +147,53 @@ PfxUInt32 contactNearBodies(const NearBodies& near, const PfxDetectParticleConta
   return numFound;
 }
 
+// What detectRigid reuses from one particle to the next: made for each particle, the arrays
+// of contact points (whose members start initialised) and the particle's sphere collidable
+// (its shape checked, its bounds found) were a third of a 64 x 64 cloth's contact detection.
+// The sphere is made again only when the radius changes; a cloth's particles share one.
+class RigidDetectionScratch {
+ public:
+  // Room for two bodies' worth of points; a particle touching more keeps what fits.
+  static constexpr PfxUInt32 kMaxFound = 2 * PFX_MAX_CONTACT_CANDIDATES;
+  PfxQueryContact found[kMaxFound];
+  PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+
+  const PfxCollidable& sphereOf(PfxFloat radius) {
+    if (radius != m_radius) {
+      PfxShape sphere;
+      sphere.reset();
+      sphere.setSphere(PfxSphere(radius));
+      m_sphere.reset();
+      m_sphere.addShape(sphere);
+      m_sphere.finish();
+      m_radius = radius;
+    }
+    return m_sphere;
+  }
+
+ private:
+  PfxCollidable m_sphere;
+  PfxFloat m_radius = -1;
+};
+
 void detectRigid(const PfxDetectParticleContactsParam& param, const NearBodies& near,
-                 PfxUInt32 i, const ParticleDetectionWork& work) {
+                 PfxUInt32 i, const ParticleDetectionWork& work, RigidDetectionScratch& scratch) {
   const PfxParticle& p = param.particles[i];
   PfxUInt32& count = work.rigidCounts[i];
   count = 0;
   if (p.m_massInv == 0) return;
-  PfxShape sphere;
-  sphere.reset();
-  sphere.setSphere(PfxSphere(p.m_radius));
-  PfxCollidable collidable;
-  collidable.reset();
-  collidable.addShape(sphere);
-  collidable.finish();
   PfxContactQueryInput query;
-  query.collidable = &collidable;
+  query.collidable = &scratch.sphereOf(p.m_radius);
   query.transform = pfxMakeTransform(PfxQuat::Identity(), p.m_position);
   query.contactThreshold = p.m_velocity.norm() * param.timeStep + param.contactMargin;
   query.contactFilterSelf = p.m_contactFilterSelf;
   query.contactFilterTarget = p.m_contactFilterTarget;
-  // Room for two bodies' worth of points; a particle touching more keeps what fits.
-  constexpr PfxUInt32 kMaxFound = 2 * PFX_MAX_CONTACT_CANDIDATES;
-  PfxQueryContact found[kMaxFound];
+  constexpr PfxUInt32 kMaxFound = RigidDetectionScratch::kMaxFound;
+  PfxQueryContact* found = scratch.found;
   PfxUInt32 numFound = 0;
   if (near.all) {
-    numFound = contactNearBodies(near, param, query, p.m_radius, found, kMaxFound);
+    numFound = contactNearBodies(near, param, query, p.m_radius, scratch.candidates, found,
+                                 kMaxFound);
   } else {
     PfxQueryContactsResult result;
     if (pfxQueryContacts(query, param.rigidBodies, found, kMaxFound, result) != PFX_OK) return;
@@ -300,7 +322,10 @@ PfxInt32 pfxDetectParticleContacts(const PfxDetectParticleContactsParam& param,
     findNearBodies(param, near);
     err = pfxParallelFor(taskManager, param.numParticles, kDetectedParticlesPerTask,
                          [&](PfxUInt32 begin, PfxUInt32 end) {
-                           for (PfxUInt32 i = begin; i < end; ++i) detectRigid(param, near, i, work);
+                           RigidDetectionScratch scratch;
+                           for (PfxUInt32 i = begin; i < end; ++i) {
+                             detectRigid(param, near, i, work, scratch);
+                           }
                          });
     if (err != PFX_OK) return err;
     for (PfxUInt32 i = 0; i < param.numParticles; ++i) {

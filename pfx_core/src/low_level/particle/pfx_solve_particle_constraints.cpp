@@ -16,8 +16,11 @@ constexpr PfxFloat kPi = PfxFloat(3.14159265358979323846);
 constexpr PfxFloat kMinLength = PfxFloat(1e-9);
 // Constraints of one phase per task: enough work to pay for handing it to a thread.
 constexpr PfxUInt32 kConstraintsPerTask = 256;
-// Chains of a phase solved side by side on one thread (solveInPhases).
+// Chains of a phase solved side by side on one thread (solveChainsInSequence).
 constexpr PfxUInt32 kChainsInStep = 4;
+// Links of a distance chain solved as one system (solveDistanceChains): the scratch lives on
+// the stack, so a longer chain is solved in pieces of this many, one after another.
+constexpr PfxUInt32 kMaxDirectLinks = 256;
 
 const PfxParamNames kSolveParticleConstraintsAt{"pfxSolveParticleConstraints",
                                                 "PfxSolveParticleConstraintsParam"};
@@ -109,6 +112,109 @@ void solveDistance(PfxParticleDistanceConstraint& c, PfxParticle* particles, Pfx
   c.m_lambda += dLambda;
   a.m_position += a.m_massInv * dLambda * n;
   b.m_position -= b.m_massInv * dLambda * n;
+}
+
+// A chain of distance constraints, link i from particle q_i to q_i+1, solved at once rather
+// than link after link: one Newton step of XPBD on the whole chain, (J W J^T + alpha~)
+// dLambda = -C - alpha~ lambda, whose matrix is tridiagonal because two links share a
+// particle only when they are neighbours: diagonal w_i + w_i+1 + alpha~_i, beside it
+// -w_i+1 n_i . n_i+1, n_i the unit direction of link i. The Thomas algorithm solves it in
+// one sweep each way (the matrix is symmetric positive definite, so no pivoting). Link after
+// link (Gauss-Seidel), a correction at one end of a 128-link row reached the other end only
+// over many passes, and the part of a draped cloth hanging from a sphere stayed stretched;
+// solved at once, each row, column and diagonal is inextensible to first order after every
+// pass (the direct solve of "Direct position-based solver for stiff rods", Deul et al. 2018,
+// on a chain of distance constraints). A link with no mass to move or no direction is left
+// out, as solveDistance leaves it.
+//
+// Up to kChainsInStep chains (each at most kMaxDirectLinks links) are solved side by side: the
+// forward sweep divides by each row's pivot, which waits for the row before, and taking the
+// chains' rows in turn lets the processor overlap their divisions (one chain at a time, that
+// sweep was two fifths of the solve of a 64 x 64 cloth). The chains share no particle, so the
+// bits are those of one chain after another.
+struct DistanceChain {
+  const PfxUInt32* links;
+  PfxUInt32 numLinks;
+};
+
+struct DistanceChainSystem {
+  PfxVector3 direction[kMaxDirectLinks];
+  // Row i of the matrix (its diagonal, the entry beside it toward link i + 1, and the
+  // right-hand side), then after the forward sweep the eliminated row.
+  PfxFloat diagonal[kMaxDirectLinks], beside[kMaxDirectLinks], rhs[kMaxDirectLinks];
+};
+
+void setUpDistanceChain(const DistanceChain& chain, const PfxParticleDistanceConstraint* constraints,
+                        const PfxParticle* particles, PfxFloat alphaScale,
+                        DistanceChainSystem& system) {
+  for (PfxUInt32 i = 0; i < chain.numLinks; ++i) {
+    const PfxParticleDistanceConstraint& c = constraints[chain.links[i]];
+    const PfxParticle& a = particles[c.m_particleA];
+    const PfxParticle& b = particles[c.m_particleB];
+    const PfxVector3 d = a.m_position - b.m_position;
+    const PfxFloat length = d.norm();
+    const PfxFloat w = a.m_massInv + b.m_massInv;
+    if (w == 0 || length < kMinLength) {
+      system.direction[i] = PfxVector3::Zero();
+      system.diagonal[i] = 1;
+      system.rhs[i] = 0;
+    } else {
+      // One division for the three components (d / length divides each).
+      system.direction[i] = d * (1 / length);
+      const PfxFloat alpha = c.m_compliance * alphaScale;
+      system.diagonal[i] = w + alpha;
+      system.rhs[i] = -(length - c.m_restLength) - alpha * c.m_lambda;
+    }
+    // Link i - 1 ends at link i's particle A.
+    if (i > 0) {
+      system.beside[i - 1] = -a.m_massInv * system.direction[i - 1].dot(system.direction[i]);
+    }
+  }
+  system.beside[chain.numLinks - 1] = 0;
+}
+
+// Back substitution, each link's multiplier applied as soon as it is known.
+void applyDistanceChain(const DistanceChain& chain, const DistanceChainSystem& system,
+                        PfxParticleDistanceConstraint* constraints, PfxParticle* particles) {
+  PfxFloat dLambda = 0;
+  for (PfxUInt32 i = chain.numLinks; i-- > 0;) {
+    dLambda = system.rhs[i] - system.beside[i] * dLambda;
+    PfxParticleDistanceConstraint& c = constraints[chain.links[i]];
+    c.m_lambda += dLambda;
+    PfxParticle& a = particles[c.m_particleA];
+    PfxParticle& b = particles[c.m_particleB];
+    a.m_position += a.m_massInv * dLambda * system.direction[i];
+    b.m_position -= b.m_massInv * dLambda * system.direction[i];
+  }
+}
+
+void solveDistanceChains(const DistanceChain* chains, PfxUInt32 numChains,
+                         PfxParticleDistanceConstraint* constraints, PfxParticle* particles,
+                         PfxFloat alphaScale) {
+  DistanceChainSystem systems[kChainsInStep];
+  PfxUInt32 longest = 0;
+  for (PfxUInt32 c = 0; c < numChains; ++c) {
+    setUpDistanceChain(chains[c], constraints, particles, alphaScale, systems[c]);
+    longest = std::max(longest, chains[c].numLinks);
+  }
+  // Forward sweep: row i loses its entry left of the diagonal (that of row i - 1 beside it,
+  // by symmetry); `beside` becomes the eliminated rows' entries over their pivots.
+  PfxFloat left[kChainsInStep] = {};
+  for (PfxUInt32 i = 0; i < longest; ++i) {
+    for (PfxUInt32 c = 0; c < numChains; ++c) {
+      if (i >= chains[c].numLinks) continue;
+      DistanceChainSystem& s = systems[c];
+      const PfxFloat inversePivot =
+          1 / (i > 0 ? s.diagonal[i] - left[c] * s.beside[i - 1] : s.diagonal[i]);
+      if (i > 0) s.rhs[i] -= left[c] * s.rhs[i - 1];
+      s.rhs[i] *= inversePivot;
+      left[c] = s.beside[i];
+      s.beside[i] *= inversePivot;
+    }
+  }
+  for (PfxUInt32 c = 0; c < numChains; ++c) {
+    applyDistanceChain(chains[c], systems[c], constraints, particles);
+  }
 }
 
 void solveAngle(PfxParticleAngleConstraint& c, PfxParticle* particles, PfxFloat alphaScale) {
@@ -300,39 +406,43 @@ PfxInt32 checkBatches(const char* field, const PfxParticleConstraintBatches* bat
   return PFX_OK;
 }
 
-// Each phase's chains in parallel, then the left-over chains one by one; each chain in
-// sequence, every other chain from its end, so that neighbouring rows of a cloth carry their
-// corrections opposite ways and no edge is where all of them pile up; `iteration` of the
-// sub-step turns them all on odd iterations, so that a chain of many iterations does not creep
-// toward one end.
+// Chains begin .. end - 1 of the batches, each in sequence, every other chain from its end,
+// so that neighbouring rows of a cloth carry their corrections opposite ways and no edge is
+// where all of them pile up; `iteration` of the sub-step turns them all on odd iterations, so
+// that a chain of many iterations does not creep toward one end. kChainsInStep chains at a
+// time, a constraint of each in turn: a chain's constraints wait for each other, chains of a
+// phase do not, so the processor overlaps their square roots and divisions. They share no
+// particle, so the bits are those of one chain after another.
 template <typename Solve>
-PfxInt32 solveInPhases(const PfxParticleConstraintBatches& batches, PfxUInt32 iteration,
-                       PfxTaskManager* taskManager, const Solve& solve) {
-  // kChainsInStep chains at a time, a constraint of each in turn: a chain's constraints wait
-  // for each other, chains of a phase do not, so the processor overlaps their square roots
-  // and divisions. They share no particle, so the bits are those of one chain after another.
-  const auto solveChains = [&](PfxUInt32 begin, PfxUInt32 end) {
-    for (PfxUInt32 chain = begin; chain < end; chain += kChainsInStep) {
-      const PfxUInt32 numChains = std::min(kChainsInStep, end - chain);
-      PfxUInt32 next[kChainsInStep], left[kChainsInStep];
-      bool fromEnd[kChainsInStep];
-      PfxUInt32 longest = 0;
+void solveChainsInSequence(const PfxParticleConstraintBatches& batches, PfxUInt32 begin,
+                           PfxUInt32 end, PfxUInt32 iteration, const Solve& solve) {
+  for (PfxUInt32 chain = begin; chain < end; chain += kChainsInStep) {
+    const PfxUInt32 numChains = std::min(kChainsInStep, end - chain);
+    PfxUInt32 next[kChainsInStep], left[kChainsInStep];
+    bool fromEnd[kChainsInStep];
+    PfxUInt32 longest = 0;
+    for (PfxUInt32 c = 0; c < numChains; ++c) {
+      const PfxUInt32 first = batches.chainStart[chain + c];
+      left[c] = batches.chainStart[chain + c + 1] - first;
+      fromEnd[c] = ((chain + c + iteration) & 1) != 0;
+      next[c] = fromEnd[c] ? first + left[c] - 1 : first;
+      longest = std::max(longest, left[c]);
+    }
+    for (PfxUInt32 k = 0; k < longest; ++k) {
       for (PfxUInt32 c = 0; c < numChains; ++c) {
-        const PfxUInt32 first = batches.chainStart[chain + c];
-        left[c] = batches.chainStart[chain + c + 1] - first;
-        fromEnd[c] = ((chain + c + iteration) & 1) != 0;
-        next[c] = fromEnd[c] ? first + left[c] - 1 : first;
-        longest = std::max(longest, left[c]);
-      }
-      for (PfxUInt32 k = 0; k < longest; ++k) {
-        for (PfxUInt32 c = 0; c < numChains; ++c) {
-          if (k >= left[c]) continue;
-          solve(batches.order[next[c]]);
-          next[c] = fromEnd[c] ? next[c] - 1 : next[c] + 1;
-        }
+        if (k >= left[c]) continue;
+        solve(batches.order[next[c]]);
+        next[c] = fromEnd[c] ? next[c] - 1 : next[c] + 1;
       }
     }
-  };
+  }
+}
+
+// Each phase's chains in parallel, then the left-over chains one by one:
+// solveChains(begin, end) solves chains begin .. end - 1 of the batches.
+template <typename SolveChains>
+PfxInt32 solveInPhases(const PfxParticleConstraintBatches& batches, PfxTaskManager* taskManager,
+                       const SolveChains& solveChains) {
   for (PfxUInt32 phase = 0; phase < batches.numPhases; ++phase) {
     const PfxUInt32 first = batches.phaseStart[phase];
     const PfxUInt32 count = batches.phaseStart[phase + 1] - first;
@@ -514,10 +624,43 @@ PfxInt32 pfxSolveCheckedParticleConstraints(const PfxSolveParticleConstraintsPar
       solveAngle(param.angleConstraints[i], particles, alphaScale);
     };
     if (param.distanceBatches) {
+      const PfxParticleConstraintBatches& distanceBatches = *param.distanceBatches;
+      const PfxParticleConstraintBatches& angleBatches = *param.angleBatches;
+      // A chain of one link, a lone rope's, is solveDistance; one longer than a system holds
+      // is solved in pieces, one after another. The chains left over after the phases may
+      // share particles and are solved one at a time.
+      const auto distanceChains = [&](PfxUInt32 begin, PfxUInt32 end) {
+        const PfxUInt32 atOnce =
+            begin >= distanceBatches.phaseStart[distanceBatches.numPhases] ? 1 : kChainsInStep;
+        DistanceChain sideBySide[kChainsInStep];
+        PfxUInt32 numSideBySide = 0;
+        for (PfxUInt32 chain = begin; chain < end; ++chain) {
+          const PfxUInt32* links = distanceBatches.order + distanceBatches.chainStart[chain];
+          const PfxUInt32 numLinks =
+              distanceBatches.chainStart[chain + 1] - distanceBatches.chainStart[chain];
+          if (numLinks == 1) {
+            distance(links[0]);
+          } else if (numLinks > kMaxDirectLinks) {
+            for (PfxUInt32 done = 0; done < numLinks; done += kMaxDirectLinks) {
+              const DistanceChain piece{links + done, std::min(kMaxDirectLinks, numLinks - done)};
+              solveDistanceChains(&piece, 1, param.distanceConstraints, particles, alphaScale);
+            }
+          } else {
+            sideBySide[numSideBySide++] = {links, numLinks};
+          }
+          if (numSideBySide == atOnce || (chain + 1 == end && numSideBySide > 0)) {
+            solveDistanceChains(sideBySide, numSideBySide, param.distanceConstraints, particles,
+                                alphaScale);
+            numSideBySide = 0;
+          }
+        }
+      };
+      const auto angleChains = [&](PfxUInt32 begin, PfxUInt32 end) {
+        solveChainsInSequence(angleBatches, begin, end, subStepIteration, angle);
+      };
       PfxInt32 err = PFX_OK;
-      if ((err = solveInPhases(*param.distanceBatches, subStepIteration, taskManager,
-                                   distance)) != PFX_OK ||
-          (err = solveInPhases(*param.angleBatches, subStepIteration, taskManager, angle)) != PFX_OK) {
+      if ((err = solveInPhases(distanceBatches, taskManager, distanceChains)) != PFX_OK ||
+          (err = solveInPhases(angleBatches, taskManager, angleChains)) != PFX_OK) {
         return err;
       }
     } else {

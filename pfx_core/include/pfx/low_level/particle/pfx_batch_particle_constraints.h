@@ -8,14 +8,13 @@
 // A chain is a run of constraints listed one after another, each starting where the one
 // before ended (a distance constraint's A is the previous one's B; an angle constraint's A
 // and B are the previous one's B and C): a rope's links, a cloth's row, column or diagonal
-// as PfxParticleGroupBuilder lists them. Solved in sequence, a chain carries a correction
-// from end to end in one pass, where phases of single links carried it one link per phase
-// (a 128 x 128 cloth of rigid links draped over a sphere at 4 sub-steps of one iteration:
-// 10.4 % stretched in phases of links, 7.8 % in chains). The solve runs every other chain
-// of a phase from its end, so that neighbouring rows carry their corrections opposite ways:
-// all one way, a 20 x 20 cloth draped over a sphere took 5.4 s to come to rest against
-// 3.6 s; alternating each chain's direction from pass to pass instead left it shaking
-// between the two (not at rest in 8 s).
+// as PfxParticleGroupBuilder lists them. A chain of distance constraints is solved as one
+// tridiagonal system, every link of it at once (pfx_solve_particle_constraints.cpp); one of
+// angle constraints in sequence, which carries a correction from end to end in one pass,
+// every other chain of a phase from its end, so that neighbouring chains carry their
+// corrections opposite ways. A 128 x 128 cloth of rigid links draped over a sphere at 4
+// sub-steps of one iteration ended 10.4 % stretched in phases of single links, 7.8 % in
+// chains solved link after link, 0.34 % with each chain solved at once.
 #pragma once
 
 #include "pfx/base_level/particle/pfx_particle.h"

@@ -1,6 +1,8 @@
 // Stage: the constraint solve of a particle sub-step (XPBD, Macklin, Müller and Chentanez
 // 2016). The predicted positions of pfxIntegrateParticles are projected onto the distance,
-// angle, tether, pin and contact constraints, Gauss-Seidel, `iteration` times. Each
+// angle, tether, pin and contact constraints, Gauss-Seidel, `iteration` times; with batches,
+// a chain of distance constraints (a rope's links, a cloth's row) is one block of it, solved
+// exactly to first order in one step (the source says how). Each
 // constraint carries its multiplier through the iterations, so its compliance acts as a
 // physical stiffness: the same error under the same load at any time step and iteration
 // count. Following "Small Steps in Physics Simulation" (Macklin et al. 2019), many short
@@ -52,7 +54,8 @@ struct PfxSolveParticleConstraintsParam {
   // the same bits as one call of as many iterations.
   bool continueSubStep = false;
   // With continueSubStep, the iterations of the sub-step that earlier calls solved: with
-  // batches, odd iterations of a sub-step solve each chain the other way round.
+  // batches, odd iterations of a sub-step solve each chain of angle constraints the other
+  // way round.
   PfxUInt32 iterationsDone = 0;
 };
 
