@@ -58,7 +58,7 @@ constexpr PfxUInt32 kPfxContactTreeNodesOfAnyForest = 0xffffffffu;
 // Work memory for the direct solves over the joints' and the contacts' trees and for the
 // batches (a few bytes per pair and per body); the same whatever the number of tasks.
 // The contacts' direct solve factors its trees a batch of whole trees at a time, in a
-// scratch of contactTreeNodes nodes (about 630 bytes each) at the end of the buffer, which
+// scratch of contactTreeNodes nodes (over 600 bytes each) at the end of the buffer, which
 // must hold the step's largest tree: the default holds one over every body. With less,
 // pfxSolveConstraints returns PFX_ERR_OUT_OF_BUFFER, having changed nothing, and gives the
 // nodes it needs in PfxSolveConstraintsParam::outContactTreeNodes.
