@@ -100,13 +100,21 @@ TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
   solve.offsetSolverBodies = s.solverBodies;
   solve.numRigidBodies = 2;
   solve.timeStep = 1.0f / 60;
-  // The contacts' direct solve needs work memory; without it the call is refused.
+  // The contacts' direct solve needs work memory; without it the call is refused. Its
+  // scratch must hold the largest contact tree, here the face and the box (two nodes): a
+  // byte less is refused too, and the call says how many nodes it needs.
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_BUFFER);
-  std::vector<unsigned char> work(pfxGetWorkBytesOfSolveConstraints(2, 1));
+  std::vector<unsigned char> work(pfxGetWorkBytesOfSolveConstraints(2, 1, 0, 1, 2));
   ASSERT_GT(work.size(), 0u);
+  EXPECT_LT(work.size(), pfxGetWorkBytesOfSolveConstraints(2, 1));
+  PfxUInt32 contactTreeNodes = 0;
+  solve.outContactTreeNodes = &contactTreeNodes;
   solve.workBuff = work.data();
   solve.workBytes = static_cast<PfxUInt32>(work.size() - 1);
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_OUT_OF_BUFFER);
+  EXPECT_EQ(contactTreeNodes, 2u);
+  EXPECT_EQ(s.states[1].getLinearVelocity().y(), -1);  // the refused call changed nothing
+  EXPECT_EQ(s.manifold.getContactPoint(0).m_constraintRow[0].m_accumImpulse, 0);
   solve.workBytes = static_cast<PfxUInt32>(work.size());
   ASSERT_EQ(pfxSolveConstraints(solve), PFX_OK);
   // The downward velocity is stopped (the overlap is pushed out by position, not velocity).

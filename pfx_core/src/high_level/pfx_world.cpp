@@ -344,8 +344,8 @@ void PfxWorld::reserveSleepingProxies() {
 // or joint is added (whose doubling left up to twice the memory needed); grows only while
 // the first steps find more pairs.
 void PfxWorld::reserveSolverWork(PfxUInt32 numContactPairs) {
-  const std::size_t workBytes =
-      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), numContactPairs, getNumJoints());
+  const std::size_t workBytes = pfxGetWorkBytesOfSolveConstraints(
+      getNumRigidBodies(), numContactPairs, getNumJoints(), 1, m_contactTreeNodes);
   growTo(m_solverWork, (workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
 }
 
@@ -872,9 +872,20 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     param.timeStep = timeStep;
     param.restitutionThreshold = m_param.restitutionThreshold;
     if (m_param.enableShockPropagation) param.gravity = m_param.gravity;
-    if (const PfxInt32 err = pfxSolveConstraints(param, &m_taskManager); err != PFX_OK) {
-      return err;
+    PfxUInt32 contactTreeNodes = 0;
+    param.outContactTreeNodes = &contactTreeNodes;
+    PfxInt32 err = pfxSolveConstraints(param, &m_taskManager);
+    if (err == PFX_ERR_OUT_OF_BUFFER && contactTreeNodes > m_contactTreeNodes) {
+      // A contact tree larger than any before, which the rejected solve left untouched:
+      // room for it and a quarter more, so that a pile that settles into larger trees
+      // does not grow the buffer step after step, and the solve again.
+      m_contactTreeNodes = contactTreeNodes + contactTreeNodes / 4;
+      reserveSolverWork(m_numPairs);
+      param.workBuff = m_solverWork.data();
+      param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
+      err = pfxSolveConstraints(param, &m_taskManager);
     }
+    if (err != PFX_OK) return err;
   }
   {
     StageTimer timer(m_stats, kPfxStageUpdateRigidStates);

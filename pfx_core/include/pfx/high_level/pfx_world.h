@@ -547,6 +547,10 @@ class PfxWorld {
   std::vector<PfxUInt64> m_jointedPairKeys;  // sorted keys of body pairs held by joints
   std::vector<PfxUInt64> m_excludedPairKeys;  // sorted keys of body pairs that never collide
   std::vector<PfxSortData16> m_solverWork;   // the direct solves and the solver's batches
+  // The nodes m_solverWork holds for the contacts' direct solve, which factors its trees
+  // through them a batch at a time: at first a batch of small trees, then room for the
+  // largest tree a step has had.
+  PfxUInt32 m_contactTreeNodes = 256;
 
   // The proxies that rays find bodies by, then their sort scratch (two blocks of
   // m_rayProxyStride), and the hierarchy over them. Stale after anything that moves or

@@ -132,10 +132,16 @@ class PfxWorkCarver {
       : m_cursor(static_cast<unsigned char*>(buffer)), m_end(m_cursor + bytes) {}
   template <typename T>
   T* take(std::size_t count) {
-    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(m_cursor);
-    const std::uintptr_t aligned = (at + alignof(T) - 1) & ~(std::uintptr_t(alignof(T)) - 1);
-    unsigned char* begin = reinterpret_cast<unsigned char*>(aligned);
+    unsigned char* begin = alignedCursor<T>();
     if (begin + count * sizeof(T) > m_end) return nullptr;
+    m_cursor = begin + count * sizeof(T);
+    return reinterpret_cast<T*>(begin);
+  }
+  // What is left, as whole Ts; count receives how many.
+  template <typename T>
+  T* takeRest(std::size_t& count) {
+    unsigned char* begin = alignedCursor<T>();
+    count = begin < m_end ? std::size_t(m_end - begin) / sizeof(T) : 0;
     m_cursor = begin + count * sizeof(T);
     return reinterpret_cast<T*>(begin);
   }
@@ -144,6 +150,13 @@ class PfxWorkCarver {
   }
 
  private:
+  template <typename T>
+  unsigned char* alignedCursor() const {
+    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(m_cursor);
+    return reinterpret_cast<unsigned char*>((at + alignof(T) - 1) &
+                                            ~(std::uintptr_t(alignof(T)) - 1));
+  }
+
   unsigned char* m_cursor;
   unsigned char* m_end;
 };

@@ -54,13 +54,20 @@ bool hasTouchingPoint(const PfxContactManifold& manifold) {
 
 }  // namespace
 
-// A body node, or a face node: up to three pressure rows, each a weighted sum of the
-// manifold's touching points' normal rows, and, in the velocity solve, up to three friction
-// rows: the face's slip along its two tangents and its twist about its normal.
-struct PfxContactTreeSolver::Node : PfxBlockTreeNode {
-  PfxInt32 body;       // rigid body id, or -1 for a face
-  PfxInt32 pairIndex;  // contact pair index, or -1 for a body
-  PfxUInt8 numRows;    // the pressure rows, then the friction rows if the solve holds them
+// A body node or a face node of the forest. Its blocks live in the scratch while its tree
+// is factored and solved.
+struct PfxContactTreeSolver::Node {
+  PfxInt32 parent;  // node index, -1 at a root
+  PfxInt32 body;    // rigid body id, or -1 for a face
+  PfxInt32 face;    // index in m_faces, or -1 for a body
+};
+
+// A face's rows: up to three pressure rows, each a weighted sum of the manifold's touching
+// points' normal rows, and, in the velocity solve, up to three friction rows: the face's
+// slip along its two tangents and its twist about its normal.
+struct PfxContactTreeSolver::Face {
+  PfxInt32 pairIndex;
+  PfxUInt8 numRows;  // the pressure rows, then the friction rows if the solve holds them
   PfxUInt8 numPressureRows;
   PfxUInt8 numFrictionRows;  // 0 without friction, 2 for one point, else 3
   PfxFloat weights[3][kMaxPoints];  // row k's weight of each point (0: point left out)
@@ -73,13 +80,22 @@ struct PfxContactTreeSolver::Node : PfxBlockTreeNode {
   PfxFloat twistWeight;
 };
 
+PfxUInt32 PfxContactTreeSolver::getMaxNodes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs) {
+  // A forest over n bodies has fewer than n + 1 edges, however many pairs there are.
+  return numRigidBodies + std::min(numRigidBodies, numContactPairs);
+}
+
+std::size_t PfxContactTreeSolver::getScratchBytes(PfxUInt32 numNodes) {
+  return PfxWorkCarver::bytesFor(alignof(PfxBlockTreeNode), sizeof(PfxBlockTreeNode) * numNodes);
+}
+
 PfxUInt32 PfxContactTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies,
                                              PfxUInt32 numContactPairs) {
-  // A forest over n bodies has fewer than n + 1 edges, however many pairs there are.
   const std::size_t maxFaces = std::min(numRigidBodies, numContactPairs);
-  const std::size_t numNodes = std::size_t(numRigidBodies) + maxFaces;
   const std::size_t bytes =
-      PfxWorkCarver::bytesFor(alignof(Node), sizeof(Node) * numNodes) +
+      PfxWorkCarver::bytesFor(alignof(Node),
+                              sizeof(Node) * getMaxNodes(numRigidBodies, numContactPairs)) +
+      PfxWorkCarver::bytesFor(alignof(Face), sizeof(Face) * maxFaces) +
       PfxWorkCarver::bytesFor(alignof(PfxInt32), sizeof(PfxInt32) *
                                                      (2 * maxFaces +            // pair, state
                                                       3 * numRigidBodies +      // nodes, sets, loops
@@ -116,9 +132,9 @@ bool slides(const PfxContactManifold& manifold) {
 // The rows of a face: the total push of its touching points and their first moments along
 // the principal axes of the points in the contact plane, each of unit length; then, with
 // friction, their total slip along the plane's two tangents and their twist about its normal.
-template <typename Node>
-void setFaceRows(const PfxContactManifold& manifold, Node& node) {
-  PfxFloat (*weights)[kMaxPoints] = node.weights;
+template <typename Face>
+void setFaceRows(const PfxContactManifold& manifold, Face& face) {
+  PfxFloat (*weights)[kMaxPoints] = face.weights;
   const PfxUInt32 n = manifold.getNumContacts();
   PfxVector3 normal = PfxVector3::Zero();
   PfxVector3 centre = PfxVector3::Zero();
@@ -174,30 +190,30 @@ void setFaceRows(const PfxContactManifold& manifold, Node& node) {
     addRow(major, majorSpread);
     if (minorSpread > kMinSpreadRatio * majorSpread) addRow(minor, minorSpread);
   }
-  node.numPressureRows = rows;
-  node.normal = normal;
-  node.tangents[0] = t1;
-  node.tangents[1] = t2;
-  node.centre = centre;
-  node.slipWeight = PfxFloat(1) / std::sqrt(count);
+  face.numPressureRows = rows;
+  face.normal = normal;
+  face.tangents[0] = t1;
+  face.tangents[1] = t2;
+  face.centre = centre;
+  face.slipWeight = PfxFloat(1) / std::sqrt(count);
   // A single point, or points that all coincide, hold no twist.
   const PfxFloat spread = majorSpread + minorSpread;
-  node.twistWeight = spread > kMinSpread ? PfxFloat(1) / std::sqrt(spread) : 0;
-  node.numFrictionRows = manifold.getCompositeFriction() <= 0 || slides(manifold)
+  face.twistWeight = spread > kMinSpread ? PfxFloat(1) / std::sqrt(spread) : 0;
+  face.numFrictionRows = manifold.getCompositeFriction() <= 0 || slides(manifold)
                              ? 0
-                             : node.twistWeight > 0 ? 3 : 2;
+                             : face.twistWeight > 0 ? 3 : 2;
 }
 
 // The impulse at point i of a face per unit of its row k: along the point's normal for a
 // pressure row, along a tangent of the face for a slip row, across the lever from the
 // face's centre for the twist row. Zero for a point that does not touch.
-template <typename Node>
-PfxVector3 rowDirection(const Node& node, const PfxContactPoint& cp, PfxUInt32 i, PfxUInt8 k) {
-  if (node.weights[0][i] == 0) return PfxVector3::Zero();
-  if (k < node.numPressureRows) return node.weights[k][i] * cp.getNormal();
-  const PfxUInt8 friction = k - node.numPressureRows;
-  if (friction < 2) return node.slipWeight * node.tangents[friction];
-  return node.twistWeight * node.normal.cross(cp.m_armB - node.centre);
+template <typename Face>
+PfxVector3 rowDirection(const Face& face, const PfxContactPoint& cp, PfxUInt32 i, PfxUInt8 k) {
+  if (face.weights[0][i] == 0) return PfxVector3::Zero();
+  if (k < face.numPressureRows) return face.weights[k][i] * cp.getNormal();
+  const PfxUInt8 friction = k - face.numPressureRows;
+  if (friction < 2) return face.slipWeight * face.tangents[friction];
+  return face.twistWeight * face.normal.cross(cp.m_armB - face.centre);
 }
 
 // What a point's velocities lack, as a vector: its normal row's target minus its normal
@@ -221,15 +237,15 @@ PfxVector3 pointDeficit(const PfxContactPoint& cp, const PfxSolverBody& a, const
 
 // The face's rows against one of its bodies' velocities (linear, then angular), as the
 // points push that body: along the normal for B, against it for A.
-template <typename Node>
-PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const Node& node, bool bodyB) {
+template <typename Face>
+PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const Face& face, bool bodyB) {
   PfxTreeBlock rows = PfxTreeBlock::Zero();
   for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
     const PfxContactPoint& cp = manifold.getContactPoint(i);
-    if (node.weights[0][i] == 0) continue;
+    if (face.weights[0][i] == 0) continue;
     const PfxVector3& arm = bodyB ? cp.m_armB : cp.m_armA;
-    for (PfxUInt8 k = 0; k < node.numRows; ++k) {
-      const PfxVector3 direction = rowDirection(node, cp, i, k);
+    for (PfxUInt8 k = 0; k < face.numRows; ++k) {
+      const PfxVector3 direction = rowDirection(face, cp, i, k);
       const PfxVector3 linear = bodyB ? direction : PfxVector3(-direction);
       rows.block<1, 3>(k, 0) += linear.cast<double>().transpose();
       rows.block<1, 3>(k, 3) += arm.cross(linear).cast<double>().transpose();
@@ -247,12 +263,14 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                                  PfxUInt32 numRigidBodies, PfxTaskManager* taskManager) {
   m_numNodes = 0;
   m_numTrees = 0;
+  m_largestTreeNodes = 0;
   m_contactPairs = contactPairs;
   m_manifolds = manifolds;
   m_solverBodies = solverBodies;
   PfxWorkCarver carver(workBuff, workBytes);
   const std::size_t maxFaces = std::min(numRigidBodies, numContactPairs);
-  m_nodes = carver.take<Node>(std::size_t(numRigidBodies) + maxFaces);
+  m_nodes = carver.take<Node>(getMaxNodes(numRigidBodies, numContactPairs));
+  m_faces = carver.take<Face>(maxFaces);
   PfxInt32* facePair = carver.take<PfxInt32>(maxFaces);
   PfxInt32* faceState = carver.take<PfxInt32>(maxFaces);
   PfxInt32* bodyNode = carver.take<PfxInt32>(numRigidBodies);
@@ -263,7 +281,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   m_treeStarts = carver.take<PfxUInt32>(std::size_t(numRigidBodies) + 1);
   PfxUInt8* pairFlags = carver.take<PfxUInt8>(numContactPairs);
   if (maxFaces == 0) return true;
-  if (!m_nodes || !facePair || !faceState || !bodyNode || !sets || !unsolvedFaces ||
+  if (!m_nodes || !m_faces || !facePair || !faceState || !bodyNode || !sets || !unsolvedFaces ||
       !adjacencyStart || !adjacency || !m_treeStarts || !pairFlags) {
     return false;
   }
@@ -388,8 +406,11 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     Node& node = m_nodes[m_numNodes];
     node.parent = parent;
     node.body = body;
-    node.pairIndex = face >= 0 ? facePair[face] : -1;
-    node.numRows = 0;
+    node.face = face;
+    if (face >= 0) {
+      m_faces[face].pairIndex = facePair[face];
+      m_faces[face].numRows = 0;
+    }
     return static_cast<PfxInt32>(m_numNodes++);
   };
   auto grow = [&](std::size_t head) {
@@ -405,7 +426,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         }
         continue;
       }
-      const PfxConstraintPair& pair = contactPairs[current.pairIndex];
+      const PfxConstraintPair& pair = contactPairs[m_faces[current.face].pairIndex];
       for (const bool isA : {true, false}) {
         const PfxUInt32 id = isA ? pfxGetObjectIdA(pair) : pfxGetObjectIdB(pair);
         if (movable(id, isA ? pfxGetReceivesA(pair) : pfxGetReceivesB(pair)) &&
@@ -437,28 +458,68 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   }
 
   for (std::size_t n = 0; n < m_numNodes; ++n) {
-    Node& node = m_nodes[n];
-    if (node.body < 0) setFaceRows(manifolds[pfxGetContactId(contactPairs[node.pairIndex])], node);
+    const Node& node = m_nodes[n];
+    if (node.face < 0) continue;
+    Face& face = m_faces[node.face];
+    setFaceRows(manifolds[pfxGetContactId(contactPairs[face.pairIndex])], face);
   }
   m_treeStarts[m_numTrees] = m_numNodes;
-  factor(true, taskManager);
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) {
+    m_largestTreeNodes = std::max(m_largestTreeNodes, m_treeStarts[t + 1] - m_treeStarts[t]);
+  }
   return true;
 }
 
-void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager) {
-  m_factoredWithFriction = withFriction;
+bool PfxContactTreeSolver::solve(void* scratch, std::size_t scratchBytes,
+                                 PfxTaskManager* taskManager) {
+  if (m_numTrees == 0) return true;
+  std::size_t capacity = 0;
+  PfxBlockTreeNode* const blocks =
+      PfxWorkCarver(scratch, scratchBytes).takeRest<PfxBlockTreeNode>(capacity);
+  if (capacity < m_largestTreeNodes) return false;
+  for (PfxUInt32 first = 0; first < m_numTrees;) {
+    PfxUInt32 last = first + 1;
+    while (last < m_numTrees && m_treeStarts[last + 1] - m_treeStarts[first] <= capacity) ++last;
+    const PfxUInt32 batchStart = m_treeStarts[first];
+    pfxParallelFor(taskManager, last - first, kContactTreesPerTask,
+                   [&](PfxUInt32 begin, PfxUInt32 end) {
+                     for (PfxUInt32 t = first + begin; t < first + end; ++t) {
+                       const PfxUInt32 treeBegin = m_treeStarts[t], treeEnd = m_treeStarts[t + 1];
+                       PfxBlockTreeNode* const treeBlocks = blocks + (treeBegin - batchStart);
+                       // With the faces' friction, then over their pressures alone: a face
+                       // that slides keeps the friction it had, and its pressures, solved
+                       // with the friction it would have needed to stick (and that
+                       // friction's moment), are set right for the friction it has. The
+                       // split impulses have no friction.
+                       factorTree(treeBlocks, treeBegin, treeEnd, true);
+                       solveTree(treeBlocks, treeBegin, treeEnd, false);
+                       factorTree(treeBlocks, treeBegin, treeEnd, false);
+                       solveTree(treeBlocks, treeBegin, treeEnd, false);
+                       solveTree(treeBlocks, treeBegin, treeEnd, true);
+                     }
+                   });
+    first = last;
+  }
+  return true;
+}
+
+void PfxContactTreeSolver::factorTree(PfxBlockTreeNode* blocks, PfxUInt32 begin, PfxUInt32 end,
+                                      bool withFriction) {
   // Diagonal blocks and couplings to the parent. Nodes come parents first, so a face
   // parent already has its rows.
-  for (std::size_t n = 0; n < m_numNodes; ++n) {
-    Node& node = m_nodes[n];
-    node.toParent.setZero();
+  for (PfxUInt32 n = begin; n < end; ++n) {
+    const Node& node = m_nodes[n];
+    PfxBlockTreeNode& block = blocks[n - begin];
+    block.parent = node.parent < 0 ? -1 : node.parent - PfxInt32(begin);
+    block.toParent.setZero();
     if (node.body >= 0) {
-      node.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
+      block.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
     } else {
-      const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+      Face& face = m_faces[node.face];
+      const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
       const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
-      node.numRows = node.numPressureRows + (withFriction ? node.numFrictionRows : 0);
-      node.diagonalInverse = -PfxTreeBlock::Identity();
+      face.numRows = face.numPressureRows + (withFriction ? face.numFrictionRows : 0);
+      block.diagonalInverse = -PfxTreeBlock::Identity();
       const PfxSolverBody* bodies[2] = {&m_solverBodies[pfxGetObjectIdA(pair)],
                                         &m_solverBodies[pfxGetObjectIdB(pair)]};
       const bool receives[2] = {movesWith(*bodies[0], pfxGetReceivesA(pair)),
@@ -466,62 +527,33 @@ void PfxContactTreeSolver::factor(bool withFriction, PfxTaskManager* taskManager
       Eigen::Matrix<double, 6, 1> effectiveMass = Eigen::Matrix<double, 6, 1>::Zero();
       for (int side = 0; side < 2; ++side) {
         if (!receives[side]) continue;
-        const PfxTreeBlock rows = faceJacobian(manifold, node, side == 1);
+        const PfxTreeBlock rows = faceJacobian(manifold, face, side == 1);
         const Eigen::Matrix3d inertiaInv = bodies[side]->m_inertiaInv.cast<double>();
-        for (PfxUInt8 k = 0; k < node.numRows; ++k) {
+        for (PfxUInt8 k = 0; k < face.numRows; ++k) {
           const Eigen::Vector3d linear = rows.block<1, 3>(k, 0).transpose();
           const Eigen::Vector3d angular = rows.block<1, 3>(k, 3).transpose();
           effectiveMass[k] += double(bodies[side]->m_massInv) * linear.squaredNorm() +
                               angular.dot(inertiaInv * angular);
         }
       }
-      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
-        node.diagonalInverse(k, k) = -kContactTreeRelativeCompliance * effectiveMass[k];
+      for (PfxUInt8 k = 0; k < face.numRows; ++k) {
+        block.diagonalInverse(k, k) = -kContactTreeRelativeCompliance * effectiveMass[k];
       }
     }
     if (node.parent < 0) continue;
     const Node& parent = m_nodes[node.parent];
-    const Node& face = node.body >= 0 ? parent : node;
+    const Face& face = m_faces[node.body >= 0 ? parent.face : node.face];
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
     const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
     const PfxTreeBlock rows = faceJacobian(m_manifolds[pfxGetContactId(pair)], face,
                                            PfxUInt32(body) == pfxGetObjectIdB(pair));
-    node.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
+    block.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   }
-  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
-                 [&](PfxUInt32 first, PfxUInt32 last) {
-                   for (PfxUInt32 t = first; t < last; ++t) {
-                     pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
-                   }
-                 });
+  pfxFactorBlockTree(blocks, 0, end - begin);
 }
 
-void PfxContactTreeSolver::solveVelocities(PfxTaskManager* taskManager) {
-  // With the faces' friction, then over their pressures alone: a face that slides keeps
-  // the friction it had, and its pressures, solved with the friction it would have needed
-  // to stick (and that friction's moment), are set right for the friction it has.
-  if (!m_factoredWithFriction) factor(true, taskManager);
-  solve(false, taskManager);
-  factor(false, taskManager);
-  solve(false, taskManager);
-}
-
-void PfxContactTreeSolver::solvePush(PfxTaskManager* taskManager) {
-  // The split impulses have no friction.
-  if (m_factoredWithFriction) factor(false, taskManager);
-  solve(true, taskManager);
-}
-
-void PfxContactTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
-  // Trees share no body that moves, so they are solved at the same time.
-  pfxParallelFor(taskManager, m_numTrees, kContactTreesPerTask,
-                 [&](PfxUInt32 first, PfxUInt32 last) {
-                   for (PfxUInt32 t = first; t < last; ++t)
-                     solveTree(push, m_treeStarts[t], m_treeStarts[t + 1]);
-                 });
-}
-
-void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) {
+void PfxContactTreeSolver::solveTree(PfxBlockTreeNode* blocks, PfxUInt32 begin, PfxUInt32 end,
+                                     bool push) {
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =
@@ -530,36 +562,38 @@ void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) 
   // Right-hand side: zero for bodies; for each face row, what its points' velocities lack
   // along the row's impulse at each point.
   bool anyResidual = false;
-  for (std::size_t n = begin; n < end; ++n) {
-    Node& node = m_nodes[n];
-    node.value.setZero();
-    if (node.body >= 0) continue;
-    const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+  for (PfxUInt32 n = begin; n < end; ++n) {
+    PfxTreeVector& value = blocks[n - begin].value;
+    value.setZero();
+    if (m_nodes[n].body >= 0) continue;
+    const Face& face = m_faces[m_nodes[n].face];
+    const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
     const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
     const PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
     const PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
-      if (node.weights[0][i] == 0) continue;
+      if (face.weights[0][i] == 0) continue;
       const PfxContactPoint& cp = manifold.getContactPoint(i);
       const PfxVector3 deficit = pointDeficit(cp, a, b, push);
-      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
-        node.value[k] += double(rowDirection(node, cp, i, k).dot(deficit));
+      for (PfxUInt8 k = 0; k < face.numRows; ++k) {
+        value[k] += double(rowDirection(face, cp, i, k).dot(deficit));
       }
     }
-    anyResidual = anyResidual || !node.value.isZero(0);
+    anyResidual = anyResidual || !value.isZero(0);
   }
   if (!anyResidual) return;
-  pfxSolveBlockTree(m_nodes, begin, end);
+  pfxSolveBlockTree(blocks, 0, end - begin);
 
   // Each face takes its pressure point by point, clamped to pushing only, and its friction
   // if every point keeps within its friction circle; the bodies take what the points apply,
   // so that velocities and impulses stay consistent after a clamp. A face that would slip
   // leaves its friction to the iterations (see kSlidingSpeed), and its pressures are
-  // solved again without it (solveVelocities).
-  for (std::size_t n = begin; n < end; ++n) {
-    const Node& node = m_nodes[n];
-    if (node.body >= 0) continue;
-    const PfxConstraintPair& pair = m_contactPairs[node.pairIndex];
+  // solved again without it (see solve).
+  for (PfxUInt32 n = begin; n < end; ++n) {
+    if (m_nodes[n].body >= 0) continue;
+    const Face& face = m_faces[m_nodes[n].face];
+    const PfxTreeVector& value = blocks[n - begin].value;
+    const PfxConstraintPair& pair = m_contactPairs[face.pairIndex];
     PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
     PfxSolverBody& a = m_solverBodies[pfxGetObjectIdA(pair)];
     PfxSolverBody& b = m_solverBodies[pfxGetObjectIdB(pair)];
@@ -567,13 +601,13 @@ void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) 
     const PfxFloat receivesB = pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0);
     PfxFloat delta[kMaxPoints] = {};
     PfxFloat friction[kMaxPoints][2] = {};
-    bool sticks = node.numRows > node.numPressureRows;
+    bool sticks = face.numRows > face.numPressureRows;
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
-      if (node.weights[0][i] == 0) continue;
+      if (face.weights[0][i] == 0) continue;
       PfxContactPoint& cp = manifold.getContactPoint(i);
       PfxVector3 change = PfxVector3::Zero();  // the impulse is the negated multiplier
-      for (PfxUInt8 k = 0; k < node.numRows; ++k) {
-        change -= PfxFloat(node.value[k]) * rowDirection(node, cp, i, k);
+      for (PfxUInt8 k = 0; k < face.numRows; ++k) {
+        change -= PfxFloat(value[k]) * rowDirection(face, cp, i, k);
       }
       PfxFloat& impulse = push ? cp.m_pushImpulse : cp.m_constraintRow[0].m_accumImpulse;
       const PfxFloat updated = std::max(impulse + cp.getNormal().dot(change), PfxFloat(0));
@@ -592,7 +626,7 @@ void PfxContactTreeSolver::solveTree(bool push, PfxUInt32 begin, PfxUInt32 end) 
     pfxApplyNormalImpulses(manifold, delta, a, receivesA, b, receivesB, linear, angular);
     if (!sticks) continue;
     for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
-      if (node.weights[0][i] == 0) continue;
+      if (face.weights[0][i] == 0) continue;
       PfxContactPoint& cp = manifold.getContactPoint(i);
       PfxConstraintRow& slip1 = cp.m_constraintRow[1];
       PfxConstraintRow& slip2 = cp.m_constraintRow[2];

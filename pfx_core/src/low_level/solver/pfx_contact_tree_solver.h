@@ -22,48 +22,61 @@
 // over the pressure rows alone, from a second factorization.
 #pragma once
 
+#include <cstddef>
+
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 #include "pfx/base_level/task/pfx_task_manager.h"
+#include "low_level/solver/pfx_block_tree.h"
 
 namespace pfx {
 
 class PfxContactTreeSolver {
  public:
+  // Work for picking and ordering the forest: a few words per body and pair, a node per
+  // body and face, a face's rows; no blocks (see solve).
   static PfxUInt32 getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs);
+  // The nodes of a forest over every body, the most any step can have.
+  static PfxUInt32 getMaxNodes(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs);
+  // Scratch that holds the blocks of numNodes nodes.
+  static std::size_t getScratchBytes(PfxUInt32 numNodes);
 
-  // Picks the touching contact pairs that form a forest, orders and factors the system.
-  // Trees with a body held by one of the joints are left out. False when the work buffer
-  // is too small. The trees are factored in parallel with a task manager.
+  // Picks the touching contact pairs that form a forest and orders it. Trees with a body
+  // held by one of the joints are left out. False when the work buffer is too small.
   bool build(void* workBuff, PfxUInt32 workBytes, const PfxConstraintPair* contactPairs,
              PfxUInt32 numContactPairs, const PfxConstraintPair* jointPairs,
              PfxUInt32 numJointPairs, PfxContactManifold* manifolds,
              PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies,
              PfxTaskManager* taskManager = nullptr);
+  // The nodes of the largest tree built: what solve's scratch must hold at least.
+  PfxUInt32 getLargestTreeNodes() const { return m_largestTreeNodes; }
 
   // Adds to the points' normal and friction impulses, and to the bodies' velocity changes,
   // what makes every face of the forest move at its points' target velocities (m_rhs of
   // the normal and friction rows), each point's normal impulse kept at zero or above and
-  // its friction within its circle. Trees are solved in parallel with a task
-  // manager; they share no moving body, so the result is the same.
-  void solveVelocities(PfxTaskManager* taskManager = nullptr);
-  // The same for the split impulses and the push velocities (m_pushRhs).
-  void solvePush(PfxTaskManager* taskManager = nullptr);
+  // its friction within its circle; then the same for the split impulses and the push
+  // velocities (m_pushRhs). The blocks of a tree are needed only while it is factored and
+  // solved, so the trees go through the scratch a batch at a time, as many whole trees as
+  // it holds, and the trees of a batch in parallel with a task manager: they share no
+  // moving body, so the result is the same. False when the scratch cannot hold the
+  // largest tree (nothing is then changed).
+  bool solve(void* scratch, std::size_t scratchBytes, PfxTaskManager* taskManager = nullptr);
 
  private:
   struct Node;
-  // Sets the blocks of every node and factors the trees, with the faces' friction rows
-  // (the velocity solve) or without (the split impulses').
-  void factor(bool withFriction, PfxTaskManager* taskManager);
-  void solve(bool push, PfxTaskManager* taskManager);
-  void solveTree(bool push, PfxUInt32 begin, PfxUInt32 end);
+  struct Face;
+  // Sets the blocks of a tree's nodes in the scratch and factors them, with the faces'
+  // friction rows (the velocity solve) or without (the split impulses').
+  void factorTree(PfxBlockTreeNode* blocks, PfxUInt32 begin, PfxUInt32 end, bool withFriction);
+  void solveTree(PfxBlockTreeNode* blocks, PfxUInt32 begin, PfxUInt32 end, bool push);
 
   Node* m_nodes = nullptr;  // breadth first: parents before children, tree after tree
   PfxUInt32 m_numNodes = 0;
+  Face* m_faces = nullptr;  // a face node's rows
   PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
   PfxUInt32 m_numTrees = 0;
-  bool m_factoredWithFriction = false;
+  PfxUInt32 m_largestTreeNodes = 0;
   const PfxConstraintPair* m_contactPairs = nullptr;
   PfxContactManifold* m_manifolds = nullptr;
   PfxSolverBody* m_solverBodies = nullptr;

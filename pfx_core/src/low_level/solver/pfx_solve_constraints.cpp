@@ -271,8 +271,9 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
 
 constexpr PfxUInt32 kSolvedBodiesPerTask = 512;
 
-// The work buffer: the joints' forest and its bounded rows, the contacts' forest, the bodies' batch words, then
-// the batches of contacts and of joints.
+// The work buffer: the joints' forest and its bounded rows, the contacts' forest, the
+// bodies' batch words, the batches of contacts and of joints, shock propagation's work, then
+// the scratch of the contacts' direct solve, whatever is left.
 struct SolverWorkLayout {
   PfxUInt32 jointTreeBytes = 0;
   PfxUInt32 boundedRowBytes = 0;
@@ -297,7 +298,8 @@ struct SolverWorkLayout {
     jointBatchBytes = PfxConstraintBatches::getWorkBytes(numJointPairs);
     if (numContactPairs > 0) shockBytes = PfxShockPropagation::getWorkBytes(numContactPairs);
   }
-  std::size_t total() const {
+  // All but the contacts' scratch.
+  std::size_t fixedBytes() const {
     return std::size_t(jointTreeBytes) + boundedRowBytes + contactTreeBytes + bodyBatchBytes +
            contactBatchBytes + jointBatchBytes + shockBytes;
   }
@@ -306,8 +308,13 @@ struct SolverWorkLayout {
 }  // namespace
 
 PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
-                                            PfxUInt32 numJointPairs, PfxUInt32) {
-  const std::size_t bytes = SolverWorkLayout(numRigidBodies, numContactPairs, numJointPairs).total();
+                                            PfxUInt32 numJointPairs, PfxUInt32,
+                                            PfxUInt32 contactTreeNodes) {
+  std::size_t bytes = SolverWorkLayout(numRigidBodies, numContactPairs, numJointPairs).fixedBytes();
+  if (numContactPairs > 0) {
+    bytes += PfxContactTreeSolver::getScratchBytes(std::min(
+        contactTreeNodes, PfxContactTreeSolver::getMaxNodes(numRigidBodies, numContactPairs)));
+  }
   return bytes > 0xffffffffu ? 0xffffffffu : static_cast<PfxUInt32>(bytes);
 }
 
@@ -364,12 +371,12 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     }
   }
   const SolverWorkLayout layout(param.numRigidBodies, param.numContactPairs, param.numJointPairs);
-  if (layout.total() > 0 && (!param.workBuff || param.workBytes < layout.total())) {
+  if (layout.fixedBytes() > 0 && (!param.workBuff || param.workBytes < layout.fixedBytes())) {
     return pfxRejectParam(PFX_ERR_OUT_OF_BUFFER,
                           "pfxSolveConstraints: PfxSolveConstraintsParam::workBuff holds %u "
                           "bytes; pfxGetWorkBytesOfSolveConstraints asks %llu",
                           param.workBuff ? param.workBytes : 0,
-                          static_cast<unsigned long long>(layout.total()));
+                          static_cast<unsigned long long>(layout.fixedBytes()));
   }
   unsigned char* cursor = static_cast<unsigned char*>(param.workBuff);
   PfxJointTreeSolver tree;
@@ -384,6 +391,22 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
   contactTree.build(cursor, layout.contactTreeBytes, param.contactPairs, param.numContactPairs,
                     param.jointPairs, param.numJointPairs, param.offsetContactManifolds,
                     param.offsetSolverBodies, param.numRigidBodies, taskManager);
+  if (param.outContactTreeNodes) *param.outContactTreeNodes = contactTree.getLargestTreeNodes();
+  unsigned char* const contactTreeScratch =
+      static_cast<unsigned char*>(param.workBuff) + layout.fixedBytes();
+  const std::size_t contactTreeScratchBytes =
+      param.workBuff ? param.workBytes - layout.fixedBytes() : 0;
+  if (contactTree.getLargestTreeNodes() > 0 &&
+      PfxContactTreeSolver::getScratchBytes(contactTree.getLargestTreeNodes()) >
+          contactTreeScratchBytes) {
+    // Nothing outside the work buffer has been written yet.
+    return pfxRejectParam(PFX_ERR_OUT_OF_BUFFER,
+                          "pfxSolveConstraints: PfxSolveConstraintsParam::workBuff holds %u "
+                          "bytes; a contact tree of %u nodes needs "
+                          "pfxGetWorkBytesOfSolveConstraints(..., %u)",
+                          param.workBytes, contactTree.getLargestTreeNodes(),
+                          contactTree.getLargestTreeNodes());
+  }
   cursor += layout.contactTreeBytes;
   PfxUInt32* bodyBatches = reinterpret_cast<PfxUInt32*>(
       (reinterpret_cast<std::uintptr_t>(cursor) + alignof(PfxUInt32) - 1) &
@@ -440,8 +463,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
   // pressures leave friction and the faces outside the forest far from balance, and one
   // sweep cannot restore that.
   auto solveContactTrees = [&] {
-    contactTree.solveVelocities(taskManager);
-    contactTree.solvePush(taskManager);
+    contactTree.solve(contactTreeScratch, contactTreeScratchBytes, taskManager);
   };
 
   if (param.numJointPairs == 0 && param.numJointCouplings == 0) {

@@ -47,12 +47,24 @@ struct PfxSolveConstraintsParam {
   // the iterations: a pass from the ground upwards that stops each body sinking into the
   // ones under it. Zero (the default) does without it; so do steps with joints or couplings.
   PfxVector3 gravity = PfxVector3::Zero();
+  // When set, receives the nodes of the largest tree of the contacts' direct solve, also
+  // when the work buffer is too small for it (see pfxGetWorkBytesOfSolveConstraints).
+  PfxUInt32* outContactTreeNodes = nullptr;
 };
+
+// Room for a contact tree over every body: enough for any scene.
+constexpr PfxUInt32 kPfxContactTreeNodesOfAnyForest = 0xffffffffu;
 
 // Work memory for the direct solves over the joints' and the contacts' trees and for the
 // batches (a few bytes per pair and per body); the same whatever the number of tasks.
-PfxUInt32 pfxGetWorkBytesOfSolveConstraints(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs,
-                                            PfxUInt32 numJointPairs = 0, PfxUInt32 maxTasks = 1);
+// The contacts' direct solve factors its trees a batch of whole trees at a time, in a
+// scratch of contactTreeNodes nodes (over 600 bytes each) at the end of the buffer, which
+// must hold the step's largest tree: the default holds one over every body. With less,
+// pfxSolveConstraints returns PFX_ERR_OUT_OF_BUFFER, having changed nothing, and gives the
+// nodes it needs in PfxSolveConstraintsParam::outContactTreeNodes.
+PfxUInt32 pfxGetWorkBytesOfSolveConstraints(
+    PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs, PfxUInt32 numJointPairs = 0,
+    PfxUInt32 maxTasks = 1, PfxUInt32 contactTreeNodes = kPfxContactTreeNodesOfAnyForest);
 
 PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param,
                              PfxTaskManager* taskManager = nullptr);
