@@ -63,14 +63,20 @@ class Polytope {
         (m_verts[0].w + m_verts[1].w + m_verts[2].w + m_verts[3].w) * PfxFloat(0.25);
     m_interior = centre;
     static const PfxUInt8 kFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    // The faces are turned away from the tetrahedron's centre, which stays inside the
+    // growing polytope, all alike (they are wound one way), so that each edge is walked
+    // once in each direction by its two faces: by the face that sees the centre most
+    // clearly, where a nearly flat tetrahedron leaves the others in doubt.
+    PfxFloat clearest = 0;
     for (PfxUInt16 f = 0; f < 4; ++f) {
       const PfxVector3 n = faceCross(kFaces[f][0], kFaces[f][1], kFaces[f][2]);
       if (!(n.squaredNorm() > kMinFaceAreaSq)) return false;
       setFace(f, kFaces[f][0], kFaces[f][1], kFaces[f][2], n);
-      // Every face is turned away from the tetrahedron's centre, which stays inside the
-      // growing polytope. Turned alike (a tetrahedron's faces are all wound one way), each
-      // edge is then walked once in each direction by its two faces.
-      if (m_faces[f].normal.dot(m_verts[m_faces[f].v[0]].w - m_interior) < 0) {
+      const PfxFloat outwards = m_faces[f].normal.dot(m_verts[kFaces[f][0]].w - m_interior);
+      if (std::abs(outwards) > std::abs(clearest)) clearest = outwards;
+    }
+    if (clearest < 0) {
+      for (PfxUInt16 f = 0; f < 4; ++f) {
         std::swap(m_faces[f].v[1], m_faces[f].v[2]);
         m_faces[f].normal = -m_faces[f].normal;
         m_dist[f] = -m_dist[f];
