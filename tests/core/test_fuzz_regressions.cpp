@@ -7,7 +7,10 @@
 #include <cstring>
 #include <limits>
 
+#include "pfx/base_level/collision/pfx_contact_shapes.h"
+#include "pfx/base_level/collision/pfx_large_tri_mesh.h"
 #include "pfx/high_level/pfx_body_init.h"
+#include "pfx_large_mesh_test_util.h"
 #include "pfx_serialize_test_world.h"
 
 using namespace pfx;
@@ -569,5 +572,117 @@ TEST(FuzzRegressions, JointDrivesAndLimitsFarAwayStepToFiniteStates) {
             << "axis " << axis << ", drive " << int(drive) << ", step " << step;
       }
     }
+  }
+}
+
+namespace {
+
+// The pair fuzz_world_api found EPA unable to settle: a cylinder 1,560 km long and as wide
+// (half-length and radius 780,859.375 m, the fuzz target's decoded reals), turned 1.8e-4 rad
+// about y, around shapes of a metre 69.5 m from its centre along its axis. The way out
+// through the near cap is 65 m shorter than through the side, less than 0.01 % of the
+// depth: on a difference this round EPA would need thousands of faces to tell them apart,
+// and it stops at its budget (124 steps, 128 vertices) from both of its starts, for each
+// triangle of a mesh. Each step tested every face and matched each removed edge against
+// the horizon found so far; a query of 96 triangles ran past 10 s under
+// AddressSanitizer on a loaded machine.
+const PfxFloat kHugeCylinderSize = PfxFloat(780859.375);
+
+PfxTransform3 hugeCylinderPose() {
+  return pfxMakeTransform(PfxQuat(Eigen::AngleAxis<PfxFloat>(PfxFloat(-1.8e-4), PfxVector3::UnitY())),
+                          PfxVector3::Zero());
+}
+
+// How far the shapes overlap along the unit normal n (from A to B), from their support
+// points sampled on the surfaces the contact names: pushing B by this much along n
+// separates them.
+PfxFloat overlapAlong(const PfxVector3& n, const PfxVector3& boxCentre, const PfxVector3& half,
+                      const PfxTransform3& cylinderPose) {
+  const PfxFloat boxReach = n.dot(boxCentre) + half.dot(n.cwiseAbs());
+  const PfxVector3 local = cylinderPose.linear().transpose() * n;
+  const PfxFloat cylinderReach = -n.dot(cylinderPose.translation()) +
+                                 kHugeCylinderSize * std::abs(local.x()) +
+                                 kHugeCylinderSize * std::hypot(local.y(), local.z());
+  return boxReach + cylinderReach;
+}
+
+}  // namespace
+
+// The pair itself: a box of a metre where the mesh's triangles lay, against the cylinder.
+// The contact must be sound: pushing the cylinder by the reported depth along the
+// reported normal separates the shapes, and the depth is within 1 % of the push along the
+// cap's normal (65 m less than the side's; EPA's budget ends 69 m above it, a face
+// from early in its growth would be several per cent).
+TEST(FuzzRegressions, BoxDeepInsideAHugeCylinderGetsASoundContact) {
+  const PfxVector3 half = PfxVector3::Constant(PfxFloat(0.5));
+  const PfxVector3 boxCentre(PfxFloat(-69.5), PfxFloat(0.3), PfxFloat(-0.7));
+  const PfxTransform3 cylinderPose = hugeCylinderPose();
+  PfxContactCandidate out[PFX_MAX_CONTACT_CANDIDATES];
+  const PfxUInt32 n = pfxContactConvexShapes(
+      pfxMakeShape(PfxBox(half)), pfxMakeTransform(PfxQuat::Identity(), boxCentre),
+      pfxMakeShape(PfxCylinder(kHugeCylinderSize, kHugeCylinderSize)), cylinderPose,
+      PfxFloat(0.0063), out, PFX_MAX_CONTACT_CANDIDATES);
+  ASSERT_GE(n, 1u);
+  const PfxVector3 capNormal = cylinderPose.linear() * PfxVector3::UnitX();
+  const PfxFloat capPush = overlapAlong(capNormal, boxCentre, half, cylinderPose);
+  for (PfxUInt32 i = 0; i < n; ++i) {
+    const PfxContactCandidate& c = out[i];
+    ASSERT_TRUE(pfxIsFinite(c.m_normal) && pfxIsFinite(c.m_pointA) && pfxIsFinite(c.m_pointB) &&
+                std::isfinite(c.m_distance));
+    EXPECT_NEAR(c.m_normal.norm(), 1, 1e-5);
+    // Float rounding at 780 km is 0.06 m; the tolerances below are a few of those.
+    EXPECT_LE(overlapAlong(c.m_normal, boxCentre, half, cylinderPose), -c.m_distance + 1)
+        << "contact " << i << " does not separate the shapes";
+    EXPECT_LE(-c.m_distance, capPush * PfxFloat(1.01)) << "contact " << i;
+  }
+}
+
+// The query as fuzz_world_api made it: the cylinder against a static mesh like the fuzz
+// target's ground (4 x 4 cells of a metre, heights up to 0.4 m; the input had it three
+// times over on one body) turned a third of a turn about (1, 1, 1). Every contact is
+// finite with a unit normal and overlaps, by no more than the cylinder's whole length.
+TEST(FuzzRegressions, QueryOfAHugeCylinderAroundAMeshGivesSoundContacts) {
+  const pfx_test::MeshSource grid =
+      pfx_test::makeHeightField(4, 4, 1, [](PfxFloat x, PfxFloat z) {
+        return PfxFloat(int(x * 7 + z * 3 + 20) % 5) * PfxFloat(0.1);
+      });
+  pfx_test::MeshOwner ground;
+  ASSERT_EQ(pfxCreateLargeTriMesh(ground.mesh,
+                                  grid.param(PFX_MESH_FLAG_USE_BVH, PfxFloat(0.002))),
+            PFX_OK);
+
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxShape meshShape;
+  meshShape.reset();
+  meshShape.setLargeTriMesh(&ground.mesh);
+  PfxBodyInit init;
+  init.motionType = kPfxMotionTypeFixed;
+  init.mass = 0;
+  init.position = PfxVector3(PfxFloat(-69.5), 0, 0);
+  init.orientation = PfxQuat(PfxFloat(0.5), PfxFloat(0.5), PfxFloat(0.5), PfxFloat(0.5));
+  ASSERT_EQ(pfxAddBody(world, meshShape, init), PFX_OK);
+
+  PfxCollidable cylinder;
+  cylinder.reset();
+  ASSERT_EQ(cylinder.addShape(pfxMakeShape(PfxCylinder(kHugeCylinderSize, kHugeCylinderSize))),
+            PFX_OK);
+  ASSERT_EQ(cylinder.finish(), PFX_OK);
+  PfxContactQueryInput query;
+  query.collidable = &cylinder;
+  query.transform = hugeCylinderPose();
+  query.contactThreshold = PfxFloat(0.0063);
+  PfxQueryContact out[8];
+  PfxQueryContactsResult result;
+  ASSERT_EQ(world.queryContacts(query, out, 8, result), PFX_OK);
+  ASSERT_GE(result.numContacts, 1u);
+  ASSERT_LE(result.numContacts, 8u);
+  for (PfxUInt32 i = 0; i < result.numContacts; ++i) {
+    const PfxContactCandidate& c = out[i].m_contact;
+    ASSERT_TRUE(pfxIsFinite(c.m_normal) && pfxIsFinite(c.m_pointA) && pfxIsFinite(c.m_pointB) &&
+                std::isfinite(c.m_distance));
+    EXPECT_NEAR(c.m_normal.norm(), 1, 1e-5);
+    EXPECT_LT(c.m_distance, 0) << "contact " << i;
+    EXPECT_GT(c.m_distance, -2 * kHugeCylinderSize) << "contact " << i;
   }
 }
