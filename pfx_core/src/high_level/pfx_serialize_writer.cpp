@@ -131,6 +131,8 @@ void Encoder::param() {
   w.real(p.sleepTime);
   w.u32(p.numThreads);
   w.f64(*m_buffer.simulatedTime);
+  // Version 2.
+  w.u8(p.enableShockPropagation ? 1 : 0);
 }
 
 void Encoder::convexMeshes() {
