@@ -419,6 +419,15 @@ bool Parser::bodies() {
       state.setOrientation(r.quat("orientation"));
       state.setLinearVelocity(r.vec3("linearVelocity"));
       state.setAngularVelocity(r.vec3("angularVelocity"));
+      if (m_version >= 2) {
+        const PfxQuat orientationCarry = r.quat("orientationCarry");
+        const PfxVector3 angularVelocityCarry = r.vec3("angularVelocityCarry");
+        // What the writer's rounding left out means nothing in another precision.
+        if (r.realBytes() == sizeof(PfxFloat)) {
+          state.setRotation(state.getOrientation(), orientationCarry, state.getAngularVelocity(),
+                            angularVelocityCarry);
+        }
+      }
       state.setRigidBodyId(r.u32("rigidBodyId"));
       state.setContactFilterSelf(r.u32("contactFilterSelf"));
       state.setContactFilterTarget(r.u32("contactFilterTarget"));

@@ -259,6 +259,9 @@ void Encoder::bodies() {
     w.quat(s.getOrientation());
     w.vec3(s.getLinearVelocity());
     w.vec3(s.getAngularVelocity());
+    // Version 2.
+    w.quat(s.getOrientationCarry());
+    w.vec3(s.getAngularVelocityCarry());
     w.u32(s.getRigidBodyId());
     w.u32(s.getContactFilterSelf());
     w.u32(s.getContactFilterTarget());
