@@ -211,7 +211,15 @@ TEST(SerializeReader, WrongMagicVersionOrPrecisionIsRejected) {
   Bytes changed = smallFile();
   putU32(changed, 8, PFX_SERIALIZE_VERSION + 1);
   EXPECT_EQ(loadError(changed, error), PFX_ERR_INVALID_FLAG);
-  EXPECT_EQ(error.rfind("header/version: is 2; this build reads version 1", 0), 0u) << error;
+  EXPECT_EQ(error.rfind("header/version: is " + std::to_string(PFX_SERIALIZE_VERSION + 1) +
+                            "; this build reads versions 1 to " +
+                            std::to_string(PFX_SERIALIZE_VERSION),
+                        0),
+            0u)
+      << error;
+  putU32(changed, 8, 0);
+  EXPECT_EQ(loadError(changed, error), PFX_ERR_INVALID_FLAG);
+  EXPECT_EQ(error.rfind("header/version: is 0;", 0), 0u) << error;
   changed = smallFile();
   changed[0] = 'X';
   EXPECT_EQ(loadError(changed, error), PFX_ERR_INVALID_FLAG);

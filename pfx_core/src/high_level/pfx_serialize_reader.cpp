@@ -31,7 +31,8 @@ std::string at(const char* what, std::size_t index) {
 
 class Parser {
  public:
-  Parser(PfxByteReader& reader, PfxSerializeImage& image) : r(reader), m_image(image) {}
+  Parser(PfxByteReader& reader, PfxSerializeImage& image, PfxUInt32 version)
+      : r(reader), m_image(image), m_version(version) {}
 
   bool header(std::size_t& realBytes);
   bool param();
@@ -62,6 +63,8 @@ class Parser {
 
   PfxByteReader& r;
   PfxSerializeImage& m_image;
+  // The file's format version: what a later version added is read only from its files.
+  PfxUInt32 m_version;
 };
 
 bool Parser::param() {
@@ -85,6 +88,7 @@ bool Parser::param() {
   p.sleepTime = r.real("sleepTime");
   p.numThreads = r.u32("numThreads");
   m_image.simulatedTime = r.f64("simulatedTime");
+  if (m_version >= 2) p.enableShockPropagation = r.u8("enableShockPropagation") != 0;
   if (!r.ok()) return false;
   if (p.subStep > PFX_MAX_SUB_STEPS) {
     return r.fail(PFX_ERR_OUT_OF_RANGE, "subStep",
@@ -415,6 +419,15 @@ bool Parser::bodies() {
       state.setOrientation(r.quat("orientation"));
       state.setLinearVelocity(r.vec3("linearVelocity"));
       state.setAngularVelocity(r.vec3("angularVelocity"));
+      if (m_version >= 2) {
+        const PfxQuat orientationCarry = r.quat("orientationCarry");
+        const PfxVector3 angularVelocityCarry = r.vec3("angularVelocityCarry");
+        // What the writer's rounding left out means nothing in another precision.
+        if (r.realBytes() == sizeof(PfxFloat)) {
+          state.setRotation(state.getOrientation(), orientationCarry, state.getAngularVelocity(),
+                            angularVelocityCarry);
+        }
+      }
       state.setRigidBodyId(r.u32("rigidBodyId"));
       state.setContactFilterSelf(r.u32("contactFilterSelf"));
       state.setContactFilterTarget(r.u32("contactFilterTarget"));
@@ -788,16 +801,18 @@ PfxInt32 pfxDecodeSerialized(const std::vector<PfxUInt8>& bytes, PfxSerializeIma
   std::vector<std::string> tags;
   PfxByteReader file(bytes.data(), bytes.size(), 0, error, tags);
   std::size_t realBytes = 0;
+  PfxUInt32 version = 0;
   {
     PfxTagScope tag(file, "header");
     const PfxUInt8* magic = file.take(sizeof(kPfxSerializeMagic), "magic");
     if (magic && std::memcmp(magic, kPfxSerializeMagic, sizeof(kPfxSerializeMagic)) != 0) {
       file.fail(PFX_ERR_INVALID_FLAG, "magic", "this is not a pfx world file");
     }
-    const PfxUInt32 version = file.u32("version");
-    if (file.ok() && version != PFX_SERIALIZE_VERSION) {
+    version = file.u32("version");
+    if (file.ok() && (version < PFX_SERIALIZE_OLDEST_VERSION || version > PFX_SERIALIZE_VERSION)) {
       file.fail(PFX_ERR_INVALID_FLAG, "version",
-                "is " + std::to_string(version) + "; this build reads version " +
+                "is " + std::to_string(version) + "; this build reads versions " +
+                    std::to_string(PFX_SERIALIZE_OLDEST_VERSION) + " to " +
                     std::to_string(PFX_SERIALIZE_VERSION));
     }
     realBytes = file.u8("precision");
@@ -844,7 +859,7 @@ PfxInt32 pfxDecodeSerialized(const std::vector<PfxUInt8>& bytes, PfxSerializeIma
     PfxTagScope tag(body, section.name);
     PfxByteReader inner(nullptr, 0, realBytes, error, tags);
     if (!body.section(section.tag, inner)) return error.code;
-    Parser sectionParser(inner, image);
+    Parser sectionParser(inner, image, version);
     if (!(sectionParser.*section.parse)() || !inner.finish(nullptr)) return error.code;
     if (update) {
       update(bytes.size() - body.remaining(), bytes.size(), userData);

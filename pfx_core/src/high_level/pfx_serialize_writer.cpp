@@ -131,6 +131,8 @@ void Encoder::param() {
   w.real(p.sleepTime);
   w.u32(p.numThreads);
   w.f64(*m_buffer.simulatedTime);
+  // Version 2.
+  w.u8(p.enableShockPropagation ? 1 : 0);
 }
 
 void Encoder::convexMeshes() {
@@ -257,6 +259,9 @@ void Encoder::bodies() {
     w.quat(s.getOrientation());
     w.vec3(s.getLinearVelocity());
     w.vec3(s.getAngularVelocity());
+    // Version 2.
+    w.quat(s.getOrientationCarry());
+    w.vec3(s.getAngularVelocityCarry());
     w.u32(s.getRigidBodyId());
     w.u32(s.getContactFilterSelf());
     w.u32(s.getContactFilterTarget());

@@ -9,7 +9,7 @@
 //     a loaded world continues bit for bit where the saved one stood.
 //
 // Reading checks everything before it stores anything: a file that is cut short, altered,
-// of another version, or that names bodies, meshes or manifolds it does not hold ends in
+// of a newer version, or that names bodies, meshes or manifolds it does not hold ends in
 // the error callback with the tags of the place (e.g. "bodies", "body 12", "state") and
 // an error code, and the application's buffers or world are left as they were. Nothing is
 // allocated for a count the rest of the file cannot hold. Files are neither opened nor
@@ -27,8 +27,11 @@
 
 namespace pfx {
 
-// Version of the format this build writes and the only one it reads.
-constexpr PfxUInt32 PFX_SERIALIZE_VERSION = 1;
+// Version of the format this build writes. It reads every version from the first to this
+// one, taking the defaults of PfxWorldParam for what an older file lacks, and refuses a
+// newer one, whose fields it could not know.
+constexpr PfxUInt32 PFX_SERIALIZE_VERSION = 2;
+constexpr PfxUInt32 PFX_SERIALIZE_OLDEST_VERSION = 1;
 
 // How many of each instance a buffer holds (the initialization callback sets it), and on
 // return how many were written or read (the termination callback receives it).
@@ -122,7 +125,7 @@ PfxInt32 pfxSerializeWrite(FILE* file, const PfxSerializeCallbacks& callbacks);
 // to this build's PfxFloat; a double beyond float's range becomes the largest float).
 // Compound collidables refer to buffer.shapes and buffer.shapeIds; shapes refer to the
 // meshes stored in buffer.convexMeshes and buffer.largeMeshes. Errors: PFX_ERR_NULL_POINTER
-// (file, init callback, an array), PFX_ERR_INVALID_FLAG (not this format, another version,
+// (file, init callback, an array), PFX_ERR_INVALID_FLAG (not this format, a newer version,
 // an unknown enum), PFX_ERR_OUT_OF_BUFFER (cut short, or a buffer too small and not
 // resized), PFX_ERR_OUT_OF_RANGE (an index or count outside its limit),
 // PFX_ERR_INVALID_VALUE (bytes that no longer match the file's checksum, NaN, infinity, or

@@ -1,6 +1,7 @@
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 
 #include <cstring>
+#include <limits>
 
 namespace pfx {
 
@@ -11,6 +12,8 @@ void PfxRigidState::reset() {
   m_orientation.setIdentity();
   m_linearVelocity.setZero();
   m_angularVelocity.setZero();
+  m_orientationCarry.coeffs().setZero();
+  m_angularVelocityCarry.setZero();
   m_motionType = kPfxMotionTypeActive;
   m_contactFilterSelf = 0xffffffffu;
   m_contactFilterTarget = 0xffffffffu;
@@ -23,7 +26,12 @@ bool PfxRigidState::isValid() const {
   // pulled the body jointed to it to NaN.
   return pfxIsFinite(m_position.squaredNorm()) && pfxIsUnitQuat(m_orientation) &&
          pfxIsFinite(m_linearVelocity.squaredNorm()) &&
-         pfxIsFinite(m_angularVelocity.squaredNorm()) && m_motionType < kPfxMotionTypeCount;
+         pfxIsFinite(m_angularVelocity.squaredNorm()) &&
+         // The orientation's carry is what rounding a unit quaternion leaves out: a larger
+         // one (or NaN, which fails the comparison) is no carry.
+         m_orientationCarry.coeffs().cwiseAbs().maxCoeff() <=
+             std::numeric_limits<PfxFloat>::epsilon() &&
+         pfxIsFinite(m_angularVelocityCarry.squaredNorm()) && m_motionType < kPfxMotionTypeCount;
 }
 
 PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,

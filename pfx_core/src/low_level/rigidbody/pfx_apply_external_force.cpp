@@ -26,11 +26,10 @@ void applyForce(PfxRigidState& state, const PfxRigidBody& body, const PfxVector3
   const PfxMatrix3 rotation = state.getOrientation().toRotationMatrix();
   const PfxMatrix3 inertiaInvWorld = pfxRotateInertia(rotation, body.getInertiaInv());
   const PfxVector3& angular = state.getAngularVelocity();
-  const PfxVector3 turned = angular + inertiaInvWorld * torque * timeStep;
-  state.setAngularVelocity(pfxWithinSpeed(turned, kPfxMaxAngularSpeed, [&]() -> PfxWideVector {
+  pfxTurnWithinSpeed(state, inertiaInvWorld * torque * timeStep, [&]() -> PfxWideVector {
     return pfxWide(angular) +
            inertiaInvWorld.cast<long double>() * pfxWide(torque) * (long double)timeStep;
-  }));
+  });
 }
 
 bool validStep(const PfxVector3& gravity, PfxFloat timeStep) {

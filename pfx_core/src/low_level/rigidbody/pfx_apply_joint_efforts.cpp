@@ -33,11 +33,10 @@ void applyImpulse(PfxRigidState& state, const PfxRigidBody& body, const PfxVecto
            (long double)body.getMassInv() * (long double)impulse * pfxWide(linear);
   }));
   const PfxVector3& angularVelocity = state.getAngularVelocity();
-  const PfxVector3 turned = angularVelocity + impulse * (inertiaInv * angular);
-  state.setAngularVelocity(pfxWithinSpeed(turned, kPfxMaxAngularSpeed, [&]() -> PfxWideVector {
+  pfxTurnWithinSpeed(state, impulse * (inertiaInv * angular), [&]() -> PfxWideVector {
     return pfxWide(angularVelocity) +
            (long double)impulse * (inertiaInv.cast<long double>() * pfxWide(angular));
-  }));
+  });
 }
 
 }  // namespace

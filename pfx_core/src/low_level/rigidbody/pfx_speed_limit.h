@@ -27,4 +27,17 @@ PfxVector3 pfxWithinSpeed(const PfxVector3& pushed, PfxFloat maxSpeed, WideSum w
                                                      : pfxCutToSpeed(wideSum(), maxSpeed);
 }
 
+// The body's angular velocity turned by `change`, as pfxWithinSpeed bounds it (`wideSum`
+// the sum in long double): a sum that keeps to the limit is a change, and the integrator's
+// carry (PfxRigidState::getAngularVelocityCarry) still applies; a cut one is a new velocity.
+template <typename WideSum>
+void pfxTurnWithinSpeed(PfxRigidState& state, const PfxVector3& change, WideSum wideSum) {
+  const PfxVector3 turned = state.getAngularVelocity() + change;
+  if (turned.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed) {
+    state.addAngularVelocity(change);
+  } else {
+    state.setAngularVelocity(pfxCutToSpeed(wideSum(), kPfxMaxAngularSpeed));
+  }
+}
+
 }  // namespace pfx

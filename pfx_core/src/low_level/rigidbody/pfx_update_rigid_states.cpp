@@ -67,6 +67,22 @@ PfxVector3 rotationChange(const PfxQuat& q, const PfxVector3& v) {
   return q.w() * twice + q.vec().cross(twice);
 }
 
+// value + (change + carry), rounded into `value`, with what that rounding left out in
+// `carry` (Knuth's two-sum, exact whatever the magnitudes). A step's change to a spinning body is
+// small beside its state, and the rounding of each sum, one half unit in the last place,
+// would otherwise pile up over the steps: more of them, the smaller the step.
+template <typename Value, typename Carry, typename Change>
+void addCompensated(Value& value, Carry& carry, const Change& change) {
+  for (Eigen::Index i = 0; i < value.size(); ++i) {
+    const PfxFloat added = change[i] + carry[i];
+    const PfxFloat sum = value[i] + added;
+    const PfxFloat addedPart = sum - value[i];
+    const PfxFloat valuePart = sum - addedPart;
+    carry[i] = (value[i] - valuePart) + (added - addedPart);
+    value[i] = sum;
+  }
+}
+
 }  // namespace
 
 void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeStep) {
@@ -122,14 +138,29 @@ void pfxIntegrate(PfxRigidState& state, const PfxRigidBody& body, PfxFloat timeS
     turn.normalize();
   }
 
-  state.setOrientation((frame * turn * axes.conjugate()).normalized());
-  // The new velocity, frame * turn * (bodyOmega + omegaChange), added to the old one as
-  // the difference of the two: a spin that barely changes keeps its bits instead of
-  // taking each step's round-off of a full rotation to the body frame and back, which
-  // made a spinner's momentum drift grow with the number of steps.
+  // The new orientation, frame * turn * axes^-1, and the new velocity, frame * turn *
+  // (bodyOmega + omegaChange), are added to the old ones as their differences from them,
+  // with the carries of the last step's rounding (addCompensated): a spin that barely
+  // changes keeps its bits instead of taking each step's round-off of a full rotation, and
+  // the round-off of the sums does not pile up, so a spinner's momentum drift does not
+  // grow with the number of steps.
+  PfxQuat turnChange = turn;
+  turnChange.w() -= 1;
+  PfxQuat orientation = state.getOrientation();
+  PfxQuat orientationCarry = state.getOrientationCarry();
+  addCompensated(orientation.coeffs(), orientationCarry.coeffs(),
+                 (frame * turnChange * axes.conjugate()).coeffs());
+  // Back to unit length, as a change too. The length comes from the rounded value: its
+  // error, as the rounding's, is a scale, which the next step measures and takes out again.
+  const PfxVector4 toUnit = orientation.coeffs() * (1 / orientation.norm() - 1);
+  addCompensated(orientation.coeffs(), orientationCarry.coeffs(), toUnit);
+
   const PfxVector3 omegaChange = momentumChange.cwiseQuotient(principalInertia);
-  state.setAngularVelocity(
-      omega + frame * (rotationChange(turn, bodyOmega + omegaChange) + omegaChange));
+  PfxVector3 angularVelocity = omega;
+  PfxVector3 angularVelocityCarry = state.getAngularVelocityCarry();
+  addCompensated(angularVelocity, angularVelocityCarry,
+                 PfxVector3(frame * (rotationChange(turn, bodyOmega + omegaChange) + omegaChange)));
+  state.setRotation(orientation, orientationCarry, angularVelocity, angularVelocityCarry);
 }
 
 PfxInt32 pfxUpdateRigidStates(const PfxUpdateRigidStatesParam& param,

@@ -552,8 +552,14 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                      if (solverBody.m_massInv == 0) continue;
                      state.setLinearVelocity(state.getLinearVelocity() +
                                              solverBody.m_deltaLinearVelocity);
-                     state.setAngularVelocity(state.getAngularVelocity() +
-                                              solverBody.m_deltaAngularVelocity);
+                     // A body the solver turns is held by its contacts and joints at the
+                     // precision of its state as stored: the integrator's carries, there
+                     // to keep free flight from drifting, would turn it by what those
+                     // never see (a standing 30-box tower leaned 1.3 m in 60 s).
+                     if (!solverBody.m_deltaAngularVelocity.isZero(0)) {
+                       state.addAngularVelocity(solverBody.m_deltaAngularVelocity);
+                       state.clearCarries();
+                     }
                      pfxApplyPush(state, solverBody, param.timeStep);
                    }
                  });

@@ -29,10 +29,38 @@ class PfxRigidState {
   bool isAwake() const { return m_sleeping == 0; }
   PfxUInt16 getSleepCount() const { return m_sleepCount; }
 
+  // What rounding left out of the orientation and the angular velocity that pfxIntegrate
+  // last wrote: it adds them back at the next step, so that a spin's round-off does not
+  // pile up step after step (pfx_update_rigid_states.h). Zero for a value set from outside.
+  const PfxQuat& getOrientationCarry() const { return m_orientationCarry; }
+  const PfxVector3& getAngularVelocityCarry() const { return m_angularVelocityCarry; }
+
   void setPosition(const PfxVector3& p) { m_position = p; }
-  void setOrientation(const PfxQuat& q) { m_orientation = q; }
+  // A value set is exact as given: the carry of the one it replaces no longer applies.
+  void setOrientation(const PfxQuat& q) {
+    m_orientation = q;
+    m_orientationCarry.coeffs().setZero();
+  }
   void setLinearVelocity(const PfxVector3& v) { m_linearVelocity = v; }
-  void setAngularVelocity(const PfxVector3& w) { m_angularVelocity = w; }
+  void setAngularVelocity(const PfxVector3& w) {
+    m_angularVelocity = w;
+    m_angularVelocityCarry.setZero();
+  }
+  // A change added to the angular velocity (a torque's): the carry still applies.
+  void addAngularVelocity(const PfxVector3& change) { m_angularVelocity += change; }
+  // For a body whose motion is no longer the integrator's alone.
+  void clearCarries() {
+    m_orientationCarry.coeffs().setZero();
+    m_angularVelocityCarry.setZero();
+  }
+  // The integrator's result with what its rounding left out.
+  void setRotation(const PfxQuat& orientation, const PfxQuat& orientationCarry,
+                   const PfxVector3& angularVelocity, const PfxVector3& angularVelocityCarry) {
+    m_orientation = orientation;
+    m_orientationCarry = orientationCarry;
+    m_angularVelocity = angularVelocity;
+    m_angularVelocityCarry = angularVelocityCarry;
+  }
   void setMotionType(PfxMotionType t) { m_motionType = t; }
   void setRigidBodyId(PfxUInt32 id) { m_rigidBodyId = id; }
   void setContactFilterSelf(PfxUInt32 f) { m_contactFilterSelf = f; }
@@ -63,9 +91,11 @@ class PfxRigidState {
   PfxUInt16 m_sleepCount;
   PfxUInt8 m_motionType;
   PfxUInt8 m_sleeping;
+  PfxQuat m_orientationCarry;
+  PfxVector3 m_angularVelocityCarry;
 };
 
-static_assert(sizeof(PfxRigidState) == 13 * sizeof(PfxFloat) + 4 * sizeof(PfxUInt32),
+static_assert(sizeof(PfxRigidState) == 20 * sizeof(PfxFloat) + 4 * sizeof(PfxUInt32),
               "PfxRigidState must stay free of padding");
 
 // Drives a keyframe body toward a target pose over the next step: the change of pose

@@ -4,7 +4,10 @@
 // the body-frame momentum is advanced by a symmetric (Strang) splitting of the free
 // rigid body into exact rotations about its principal axes. This is symplectic, so the
 // energy error stays bounded instead of drifting, and the intermediate-axis instability
-// (the tumbling "tennis racket" flip) is reproduced rather than damped out.
+// (the tumbling "tennis racket" flip) is reproduced rather than damped out. The step's
+// change of orientation and angular velocity is added to the state with what rounding left
+// out of the last one (PfxRigidState's carries), so that round-off does not pile up over
+// many small steps.
 #pragma once
 
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
