@@ -571,3 +571,54 @@ TEST(FuzzRegressions, JointDrivesAndLimitsFarAwayStepToFiniteStates) {
     }
   }
 }
+
+// fuzz_world_file: a saved world whose resting sphere's radius was 3.5e12 m (finite, so it
+// was read) overlapped every body near it by as much, and three bodies turned NaN in the
+// first step: in float, the lever arms of such contacts round by hundreds of kilometres,
+// and the split impulses that pushed along them overflowed. A shape whose bounds reach
+// beyond kPfxMaxShapeReach from its body's origin is refused now by PfxShape::validate,
+// which addRigidBody and the file reader apply; one that reaches that far steps to finite
+// states with bodies buried deep inside it.
+TEST(FuzzRegressions, ShapeReachingTooFarIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, PfxFloat(-0.5), 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, 0.5f, 2)), ground), PFX_OK);
+  const PfxFloat radius = PfxFloat(0.2345);  // unique in the saved file
+  PfxBodyInit resting;  // dropped, so that its height is not the radius
+  resting.position = PfxVector3(-1, PfxFloat(0.3), 1);
+  PfxUInt32 sphere = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(radius)), resting, &sphere), PFX_OK);
+  PfxUInt32 jointId = 0;
+  addPendulum(world, &jointId);
+  for (int step = 0; step < 30; ++step) ASSERT_EQ(world.step(), PFX_OK);
+
+  const PfxFloat fuzzedRadius = PfxFloat(3.5e12);
+  EXPECT_EQ(pfxMakeShape(PfxSphere(fuzzedRadius)).validate(), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(fuzzedRadius)), PfxBodyInit()),
+            PFX_ERR_INVALID_VALUE);
+  PfxShape reachingOut = pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f));
+  reachingOut.setOffsetPosition(PfxVector3(0, 0, PfxFloat(1.5) * kPfxMaxShapeReach));
+  EXPECT_EQ(reachingOut.validate(), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 4u);  // the ground, the sphere, the pendulum's two
+
+  PfxWorld loaded;
+  std::string error;
+  EXPECT_EQ(loadWithValueReplaced(world, radius, fuzzedRadius, loaded, error),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_NE(error.find("PfxShape::validate"), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+
+  // The largest sphere accepted, around the ground, the pendulum and its own centre.
+  PfxWorld largest;
+  ASSERT_EQ(loadWithValueReplaced(world, radius, kPfxMaxShapeReach, largest, error), PFX_OK)
+      << error;
+  for (int step = 0; step < 5; ++step) {
+    ASSERT_EQ(largest.step(), PFX_OK);
+    for (PfxUInt32 id = 0; id < largest.getNumRigidBodies(); ++id) {
+      ASSERT_TRUE(largest.getRigidState(id).isValid()) << "body " << id << ", step " << step;
+    }
+  }
+}
