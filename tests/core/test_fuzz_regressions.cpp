@@ -160,13 +160,16 @@ PfxUInt32 addPendulum(PfxWorld& world, PfxUInt32* jointId) {
   return bar;
 }
 
-// Saves `world`, writes `replacement` over the first real in the file equal to `value`
-// (a value the test made unique), reseals the checksum and loads the file into `loaded`.
+// Saves `world`, writes `replacement` over the first real in the file (or from the start
+// of `section`'s payload) equal to `value` (a value the test made unique there), reseals the
+// checksum and loads the file into `loaded`.
 PfxInt32 loadWithValueReplaced(const PfxWorld& world, PfxFloat value, PfxFloat replacement,
-                               PfxWorld& loaded, std::string& error) {
+                               PfxWorld& loaded, std::string& error,
+                               const char* section = nullptr) {
   Bytes bytes = saveWorld(world);
   const PfxUInt8* wanted = reinterpret_cast<const PfxUInt8*>(&value);
-  const auto at = std::search(bytes.begin(), bytes.end(), wanted, wanted + sizeof value);
+  const auto from = bytes.begin() + (section ? sectionPayload(bytes, section) : 0);
+  const auto at = std::search(from, bytes.end(), wanted, wanted + sizeof value);
   if (at == bytes.end()) {
     ADD_FAILURE() << "the saved world holds no " << value;
     return PFX_OK;
@@ -175,6 +178,29 @@ PfxInt32 loadWithValueReplaced(const PfxWorld& world, PfxFloat value, PfxFloat r
   resealChecksum(bytes);
   PfxSerializedMeshes meshes;
   return loadWorld(loaded, meshes, bytes, &error);
+}
+
+// Initializes `world` with a fixed ground box whose top is at y = 0; returns its id.
+PfxUInt32 initializeWithGround(PfxWorld& world) {
+  EXPECT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, PfxFloat(-0.5), 0);
+  PfxUInt32 id = 0;
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, 0.5f, 2)), ground, &id), PFX_OK);
+  return id;
+}
+
+// A file of `world` with `value` replaced is refused by the reader with `code`, the error
+// naming `detail`, and nothing is loaded.
+void expectFileRefused(const PfxWorld& world, PfxFloat value, PfxFloat replacement,
+                       const char* detail, const char* section = nullptr,
+                       PfxInt32 code = PFX_ERR_INVALID_VALUE) {
+  PfxWorld loaded;
+  std::string error;
+  EXPECT_EQ(loadWithValueReplaced(world, value, replacement, loaded, error, section), code);
+  EXPECT_NE(error.find(detail), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }
 
 }  // namespace
@@ -234,12 +260,7 @@ TEST(FuzzRegressions, WarmStartImpulseWhoseSquareOverflowsIsRefusedWithNothingCh
   const PfxFloat impulse =
       saved.getJoint(jointId).m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse;
   ASSERT_NE(impulse, 0);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, impulse, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("constraintRow: has an impulse of"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, impulse, kLargestFloat, "constraintRow: has an impulse of");
 }
 
 // fuzz_world_file: a saved hinge whose anchor in its first body was 3.4e38 m away (finite,
@@ -280,12 +301,7 @@ TEST(FuzzRegressions, JointAnchorWhoseSquareOverflowsIsRefusedWithNothingChanged
   const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
   marked.m_anchorA.z() = mark;
   ASSERT_EQ(saved.setJoint(jointId, marked), PFX_OK);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, mark, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, mark, kLargestFloat, "joint 0");
 }
 
 // fuzz_world_api: a body of 1.4e-45 kg (positive and finite, so it was accepted) had an
@@ -459,12 +475,7 @@ TEST(FuzzRegressions, SavedContactNormalNotOfUnitLengthIsRefused) {
   const PfxFloat normalX = manifold.getContactPoint(0).m_constraintRow[0].m_normal.x();
   ASSERT_GT(std::abs(normalX), PfxFloat(0.2));  // a value nothing saved before it holds
 
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, normalX, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("the contact normal is not of unit length"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, normalX, kLargestFloat, "the contact normal is not of unit length");
 }
 
 // fuzz_world_file: a fixed body saved at y = 3.4e38 m (finite, so read) pulled the body
@@ -525,12 +536,7 @@ TEST(FuzzRegressions, JointLimitOrDriveTargetWhoseSquareOverflowsIsRefusedWithNo
   const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
   twist.m_driveTarget = mark;
   ASSERT_EQ(world.setJoint(jointId, driven), PFX_OK);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(world, mark, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(world, mark, kLargestFloat, "joint 0");
 }
 
 // Within that rule a joint may still ask for more than a body can take: a position drive
@@ -581,11 +587,7 @@ TEST(FuzzRegressions, JointDrivesAndLimitsFarAwayStepToFiniteStates) {
 // states with bodies buried deep inside it.
 TEST(FuzzRegressions, ShapeReachingTooFarIsRefusedWithNothingChanged) {
   PfxWorld world;
-  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
-  PfxBodyInit ground;
-  ground.mass = 0;
-  ground.position = PfxVector3(0, PfxFloat(-0.5), 0);
-  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, 0.5f, 2)), ground), PFX_OK);
+  initializeWithGround(world);
   const PfxFloat radius = PfxFloat(0.2345);  // unique in the saved file
   PfxBodyInit resting;  // dropped, so that its height is not the radius
   resting.position = PfxVector3(-1, PfxFloat(0.3), 1);
@@ -604,15 +606,11 @@ TEST(FuzzRegressions, ShapeReachingTooFarIsRefusedWithNothingChanged) {
   EXPECT_EQ(reachingOut.validate(), PFX_ERR_INVALID_VALUE);
   EXPECT_EQ(world.getNumRigidBodies(), 4u);  // the ground, the sphere, the pendulum's two
 
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(world, radius, fuzzedRadius, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("PfxShape::validate"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(world, radius, fuzzedRadius, "PfxShape::validate");
 
-  // The largest sphere accepted, around the ground, the pendulum and its own centre.
+  // A sphere reaching exactly that far, around the ground, the pendulum and its own centre.
   PfxWorld largest;
+  std::string error;
   ASSERT_EQ(loadWithValueReplaced(world, radius, kPfxMaxShapeReach, largest, error), PFX_OK)
       << error;
   for (int step = 0; step < 5; ++step) {
@@ -621,4 +619,27 @@ TEST(FuzzRegressions, ShapeReachingTooFarIsRefusedWithNothingChanged) {
       ASSERT_TRUE(largest.getRigidState(id).isValid()) << "body " << id << ", step " << step;
     }
   }
+}
+
+// fuzz_world_file: a saved world whose resting box's contact point with the ground lay
+// 6.3e29 m from the ground's origin (finite, so it was read), and whose hinge had been
+// moved onto that box, turned the box and both coupled pendulums NaN in the first step: the
+// point's lever arm had an overflowing square in the contact's effective mass. The reader
+// now refuses a contact point farther than kPfxMaxShapeReach from its body, as no shape
+// reaches.
+TEST(FuzzRegressions, SavedContactPointBeyondAnyShapeIsRefused) {
+  PfxWorld world;
+  const PfxUInt32 groundId = initializeWithGround(world);
+  PfxBodyInit resting;
+  resting.position = PfxVector3(-1, PfxFloat(0.2), 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f)), resting), PFX_OK);
+  ASSERT_EQ(world.step(), PFX_OK);
+  ASSERT_EQ(world.getNumContactPairs(), 1u);
+  const PfxConstraintPair& pair = world.getContactPair(0);
+  ASSERT_GT(world.getContactManifold(pair).getNumContacts(), 0u);
+  const PfxContactPoint& point = world.getContactManifold(pair).getContactPoint(0);
+  const bool groundIsA = pfxGetObjectIdA(pair) == groundId;
+  const PfxFloat onGroundX = (groundIsA ? point.m_localPointA : point.m_localPointB).x();
+  expectFileRefused(world, onGroundX, PfxFloat(6.3e29),
+                    groundIsA ? "localPointA" : "localPointB", "CONT", PFX_ERR_OUT_OF_RANGE);
 }
