@@ -163,13 +163,16 @@ PfxUInt32 addPendulum(PfxWorld& world, PfxUInt32* jointId) {
   return bar;
 }
 
-// Saves `world`, writes `replacement` over the first real in the file equal to `value`
-// (a value the test made unique), reseals the checksum and loads the file into `loaded`.
+// Saves `world`, writes `replacement` over the first real in the file (or from the start
+// of `section`'s payload) equal to `value` (a value the test made unique there), reseals the
+// checksum and loads the file into `loaded`.
 PfxInt32 loadWithValueReplaced(const PfxWorld& world, PfxFloat value, PfxFloat replacement,
-                               PfxWorld& loaded, std::string& error) {
+                               PfxWorld& loaded, std::string& error,
+                               const char* section = nullptr) {
   Bytes bytes = saveWorld(world);
   const PfxUInt8* wanted = reinterpret_cast<const PfxUInt8*>(&value);
-  const auto at = std::search(bytes.begin(), bytes.end(), wanted, wanted + sizeof value);
+  const auto from = bytes.begin() + (section ? sectionPayload(bytes, section) : 0);
+  const auto at = std::search(from, bytes.end(), wanted, wanted + sizeof value);
   if (at == bytes.end()) {
     ADD_FAILURE() << "the saved world holds no " << value;
     return PFX_OK;
@@ -178,6 +181,29 @@ PfxInt32 loadWithValueReplaced(const PfxWorld& world, PfxFloat value, PfxFloat r
   resealChecksum(bytes);
   PfxSerializedMeshes meshes;
   return loadWorld(loaded, meshes, bytes, &error);
+}
+
+// Initializes `world` with a fixed ground box whose top is at y = 0; returns its id.
+PfxUInt32 initializeWithGround(PfxWorld& world) {
+  EXPECT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, PfxFloat(-0.5), 0);
+  PfxUInt32 id = 0;
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, 0.5f, 2)), ground, &id), PFX_OK);
+  return id;
+}
+
+// A file of `world` with `value` replaced is refused by the reader with `code`, the error
+// naming `detail`, and nothing is loaded.
+void expectFileRefused(const PfxWorld& world, PfxFloat value, PfxFloat replacement,
+                       const char* detail, const char* section = nullptr,
+                       PfxInt32 code = PFX_ERR_INVALID_VALUE) {
+  PfxWorld loaded;
+  std::string error;
+  EXPECT_EQ(loadWithValueReplaced(world, value, replacement, loaded, error, section), code);
+  EXPECT_NE(error.find(detail), std::string::npos) << error;
+  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
 }
 
 }  // namespace
@@ -237,12 +263,7 @@ TEST(FuzzRegressions, WarmStartImpulseWhoseSquareOverflowsIsRefusedWithNothingCh
   const PfxFloat impulse =
       saved.getJoint(jointId).m_constraints[kPfxJointAxisY].m_constraintRow.m_accumImpulse;
   ASSERT_NE(impulse, 0);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, impulse, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("constraintRow: has an impulse of"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, impulse, kLargestFloat, "constraintRow: has an impulse of");
 }
 
 // fuzz_world_file: a saved hinge whose anchor in its first body was 3.4e38 m away (finite,
@@ -283,12 +304,7 @@ TEST(FuzzRegressions, JointAnchorWhoseSquareOverflowsIsRefusedWithNothingChanged
   const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
   marked.m_anchorA.z() = mark;
   ASSERT_EQ(saved.setJoint(jointId, marked), PFX_OK);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, mark, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, mark, kLargestFloat, "joint 0");
 }
 
 // fuzz_world_api: a body of 1.4e-45 kg (positive and finite, so it was accepted) had an
@@ -462,12 +478,7 @@ TEST(FuzzRegressions, SavedContactNormalNotOfUnitLengthIsRefused) {
   const PfxFloat normalX = manifold.getContactPoint(0).m_constraintRow[0].m_normal.x();
   ASSERT_GT(std::abs(normalX), PfxFloat(0.2));  // a value nothing saved before it holds
 
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(saved, normalX, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("the contact normal is not of unit length"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(saved, normalX, kLargestFloat, "the contact normal is not of unit length");
 }
 
 // fuzz_world_file: a fixed body saved at y = 3.4e38 m (finite, so read) pulled the body
@@ -528,12 +539,7 @@ TEST(FuzzRegressions, JointLimitOrDriveTargetWhoseSquareOverflowsIsRefusedWithNo
   const PfxFloat mark = PfxFloat(123.25);  // a value the file holds nowhere else
   twist.m_driveTarget = mark;
   ASSERT_EQ(world.setJoint(jointId, driven), PFX_OK);
-  PfxWorld loaded;
-  std::string error;
-  EXPECT_EQ(loadWithValueReplaced(world, mark, kLargestFloat, loaded, error),
-            PFX_ERR_INVALID_VALUE);
-  EXPECT_NE(error.find("joint 0"), std::string::npos) << error;
-  EXPECT_EQ(loaded.getNumRigidBodies(), 0u);
+  expectFileRefused(world, mark, kLargestFloat, "joint 0");
 }
 
 // Within that rule a joint may still ask for more than a body can take: a position drive
@@ -685,4 +691,70 @@ TEST(FuzzRegressions, QueryOfAHugeCylinderAroundAMeshGivesSoundContacts) {
     EXPECT_LT(c.m_distance, 0) << "contact " << i;
     EXPECT_GT(c.m_distance, -2 * kHugeCylinderSize) << "contact " << i;
   }
+}
+
+// fuzz_world_file: a saved world whose resting sphere's radius was 3.5e12 m (finite, so it
+// was read) overlapped every body near it by as much, and three bodies turned NaN in the
+// first step: in float, the lever arms of such contacts round by hundreds of kilometres,
+// and the split impulses that pushed along them overflowed. A shape whose bounds reach
+// beyond kPfxMaxShapeReach from its body's origin is refused now by PfxShape::validate,
+// which addRigidBody and the file reader apply; one that reaches that far steps to finite
+// states with bodies buried deep inside it.
+TEST(FuzzRegressions, ShapeReachingTooFarIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  initializeWithGround(world);
+  const PfxFloat radius = PfxFloat(0.2345);  // unique in the saved file
+  PfxBodyInit resting;  // dropped, so that its height is not the radius
+  resting.position = PfxVector3(-1, PfxFloat(0.3), 1);
+  PfxUInt32 sphere = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(radius)), resting, &sphere), PFX_OK);
+  PfxUInt32 jointId = 0;
+  addPendulum(world, &jointId);
+  for (int step = 0; step < 30; ++step) ASSERT_EQ(world.step(), PFX_OK);
+
+  const PfxFloat fuzzedRadius = PfxFloat(3.5e12);
+  EXPECT_EQ(pfxMakeShape(PfxSphere(fuzzedRadius)).validate(), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(fuzzedRadius)), PfxBodyInit()),
+            PFX_ERR_INVALID_VALUE);
+  PfxShape reachingOut = pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f));
+  reachingOut.setOffsetPosition(PfxVector3(0, 0, PfxFloat(1.5) * kPfxMaxShapeReach));
+  EXPECT_EQ(reachingOut.validate(), PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 4u);  // the ground, the sphere, the pendulum's two
+
+  expectFileRefused(world, radius, fuzzedRadius, "PfxShape::validate");
+
+  // A sphere reaching exactly that far, around the ground, the pendulum and its own centre.
+  PfxWorld largest;
+  std::string error;
+  ASSERT_EQ(loadWithValueReplaced(world, radius, kPfxMaxShapeReach, largest, error), PFX_OK)
+      << error;
+  for (int step = 0; step < 5; ++step) {
+    ASSERT_EQ(largest.step(), PFX_OK);
+    for (PfxUInt32 id = 0; id < largest.getNumRigidBodies(); ++id) {
+      ASSERT_TRUE(largest.getRigidState(id).isValid()) << "body " << id << ", step " << step;
+    }
+  }
+}
+
+// fuzz_world_file: a saved world whose resting box's contact point with the ground lay
+// 6.3e29 m from the ground's origin (finite, so it was read), and whose hinge had been
+// moved onto that box, turned the box and both coupled pendulums NaN in the first step: the
+// point's lever arm had an overflowing square in the contact's effective mass. The reader
+// now refuses a contact point farther than kPfxMaxShapeReach from its body, as no shape
+// reaches.
+TEST(FuzzRegressions, SavedContactPointBeyondAnyShapeIsRefused) {
+  PfxWorld world;
+  const PfxUInt32 groundId = initializeWithGround(world);
+  PfxBodyInit resting;
+  resting.position = PfxVector3(-1, PfxFloat(0.2), 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.2f, 0.2f, 0.2f)), resting), PFX_OK);
+  ASSERT_EQ(world.step(), PFX_OK);
+  ASSERT_EQ(world.getNumContactPairs(), 1u);
+  const PfxConstraintPair& pair = world.getContactPair(0);
+  ASSERT_GT(world.getContactManifold(pair).getNumContacts(), 0u);
+  const PfxContactPoint& point = world.getContactManifold(pair).getContactPoint(0);
+  const bool groundIsA = pfxGetObjectIdA(pair) == groundId;
+  const PfxFloat onGroundX = (groundIsA ? point.m_localPointA : point.m_localPointB).x();
+  expectFileRefused(world, onGroundX, PfxFloat(6.3e29),
+                    groundIsA ? "localPointA" : "localPointB", "CONT", PFX_ERR_OUT_OF_RANGE);
 }

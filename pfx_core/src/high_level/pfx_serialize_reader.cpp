@@ -632,6 +632,18 @@ bool Parser::contactPoint(PfxContactPoint& p, PfxUInt32 idA, PfxUInt32 idB) {
   if (!(std::abs(p.m_constraintRow[0].m_normal.squaredNorm() - 1) <= PfxFloat(1e-3))) {
     return r.fail(PFX_ERR_INVALID_VALUE, "constraintRow", "the contact normal is not of unit length");
   }
+  // A point lies on its shapes, which reach no farther than kPfxMaxShapeReach from their
+  // bodies: a saved point 6.3e29 m from its body gave its pair lever arms whose squares
+  // overflowed, and the body, with the pendulums jointed and coupled to it, turned NaN in
+  // the first step.
+  if (!(p.m_localPointA.cwiseAbs().maxCoeff() <= kPfxMaxShapeReach)) {
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "localPointA",
+                  "lies beyond kPfxMaxShapeReach of its body");
+  }
+  if (!(p.m_localPointB.cwiseAbs().maxCoeff() <= kPfxMaxShapeReach)) {
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "localPointB",
+                  "lies beyond kPfxMaxShapeReach of its body");
+  }
   if (p.m_shapeIdA >= numShapes(idA) || p.m_shapeIdB >= numShapes(idB)) {
     return r.fail(PFX_ERR_OUT_OF_RANGE, "shapeIdA", "names a shape its body does not have");
   }

@@ -1,5 +1,6 @@
 #include "pfx/base_level/collision/pfx_shape.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "base_level/collision/contact/pfx_convex_core.h"
@@ -82,6 +83,8 @@ PfxInt32 PfxShape::validate() const {
   if (!pfxIsFinite(PfxVector3(lo + hi)) || !pfxIsFinite(PfxVector3(hi - lo))) {
     return PFX_ERR_INVALID_VALUE;
   }
+  const PfxFloat reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  if (reach > kPfxMaxShapeReach) return PFX_ERR_INVALID_VALUE;
   return PFX_OK;
 }
 

@@ -13,6 +13,13 @@ namespace pfx {
 
 struct PfxLargeTriMesh;
 
+// How far a shape may reach from its body's origin (m): its bounds, offset included, lie
+// within this of it. A contact's lever arm is at most that long, and in float its rounding
+// (a metre at 1e7 m) is then still small beside the shapes it pushes apart; a saved sphere
+// of radius 3.5e12 m overlapped every body by as much, and the split impulses, pushing along
+// arms whose rounding was hundreds of kilometres, sent them to NaN in the first step.
+constexpr PfxFloat kPfxMaxShapeReach = PfxFloat(1e7);
+
 enum PfxShapeType : PfxUInt8 {
   kPfxShapeSphere = 0,
   kPfxShapeBox,
@@ -53,7 +60,8 @@ class PfxShape {
   // Bounds in the frame of the rigid body (offset included).
   void getAabb(PfxVector3& center, PfxVector3& half) const;
 
-  // Finite, non-negative sizes, a unit offset orientation and a mesh where one is named.
+  // Finite, non-negative sizes, a unit offset orientation, a mesh where one is named, and
+  // bounds within kPfxMaxShapeReach of the body's origin.
   PfxInt32 validate() const;
 
  private:
