@@ -62,22 +62,33 @@ inline PfxFloat pfxTreeContactResponse(const PfxContactPoint& cp, PfxUInt32 idA,
 // its cost.
 enum class PfxTreeContactPairs { kOnTrees, kAll };
 
-// One sweep over the normal rows of those pairs; returns whether a row's velocity was short
-// of its target by more than `negligible` (m/s).
-inline bool pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPairs,
+// A sweep over every pair it is given.
+struct PfxSweepWholeWorld {
+  bool takes(PfxUInt32, PfxUInt32) const { return true; }
+  void impulseChanged(PfxUInt32, PfxUInt32, bool, bool) {}
+};
+
+// One sweep over the normal rows of those pairs; a row within `negligible` (m/s) of its
+// target is left as it is. `region` limits the sweep to the pairs it takes(idA, idB), and
+// hears of each pair whose impulse changed: impulseChanged(idA, idB, whether the row was
+// short of its target by more than the negligible, whether its bodies' trees were solved
+// since).
+template <typename Region = PfxSweepWholeWorld>
+inline void pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPairs,
                                  PfxContactManifold* manifolds, PfxSolverBody* solverBodies,
                                  PfxJointTreeSolver& tree, PfxTreeContactVelocities which,
-                                 PfxTreeContactPairs taken, PfxFloat negligible) {
+                                 PfxTreeContactPairs taken, PfxFloat negligible,
+                                 Region&& region = Region()) {
   const bool push = which == PfxTreeContactVelocities::kPush;
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =
       push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
-  bool short_ = false;
   for (PfxUInt32 i = 0; i < numPairs; ++i) {
     const PfxConstraintPair& pair = pairs[i];
     if (!pfxGetActive(pair)) continue;
     const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+    if (!region.takes(idA, idB)) continue;
     const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
     const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
     const PfxInt32 treeA = receivesA != 0 ? tree.getTreeBody(idA) : -1;
@@ -106,15 +117,14 @@ inline bool pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
       const PfxFloat previous = impulse;
       impulse = std::max(previous + shortfall / response, PfxFloat(0));
       if (impulse == previous) continue;
-      short_ = short_ || shortfall > 0;
       pfxApplyRowImpulse(row.m_normal, impulse - previous, a, cp.m_armA, receivesA, b,
                          cp.m_armB, receivesB, linear, angular);
+      region.impulseChanged(idA, idB, shortfall > 0, throughTrees);
       if (!throughTrees) continue;
       if (treeA >= 0) tree.solveTreeOf(idA, push);
       if (treeB >= 0) tree.solveTreeOf(idB, push);
     }
   }
-  return short_;
 }
 
 }  // namespace pfx
