@@ -17,10 +17,10 @@ namespace pfx {
 
 namespace {
 
-// The work of the region the iterations still work on (CorrectionRegion): a byte of flags
-// and a slot of the list of trees to solve per body.
+// The work of the region the iterations still work on (CorrectionRegion): per body its
+// group, a slot of the list of trees to solve, and a byte of flags.
 std::size_t regionWorkBytes(PfxUInt32 numRigidBodies) {
-  return PfxWorkCarver::bytesFor(alignof(PfxUInt32), sizeof(PfxUInt32) * numRigidBodies) +
+  return PfxWorkCarver::bytesFor(alignof(PfxUInt32), sizeof(PfxUInt32) * 2 * numRigidBodies) +
          PfxWorkCarver::bytesFor(1, numRigidBodies);
 }
 
@@ -91,10 +91,15 @@ class CorrectionRegion {
                    const PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies)
       : m_tree(tree), m_solverBodies(solverBodies), m_numRigidBodies(numRigidBodies) {
     PfxWorkCarver carver(work, bytes);
+    m_groups = carver.take<PfxUInt32>(numRigidBodies);
     m_treesToSolve = carver.take<PfxUInt32>(numRigidBodies);
     m_flags = carver.take<PfxUInt8>(numRigidBodies);
     // At first every group is in the region, and every tree's locked axes are to be solved.
-    for (PfxUInt32 i = 0; i < numRigidBodies; ++i) m_flags[i] = kInRegion | kChanged | kToSolve;
+    for (PfxUInt32 i = 0; i < numRigidBodies; ++i) {
+      const PfxInt32 treeBody = tree.getTreeBody(i);
+      m_groups[i] = treeBody >= 0 ? PfxUInt32(treeBody) : i;
+      m_flags[i] = kInRegion | kChanged | kToSolve;
+    }
   }
 
   bool takes(PfxUInt32 idA, PfxUInt32 idB) const {
@@ -118,7 +123,7 @@ class CorrectionRegion {
   void solveTrees(PfxJointTreeSolver& tree, PfxTaskManager* taskManager) {
     PfxUInt32 count = 0;
     for (PfxUInt32 i = 0; i < m_numRigidBodies; ++i) {
-      if ((m_flags[i] & kToSolve) != 0 && m_tree.getTreeBody(i) == PfxInt32(i)) {
+      if ((m_flags[i] & kToSolve) != 0 && m_groups[i] == i && m_tree.getTreeBody(i) >= 0) {
         m_treesToSolve[count++] = i;
       }
     }
@@ -143,14 +148,12 @@ class CorrectionRegion {
 
  private:
   static constexpr PfxUInt32 kTreesSolvedPerTask = 4;
-  PfxUInt32 group(PfxUInt32 id) const {
-    const PfxInt32 treeBody = m_tree.getTreeBody(id);
-    return treeBody >= 0 ? PfxUInt32(treeBody) : id;
-  }
+  PfxUInt32 group(PfxUInt32 id) const { return m_groups[id]; }
 
   const PfxJointTreeSolver& m_tree;
   const PfxSolverBody* m_solverBodies;
   PfxUInt32 m_numRigidBodies;
+  PfxUInt32* m_groups = nullptr;  // a body of its tree, or the body itself in no tree
   PfxUInt32* m_treesToSolve = nullptr;
   PfxUInt8* m_flags = nullptr;
 };
