@@ -148,7 +148,7 @@ void withSize(int n, F&& f) {
 template <int N>
 void invertDefinite(double* a) {
   if constexpr (N > 0) {
-    double l[N][N] = {}, ld[N][N] = {}, x[N][N] = {}, inversePivot[N];
+    double l[N][N], ld[N][N], x[N][N], inversePivot[N];
     for (int j = 0; j < N; ++j) {
       double dj = a[j + 6 * j];
       for (int k = 0; k < j; ++k) dj -= l[j][k] * ld[j][k];
