@@ -282,15 +282,28 @@ void pfxSizedBlockTreeBackward(Node& node, const Node& parent) {
   });
 }
 
-template <typename Node>
-void pfxSolveSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
+// `mayBeNonZero(n)` is false only for nodes whose right-hand side and descendants' are
+// all zero: their forward and diagonal steps, which would add and leave zeros, are
+// skipped (a unit impulse at one joint of an arm loads only its path to the root).
+template <typename Node, typename NodePredicate>
+void pfxSolveSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end,
+                            NodePredicate mayBeNonZero) {
   for (std::size_t k = end; k-- > begin;) {
-    if (nodes[k].parent >= 0) pfxSizedBlockTreeForward(nodes[k], nodes[nodes[k].parent]);
+    if (nodes[k].parent >= 0 && mayBeNonZero(k)) {
+      pfxSizedBlockTreeForward(nodes[k], nodes[nodes[k].parent]);
+    }
   }
-  for (std::size_t n = begin; n < end; ++n) pfxSizedBlockTreeDiagonal(nodes[n]);
+  for (std::size_t n = begin; n < end; ++n) {
+    if (mayBeNonZero(n)) pfxSizedBlockTreeDiagonal(nodes[n]);
+  }
   for (std::size_t k = begin; k < end; ++k) {
     if (nodes[k].parent >= 0) pfxSizedBlockTreeBackward(nodes[k], nodes[nodes[k].parent]);
   }
+}
+
+template <typename Node>
+void pfxSolveSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
+  pfxSolveSizedBlockTree(nodes, begin, end, [](std::size_t) { return true; });
 }
 
 // Union-find root with path halving, for picking the constraints that form a forest.

@@ -48,6 +48,8 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   // right-hand side does not rebuild it.
   PfxJointRowJacobian jacobians[6];
   PfxUInt32 tree;
+  // solveTreeForRowImpulses(): the node is a loaded body or one of its ancestors.
+  bool loaded;
   // Unknowns of the node in the sized elimination (pfxFactorSizedBlockTree).
   int blockSize() const { return body >= 0 ? 6 : numRows; }
 };
@@ -185,6 +187,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.body = body;
     node.jointPair = jointPair;
     node.numRows = 0;
+    node.loaded = false;
     return static_cast<PfxInt32>(m_numNodes++);
   };
   auto grow = [&](std::size_t head) {
@@ -427,6 +430,14 @@ void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 first
                                                  PfxUInt32 lastRow, const double* impulses) {
   const std::size_t begin = m_treeStarts[tree], end = m_treeStarts[tree + 1];
   for (std::size_t n = begin; n < end; ++n) m_nodes[n].value.setZero();
+  auto load = [&](PfxInt32 bodyNode, const PfxVector3& linear, const PfxVector3& angular,
+                  double impulse) {
+    m_nodes[bodyNode].value.head<3>() += impulse * linear.cast<double>();
+    m_nodes[bodyNode].value.tail<3>() += impulse * angular.cast<double>();
+    for (PfxInt32 n = bodyNode; n >= 0 && !m_nodes[n].loaded; n = m_nodes[n].parent) {
+      m_nodes[n].loaded = true;
+    }
+  };
   for (PfxUInt32 r = firstRow; r < lastRow; ++r) {
     const double impulse = impulses ? impulses[r] : 1.0;
     if (impulse == 0) continue;
@@ -434,15 +445,14 @@ void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 first
     const PfxConstraintPair& pair = m_jointPairs[m_boundedRows[r].jointPair];
     // A body of a joint in the forest has a node exactly when it moves.
     if (const PfxInt32 a = m_bodyNode[pfxGetObjectIdA(pair)]; a >= 0) {
-      m_nodes[a].value.head<3>() += impulse * j.linearA.cast<double>();
-      m_nodes[a].value.tail<3>() += impulse * j.angularA.cast<double>();
+      load(a, j.linearA, j.angularA, impulse);
     }
     if (const PfxInt32 b = m_bodyNode[pfxGetObjectIdB(pair)]; b >= 0) {
-      m_nodes[b].value.head<3>() += impulse * j.linearB.cast<double>();
-      m_nodes[b].value.tail<3>() += impulse * j.angularB.cast<double>();
+      load(b, j.linearB, j.angularB, impulse);
     }
   }
-  pfxSolveSizedBlockTree(m_nodes, begin, end);
+  pfxSolveSizedBlockTree(m_nodes, begin, end, [&](std::size_t n) { return m_nodes[n].loaded; });
+  for (std::size_t n = begin; n < end; ++n) m_nodes[n].loaded = false;
 }
 
 PfxFloat PfxJointTreeSolver::getBoundedRowResponse(PfxInt32 slot) const {
