@@ -187,11 +187,11 @@ void eliminate(double* dInverse, double* toParent, double* parentPivot) {
     for (int i = 0; i < N; ++i) h[i + N * j] = toParent[i + 6 * j];
   }
   for (int j = 0; j < P; ++j) {
-    for (int i = 0; i < N; ++i) {
-      double sum = 0;
-      for (int k = 0; k < N; ++k) sum += dInverse[i + 6 * k] * h[k + N * j];
-      toParent[i + 6 * j] = sum;
+    double sum[N > 0 ? N : 1] = {};
+    for (int k = 0; k < N; ++k) {
+      for (int i = 0; i < N; ++i) sum[i] += dInverse[i + 6 * k] * h[k + N * j];
     }
+    for (int i = 0; i < N; ++i) toParent[i + 6 * j] = sum[i];
   }
   for (int j = 0; j < P; ++j) {
     for (int i = j; i < P; ++i) {
@@ -205,21 +205,19 @@ void eliminate(double* dInverse, double* toParent, double* parentPivot) {
 // value_parent -= L^T value_child.
 template <int N, int P>
 void forward(const double* toParent, const double* value, double* parentValue) {
-  for (int i = 0; i < P; ++i) {
-    double sum = 0;
-    for (int k = 0; k < N; ++k) sum += toParent[k + 6 * i] * value[k];
-    parentValue[i] -= sum;
+  double sum[P > 0 ? P : 1] = {};
+  for (int k = 0; k < N; ++k) {
+    for (int i = 0; i < P; ++i) sum[i] += toParent[k + 6 * i] * value[k];
   }
+  for (int i = 0; i < P; ++i) parentValue[i] -= sum[i];
 }
 
 // value = D^-1 value.
 template <int N>
 void diagonal(const double* dInverse, double* value) {
-  double solved[N > 0 ? N : 1];
-  for (int i = 0; i < N; ++i) {
-    double sum = 0;
-    for (int k = 0; k < N; ++k) sum += dInverse[i + 6 * k] * value[k];
-    solved[i] = sum;
+  double solved[N > 0 ? N : 1] = {};
+  for (int k = 0; k < N; ++k) {
+    for (int i = 0; i < N; ++i) solved[i] += dInverse[i + 6 * k] * value[k];
   }
   for (int i = 0; i < N; ++i) value[i] = solved[i];
 }
@@ -227,11 +225,11 @@ void diagonal(const double* dInverse, double* value) {
 // value_child -= L value_parent.
 template <int N, int P>
 void backward(const double* toParent, const double* parentValue, double* value) {
-  for (int i = 0; i < N; ++i) {
-    double sum = 0;
-    for (int k = 0; k < P; ++k) sum += toParent[i + 6 * k] * parentValue[k];
-    value[i] -= sum;
+  double sum[N > 0 ? N : 1] = {};
+  for (int k = 0; k < P; ++k) {
+    for (int i = 0; i < N; ++i) sum[i] += toParent[i + 6 * k] * parentValue[k];
   }
+  for (int i = 0; i < N; ++i) value[i] -= sum[i];
 }
 
 }  // namespace block_tree_detail
