@@ -34,6 +34,50 @@ inline PfxTreeBlock pfxTreeBodyMass(const PfxSolverBody& body) {
   return mass;
 }
 
+namespace block_tree_detail {
+
+// The top left N x N of a definite block (columns 6 apart), inverted in place by the
+// LDL^T that pfxInvertDefiniteBlock describes; reads the lower triangle.
+template <int N>
+void invertDefinite(double* a) {
+  if constexpr (N > 0) {
+    double l[N][N];   // unit lower triangular factor, below the diagonal
+    double ld[N][N];  // l times the pivot of its column
+    double inversePivot[N];
+    for (int j = 0; j < N; ++j) {
+      double dj = a[j + 6 * j];
+      for (int k = 0; k < j; ++k) dj -= l[j][k] * ld[j][k];
+      inversePivot[j] = 1.0 / dj;
+      for (int i = j + 1; i < N; ++i) {
+        double lij = a[i + 6 * j];
+        for (int k = 0; k < j; ++k) lij -= l[i][k] * ld[j][k];
+        ld[i][j] = lij;
+        l[i][j] = lij * inversePivot[j];
+      }
+    }
+    // x = L^-1, unit lower triangular.
+    double x[N][N];
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < i; ++j) {
+        double sum = l[i][j];
+        for (int k = j + 1; k < i; ++k) sum += l[i][k] * x[k][j];
+        x[i][j] = -sum;
+      }
+    }
+    // A^-1 = L^-T D^-1 L^-1, symmetric.
+    for (int j = 0; j < N; ++j) {
+      for (int i = j; i < N; ++i) {
+        double sum = (i == j ? 1.0 : x[i][j]) * inversePivot[i];
+        for (int k = i + 1; k < N; ++k) sum += x[k][i] * x[k][j] * inversePivot[k];
+        a[i + 6 * j] = sum;
+        a[j + 6 * i] = sum;
+      }
+    }
+  }
+}
+
+}  // namespace block_tree_detail
+
 // The inverse of a pivot of the elimination below, from its lower triangle. Every pivot is
 // definite, so an LDL^T factorization needs no pivoting: a body's pivot is its mass plus
 // what its eliminated constraints add (positive definite), a constraint's is its
@@ -41,39 +85,8 @@ inline PfxTreeBlock pfxTreeBodyMass(const PfxSolverBody& body) {
 // 6 x 6, it costs a fraction of Eigen's general inverse of a fixed 6 x 6 block, a partially
 // pivoted LU through the dynamic-size kernels, which was a third of a robot arm's step.
 inline PfxTreeBlock pfxInvertDefiniteBlock(const PfxTreeBlock& a) {
-  double l[6][6];     // unit lower triangular factor, below the diagonal
-  double ld[6][6];    // l times the pivot of its column
-  double inversePivot[6];
-  for (int j = 0; j < 6; ++j) {
-    double dj = a(j, j);
-    for (int k = 0; k < j; ++k) dj -= l[j][k] * ld[j][k];
-    inversePivot[j] = 1.0 / dj;
-    for (int i = j + 1; i < 6; ++i) {
-      double lij = a(i, j);
-      for (int k = 0; k < j; ++k) lij -= l[i][k] * ld[j][k];
-      ld[i][j] = lij;
-      l[i][j] = lij * inversePivot[j];
-    }
-  }
-  // x = L^-1, unit lower triangular.
-  double x[6][6];
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < i; ++j) {
-      double sum = l[i][j];
-      for (int k = j + 1; k < i; ++k) sum += l[i][k] * x[k][j];
-      x[i][j] = -sum;
-    }
-  }
-  // A^-1 = L^-T D^-1 L^-1, symmetric.
-  PfxTreeBlock inverse;
-  for (int j = 0; j < 6; ++j) {
-    for (int i = j; i < 6; ++i) {
-      double sum = (i == j ? 1.0 : x[i][j]) * inversePivot[i];
-      for (int k = i + 1; k < 6; ++k) sum += x[k][i] * x[k][j] * inversePivot[k];
-      inverse(i, j) = sum;
-      inverse(j, i) = sum;
-    }
-  }
+  PfxTreeBlock inverse = a;
+  block_tree_detail::invertDefinite<6>(inverse.data());
   return inverse;
 }
 
@@ -143,41 +156,6 @@ void withSize(int n, F&& f) {
   }
 }
 
-// The top left N x N of a definite block, inverted in place by LDL^T (see
-// pfxInvertDefiniteBlock); reads the lower triangle.
-template <int N>
-void invertDefinite(double* a) {
-  if constexpr (N > 0) {
-    double l[N][N], ld[N][N], x[N][N], inversePivot[N];
-    for (int j = 0; j < N; ++j) {
-      double dj = a[j + 6 * j];
-      for (int k = 0; k < j; ++k) dj -= l[j][k] * ld[j][k];
-      inversePivot[j] = 1.0 / dj;
-      for (int i = j + 1; i < N; ++i) {
-        double lij = a[i + 6 * j];
-        for (int k = 0; k < j; ++k) lij -= l[i][k] * ld[j][k];
-        ld[i][j] = lij;
-        l[i][j] = lij * inversePivot[j];
-      }
-    }
-    for (int i = 0; i < N; ++i) {
-      for (int j = 0; j < i; ++j) {
-        double sum = l[i][j];
-        for (int k = j + 1; k < i; ++k) sum += l[i][k] * x[k][j];
-        x[i][j] = -sum;
-      }
-    }
-    for (int j = 0; j < N; ++j) {
-      for (int i = j; i < N; ++i) {
-        double sum = (i == j ? 1.0 : x[i][j]) * inversePivot[i];
-        for (int k = i + 1; k < N; ++k) sum += x[k][i] * x[k][j] * inversePivot[k];
-        a[i + 6 * j] = sum;
-        a[j + 6 * i] = sum;
-      }
-    }
-  }
-}
-
 // Eliminates an N-unknown child into its P-unknown parent: L = D^-1 H, then
 // D_parent -= H^T L on the parent's lower triangle.
 template <int N, int P>
@@ -240,12 +218,13 @@ void pfxFactorSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
   for (std::size_t k = end; k-- > begin;) {
     Node& node = nodes[k];
     withSize(node.blockSize(), [&](auto n) {
-      invertDefinite<decltype(n)::value>(node.diagonalInverse.data());
+      constexpr int N = decltype(n)::value;
+      invertDefinite<N>(node.diagonalInverse.data());
       if (node.parent < 0) return;
       Node& parent = nodes[node.parent];
       withSize(parent.blockSize(), [&](auto p) {
-        eliminate<decltype(n)::value, decltype(p)::value>(node.diagonalInverse.data(), node.toParent.data(),
-                        parent.diagonalInverse.data());
+        eliminate<N, decltype(p)::value>(node.diagonalInverse.data(), node.toParent.data(),
+                                         parent.diagonalInverse.data());
       });
     });
   }
@@ -258,7 +237,8 @@ void pfxSizedBlockTreeForward(const Node& node, Node& parent) {
   using namespace block_tree_detail;
   withSize(node.blockSize(), [&](auto n) {
     withSize(parent.blockSize(), [&](auto p) {
-      forward<decltype(n)::value, decltype(p)::value>(node.toParent.data(), node.value.data(), parent.value.data());
+      forward<decltype(n)::value, decltype(p)::value>(node.toParent.data(), node.value.data(),
+                                                      parent.value.data());
     });
   });
 }
@@ -266,8 +246,9 @@ void pfxSizedBlockTreeForward(const Node& node, Node& parent) {
 template <typename Node>
 void pfxSizedBlockTreeDiagonal(Node& node) {
   using namespace block_tree_detail;
-  withSize(node.blockSize(),
-           [&](auto n) { diagonal<decltype(n)::value>(node.diagonalInverse.data(), node.value.data()); });
+  withSize(node.blockSize(), [&](auto n) {
+    diagonal<decltype(n)::value>(node.diagonalInverse.data(), node.value.data());
+  });
 }
 
 template <typename Node>
@@ -275,7 +256,8 @@ void pfxSizedBlockTreeBackward(Node& node, const Node& parent) {
   using namespace block_tree_detail;
   withSize(node.blockSize(), [&](auto n) {
     withSize(parent.blockSize(), [&](auto p) {
-      backward<decltype(n)::value, decltype(p)::value>(node.toParent.data(), parent.value.data(), node.value.data());
+      backward<decltype(n)::value, decltype(p)::value>(node.toParent.data(), parent.value.data(),
+                                                       node.value.data());
     });
   });
 }
