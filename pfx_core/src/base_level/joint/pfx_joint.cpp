@@ -120,11 +120,15 @@ void pfxCalcJointPositions(PfxJoint& joint, const PfxRigidState& stateA,
   for (int i = 0; i < 6; ++i) joint.m_constraints[i].m_position = coordinates[i];
 }
 
-void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
-                             const PfxRigidState& stateB, PfxFloat coordinates[6]) {
-  const PfxMatrix3 rotationA = stateA.getOrientation().toRotationMatrix();
-  const PfxMatrix3 rotationB = stateB.getOrientation().toRotationMatrix();
-  const PfxMatrix3 frameA = rotationA * joint.m_frameA;
+namespace {
+
+// pfxCalcJointCoordinates from the bodies' rotation matrices and A's joint frame in the
+// world, which pfxCalcJointAxes forms anyway: a joint's setup, three times a step, then
+// turns each quaternion into a matrix once.
+void calcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
+                          const PfxRigidState& stateB, const PfxMatrix3& rotationA,
+                          const PfxMatrix3& rotationB, const PfxMatrix3& frameA,
+                          PfxFloat coordinates[6]) {
   const PfxVector3 offset = stateB.getPosition() + rotationB * joint.m_anchorB -
                             stateA.getPosition() - rotationA * joint.m_anchorA;
   const PfxVector3 linear = frameA.transpose() * offset;
@@ -155,9 +159,21 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
   coordinates[kPfxJointAxisSwing2] = swing.z() * scale;
 }
 
+}  // namespace
+
+void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
+                             const PfxRigidState& stateB, PfxFloat coordinates[6]) {
+  const PfxMatrix3 rotationA = stateA.getOrientation().toRotationMatrix();
+  const PfxMatrix3 rotationB = stateB.getOrientation().toRotationMatrix();
+  calcJointCoordinates(joint, stateA, stateB, rotationA, rotationB, rotationA * joint.m_frameA,
+                       coordinates);
+}
+
 void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRigidState& stateB) {
-  const PfxMatrix3 frameA = stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
-  const PfxMatrix3 frameB = stateB.getOrientation().toRotationMatrix() * joint.m_frameB;
+  const PfxMatrix3 rotationA = stateA.getOrientation().toRotationMatrix();
+  const PfxMatrix3 rotationB = stateB.getOrientation().toRotationMatrix();
+  const PfxMatrix3 frameA = rotationA * joint.m_frameA;
+  const PfxMatrix3 frameB = rotationB * joint.m_frameB;
   joint.m_armA = stateA.getOrientation() * joint.m_anchorA;
   joint.m_armB = stateB.getOrientation() * joint.m_anchorB;
 
@@ -178,7 +194,9 @@ void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRig
   joint.m_axes[kPfxJointAxisSwing1] = frameA.col(1);
   joint.m_axes[kPfxJointAxisSwing2] = frameA.col(2);
 
-  pfxCalcJointPositions(joint, stateA, stateB);
+  PfxFloat coordinates[6];
+  calcJointCoordinates(joint, stateA, stateB, rotationA, rotationB, frameA, coordinates);
+  for (int i = 0; i < 6; ++i) joint.m_constraints[i].m_position = coordinates[i];
   if (joint.m_rotation == kPfxJointRotationEulerYZX) setEulerAxes(joint, frameA);
   if (anchorsCoincide) {
     const PfxVector3 gap = stateB.getPosition() + joint.m_armB -

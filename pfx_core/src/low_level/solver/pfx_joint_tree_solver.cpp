@@ -48,6 +48,10 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   // right-hand side does not rebuild it.
   PfxJointRowJacobian jacobians[6];
   PfxUInt32 tree;
+  // solveTreeForRowImpulses(): the node is a loaded body or one of its ancestors.
+  bool loaded;
+  // Unknowns of the node in the sized elimination (pfxFactorSizedBlockTree).
+  int blockSize() const { return body >= 0 ? 6 : numRows; }
 };
 
 // A bounded row of a joint in the forest, prepared by prepareBoundedRows().
@@ -183,6 +187,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.body = body;
     node.jointPair = jointPair;
     node.numRows = 0;
+    node.loaded = false;
     return static_cast<PfxInt32>(m_numNodes++);
   };
   auto grow = [&](std::size_t head) {
@@ -238,37 +243,41 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   // so tree after tree on any thread gives the same bits as one pass over the forest.
   auto setUpNode = [&](std::size_t n) {
     Node& node = m_nodes[n];
-    node.toParent.setZero();
     if (node.body >= 0) {
       node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
     } else {
       PfxJoint& joint = joints[pfxGetConstraintId(jointPairs[node.jointPair])];
-      node.diagonalInverse = -PfxTreeBlock::Identity();
       for (PfxUInt8 axis = 0; axis < 6; ++axis) {
         const PfxJointConstraint& c = joint.m_constraints[axis];
         if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
         const PfxUInt8 row = node.numRows++;
         node.axes[row] = axis;
         node.jacobians[row] = pfxJointRowJacobian(joint, axis, c.m_constraintRow.m_normal);
+        for (PfxUInt8 k = 0; k < row; ++k) node.diagonalInverse(row, k) = 0;
         node.diagonalInverse(row, row) =
             -kJointTreeRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
     }
     if (node.parent < 0) return;
-    // H(node, parent) couples a joint's rows with one of its bodies' velocities. Nodes
-    // come parents first, so a joint parent already has its rows.
+    // H(node, parent) couples a joint's rows with one of its bodies' velocities: rows x
+    // velocities for a joint node, the transpose for a body node. Nodes come parents
+    // first, so a joint parent already has its rows.
     const Node& parent = m_nodes[node.parent];
     const Node& jointNode = node.body >= 0 ? parent : node;
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
     const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
     const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
-    PfxTreeBlock rows = PfxTreeBlock::Zero();  // joint rows x body velocities
     for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
       const PfxJointRowJacobian& j = jointNode.jacobians[row];
-      rows.block<1, 3>(row, 0) = (isA ? j.linearA : j.linearB).cast<double>().transpose();
-      rows.block<1, 3>(row, 3) = (isA ? j.angularA : j.angularB).cast<double>().transpose();
+      const PfxVector3& linear = isA ? j.linearA : j.linearB;
+      const PfxVector3& angular = isA ? j.angularA : j.angularB;
+      for (int k = 0; k < 3; ++k) {
+        double& toLinear = node.body >= 0 ? node.toParent(k, row) : node.toParent(row, k);
+        double& toAngular = node.body >= 0 ? node.toParent(k + 3, row) : node.toParent(row, k + 3);
+        toLinear = double(linear[k]);
+        toAngular = double(angular[k]);
+      }
     }
-    node.toParent = node.body >= 0 ? PfxTreeBlock(rows.transpose()) : rows;
   };
   pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
     for (PfxUInt32 t = first; t < last; ++t) {
@@ -279,7 +288,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       for (std::size_t n = firstBody; n < m_treeStarts[t + 1]; ++n) {
         if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[firstBody].body;
       }
-      pfxFactorBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
+      pfxFactorSizedBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
     }
   });
   return true;
@@ -421,6 +430,14 @@ void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 first
                                                  PfxUInt32 lastRow, const double* impulses) {
   const std::size_t begin = m_treeStarts[tree], end = m_treeStarts[tree + 1];
   for (std::size_t n = begin; n < end; ++n) m_nodes[n].value.setZero();
+  auto load = [&](PfxInt32 bodyNode, const PfxVector3& linear, const PfxVector3& angular,
+                  double impulse) {
+    m_nodes[bodyNode].value.head<3>() += impulse * linear.cast<double>();
+    m_nodes[bodyNode].value.tail<3>() += impulse * angular.cast<double>();
+    for (PfxInt32 n = bodyNode; n >= 0 && !m_nodes[n].loaded; n = m_nodes[n].parent) {
+      m_nodes[n].loaded = true;
+    }
+  };
   for (PfxUInt32 r = firstRow; r < lastRow; ++r) {
     const double impulse = impulses ? impulses[r] : 1.0;
     if (impulse == 0) continue;
@@ -428,15 +445,14 @@ void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 first
     const PfxConstraintPair& pair = m_jointPairs[m_boundedRows[r].jointPair];
     // A body of a joint in the forest has a node exactly when it moves.
     if (const PfxInt32 a = m_bodyNode[pfxGetObjectIdA(pair)]; a >= 0) {
-      m_nodes[a].value.head<3>() += impulse * j.linearA.cast<double>();
-      m_nodes[a].value.tail<3>() += impulse * j.angularA.cast<double>();
+      load(a, j.linearA, j.angularA, impulse);
     }
     if (const PfxInt32 b = m_bodyNode[pfxGetObjectIdB(pair)]; b >= 0) {
-      m_nodes[b].value.head<3>() += impulse * j.linearB.cast<double>();
-      m_nodes[b].value.tail<3>() += impulse * j.angularB.cast<double>();
+      load(b, j.linearB, j.angularB, impulse);
     }
   }
-  pfxSolveBlockTree(m_nodes, begin, end);
+  pfxSolveSizedBlockTree(m_nodes, begin, end, [&](std::size_t n) { return m_nodes[n].loaded; });
+  for (std::size_t n = begin; n < end; ++n) m_nodes[n].loaded = false;
 }
 
 PfxFloat PfxJointTreeSolver::getBoundedRowResponse(PfxInt32 slot) const {
@@ -589,19 +605,16 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
           m_nodes[n].value.setZero();
         }
         m_nodes[bodyNode].value[axis] = 1;
-        pfxSolveBlockTree(m_nodes, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
+        pfxSolveSizedBlockTree(m_nodes, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
       } else {
         for (int i = 0; i < length; ++i) m_nodes[path[i]].value.setZero();
         m_nodes[bodyNode].value[axis] = 1;
         for (int i = 0; i + 1 < length; ++i) {
-          m_nodes[path[i + 1]].value -= m_nodes[path[i]].toParent.transpose() * m_nodes[path[i]].value;
+          pfxSizedBlockTreeForward(m_nodes[path[i]], m_nodes[path[i + 1]]);
         }
-        for (int i = 0; i < length; ++i) {
-          Node& onPath = m_nodes[path[i]];
-          onPath.value = (onPath.diagonalInverse * onPath.value).eval();
-        }
+        for (int i = 0; i < length; ++i) pfxSizedBlockTreeDiagonal(m_nodes[path[i]]);
         for (int i = length - 1; i-- > 0;) {
-          m_nodes[path[i]].value -= m_nodes[path[i]].toParent * m_nodes[path[i + 1]].value;
+          pfxSizedBlockTreeBackward(m_nodes[path[i]], m_nodes[path[i + 1]]);
         }
       }
       response.col(axis) = m_nodes[bodyNode].value;
@@ -651,7 +664,7 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
                                                                     b.*linear, b.*angular));
     }
   }
-  pfxSolveBlockTree(m_nodes, begin, end);
+  pfxSolveSizedBlockTree(m_nodes, begin, end);
 
   // Bodies take their velocity change; rows take the impulse (the negated multiplier).
   for (std::size_t n = begin; n < end; ++n) {

@@ -167,7 +167,6 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
 void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
                 PfxFloat warmStartFactor) {
   pfxCalcJointAxes(joint, bodies.stateA, bodies.stateB);
-  const PfxMatrix3 frameA = bodies.stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
     PfxFloat position = c.m_position;
@@ -180,7 +179,11 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
       const PfxFloat s1 = c.m_position;
       const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
       position = std::sqrt(s1 * s1 + s2 * s2);
-      if (position > PFX_EPSILON) direction = frameA * PfxVector3(0, s1, s2) / position;
+      if (position > PFX_EPSILON) {
+        const PfxMatrix3 frameA =
+            bodies.stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
+        direction = frameA * PfxVector3(0, s1, s2) / position;
+      }
       lower = -kUnboundedImpulse;
       joint.m_axes[axis] = direction;
     }
