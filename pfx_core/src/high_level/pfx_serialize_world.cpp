@@ -77,7 +77,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_simulatedTime = image.simulatedTime;
 
   const PfxUInt32 numBodies = image.numBodies();
-  world.reserveBodies(numBodies);
+  world.reserveBodies(numBodies, numBodies);
   for (PfxUInt32 id = 0; id < numBodies; ++id) {
     const PfxUInt32 first = image.firstShape[id];
     const PfxUInt32 count = image.firstShape[id + 1] - first;
@@ -104,12 +104,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
     world.m_compoundShapeIds.push_back(std::move(compoundIds));
     if (image.states[id].isAsleep()) ++world.m_numSleepingBodies;
   }
-  const std::size_t capacity = world.m_states.capacity();
-  world.m_solverBodies.resize(capacity);
-  world.m_islandMarks.resize(capacity);
-  world.m_proxies.resize(capacity);
-  world.m_proxySortWork.resize(capacity);
-  if (world.m_param.enableSleep) world.reserveSleepingProxies();
+  world.sizeBodyArraysToCapacity();
 
   world.m_removedBodies.assign(numBodies, 0);
   world.m_removedJoints.assign(image.joints.size(), 0);

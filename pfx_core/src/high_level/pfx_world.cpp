@@ -156,9 +156,14 @@ PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& 
   return PFX_OK;
 }
 
-void PfxWorld::reserveBodies(std::size_t n) {
+void PfxWorld::reserveRigidBodies(PfxUInt32 numBodies) {
+  if (m_states.capacity() >= numBodies) return;
+  reserveBodies(numBodies, numBodies);
+  sizeBodyArraysToCapacity();
+}
+
+void PfxWorld::reserveBodies(std::size_t n, std::size_t capacity) {
   if (m_states.capacity() >= n) return;
-  const std::size_t capacity = std::max<std::size_t>(n, m_states.capacity() * 2);
   m_states.reserve(capacity);
   m_bodies.reserve(capacity);
   m_collidables.reserve(capacity);
@@ -194,7 +199,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   collidable.finish();
 
   const PfxUInt32 id = getNumRigidBodies();
-  reserveBodies(id + 1);
+  reserveBodies(id + 1, std::max<std::size_t>(id + 1, m_states.capacity() * 2));
   m_states.push_back(state);
   m_states.back().setRigidBodyId(id);
   m_states.back().wakeup();
@@ -205,11 +210,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_compoundShapes.push_back(std::move(compound));
   m_compoundShapeIds.push_back(std::move(compoundIds));
   m_removedBodies.push_back(0);
-  m_solverBodies.resize(m_states.capacity());
-  m_islandMarks.resize(m_states.capacity());
-  m_proxies.resize(m_states.capacity());
-  m_proxySortWork.resize(m_states.capacity());
-  if (m_param.enableSleep) reserveSleepingProxies();
+  sizeBodyArraysToCapacity();
   m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
@@ -329,6 +330,17 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   m_states[id].setLinearVelocity(target.getLinearVelocity());
   m_states[id].setAngularVelocity(target.getAngularVelocity());
   return PFX_OK;
+}
+
+// The arrays a step fills per body, sized with the bodies' own arrays (not to the bodies
+// there are now), so that adding a body does not move them each time.
+void PfxWorld::sizeBodyArraysToCapacity() {
+  const std::size_t capacity = m_states.capacity();
+  m_solverBodies.resize(capacity);
+  m_islandMarks.resize(capacity);
+  m_proxies.resize(capacity);
+  m_proxySortWork.resize(capacity);
+  if (m_param.enableSleep) reserveSleepingProxies();
 }
 
 // Room for every body to sleep, taken with the bodies' own arrays so that a step in which

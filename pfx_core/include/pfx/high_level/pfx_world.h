@@ -201,6 +201,11 @@ class PfxWorld {
   // any other, invalid shapes and too many shapes; the world is unchanged then.
   PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
                         const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
+  // Room for `numBodies` bodies in all, taken at once: the world's per-body arrays then hold
+  // exactly that many, where adding bodies one by one doubles them (up to twice the memory
+  // needed). Adding beyond it still works and grows them as before; a count at or below the
+  // room there is changes nothing.
+  void reserveRigidBodies(PfxUInt32 numBodies);
 
   // Ids run below getNumRigidBodies(), removed ones included (see removeRigidBody).
   PfxUInt32 getNumRigidBodies() const { return static_cast<PfxUInt32>(m_states.size()); }
@@ -410,7 +415,9 @@ class PfxWorld {
 
   static PfxInt32 checkParam(const PfxWorldParam& param);
   static PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body);
-  void reserveBodies(std::size_t n);
+  // Room for n bodies; when there is less, `capacity` (at least n) is taken.
+  void reserveBodies(std::size_t n, std::size_t capacity);
+  void sizeBodyArraysToCapacity();
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
   void reserveManifolds(PfxUInt32 numNewPairs);
