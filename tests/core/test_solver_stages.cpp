@@ -135,6 +135,53 @@ TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
   EXPECT_EQ(pfxGetNumConstraints(s.pair), 0u);
 }
 
+TEST(SolverStages, PairsNamingTheSharedEmptyManifoldAreTestedWithoutWritingIt) {
+  Scene s;
+  PfxDetectCollisionParam detect;
+  detect.contactPairs = &s.pair;
+  detect.numContactPairs = 1;
+  detect.offsetContactManifolds = &s.manifold;
+  detect.numContactManifolds = 1;
+  detect.offsetRigidStates = s.states;
+  detect.offsetCollidables = s.collidables;
+  detect.numRigidBodies = 2;
+  detect.sharedEmptyContactId = 0;
+  const std::vector<unsigned char> before = bytes(s.manifold);
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  // The boxes touch: the pair says how many points it found, its id still names the shared
+  // manifold, and that stays as it was.
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 4u);
+  EXPECT_EQ(pfxGetContactId(s.pair), 0u);
+  EXPECT_EQ(bytes(s.manifold), before);
+
+  // Given a manifold of its own, the pair finds the same points there.
+  PfxContactManifold own[2];
+  own[0].reset(0, 0);
+  own[1].reset(0, 1);
+  pfxSetContactId(s.pair, 1);
+  detect.offsetContactManifolds = own;
+  detect.numContactManifolds = 2;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  EXPECT_EQ(own[1].getNumContacts(), 4u);
+  EXPECT_EQ(own[0].getNumContacts(), 0u);
+
+  // Apart, it finds none, and refreshing a pair that names the empty manifold reads it only.
+  s.states[1].setPosition(PfxVector3(0, 1.5f, 0));
+  pfxSetContactId(s.pair, 0);
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 0u);
+  const std::vector<unsigned char> empty = bytes(own[0]);
+  PfxRefreshContactsParam refresh;
+  refresh.contactPairs = &s.pair;
+  refresh.numContactPairs = 1;
+  refresh.offsetContactManifolds = own;
+  refresh.numContactManifolds = 2;
+  refresh.offsetRigidStates = s.states;
+  refresh.numRigidBodies = 2;
+  ASSERT_EQ(pfxRefreshContacts(refresh), PFX_OK);
+  EXPECT_EQ(bytes(own[0]), empty);
+}
+
 TEST(SolverStages, RejectBadInputAndChangeNothing) {
   Scene s;
   const auto statesBefore = bytes(s.states);

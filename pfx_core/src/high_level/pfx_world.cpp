@@ -109,6 +109,8 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numFoundPairs = 0;
   m_manifolds.clear();
   m_freeManifolds.clear();
+  m_sharedEmptyManifold = 0;
+  m_manifolds.emplace_back().reset(0, 0);
   m_joints.clear();
   m_jointPairs.clear();
   m_jointCouplings.clear();
@@ -507,7 +509,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
       if (pfxGetObjectIdA(pairs[i]) < numBodies && pfxGetObjectIdB(pairs[i]) < numBodies) {
         pairs[kept++] = pairs[i];
       } else {
-        m_freeManifolds.push_back(pfxGetContactId(pairs[i]));
+        releaseManifold(pfxGetContactId(pairs[i]));
       }
     }
     numPairs = kept;
@@ -708,14 +710,12 @@ void PfxWorld::composeStablePairs() {
   pfxDecomposePairs(param, result);
 
   for (PfxUInt32 i = 0; i < result.numOutRemovePairs; ++i) {
-    m_freeManifolds.push_back(pfxGetContactId(result.outRemovePairs[i]));
+    releaseManifold(pfxGetContactId(result.outRemovePairs[i]));
   }
-  reserveManifolds(result.numOutNewPairs);
+  // A new pair has no points yet: it takes a manifold of its own only once it finds some
+  // (settleManifolds).
   for (PfxUInt32 i = 0; i < result.numOutNewPairs; ++i) {
-    PfxBroadphasePair& pair = result.outNewPairs[i];
-    const PfxUInt32 contactId = takeManifold();
-    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
-    pfxSetContactId(pair, contactId);
+    pfxSetContactId(result.outNewPairs[i], m_sharedEmptyManifold);
   }
 
   growTo(m_pairs, m_numFoundPairs);
@@ -731,9 +731,7 @@ void PfxWorld::composeStablePairs() {
 // pipeline, so that the pairs set aside while their bodies sleep keep theirs. Returned in
 // reverse, the slots come back in pair order while the number of pairs holds.
 void PfxWorld::assignSimplePairs() {
-  for (PfxUInt32 i = m_numPairs; i > 0; --i) {
-    m_freeManifolds.push_back(pfxGetContactId(m_pairs[i - 1]));
-  }
+  for (PfxUInt32 i = m_numPairs; i > 0; --i) releaseManifold(pfxGetContactId(m_pairs[i - 1]));
   growTo(m_pairs, m_numFoundPairs);
   reserveManifolds(m_numFoundPairs);
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
@@ -768,7 +766,50 @@ PfxInt32 PfxWorld::detectCollision() {
   param.contactMargin = m_param.contactMargin;
   param.timeStep = m_param.timeStep;
   param.matchDistanceSq = stable ? kMatchDistanceSq : 0;
-  return pfxDetectCollision(param, &m_taskManager);
+  if (!stable) return pfxDetectCollision(param, &m_taskManager);
+  param.sharedEmptyContactId = m_sharedEmptyManifold;
+  if (const PfxInt32 err = pfxDetectCollision(param, &m_taskManager); err != PFX_OK) return err;
+  return settleManifolds(param);
+}
+
+// After the stable pipeline's collision detection: a pair left without points gives its
+// manifold back and names the shared empty one, and a pair that found its first points
+// takes a manifold of its own and is detected again into it (the same points, as the
+// shared manifold had none to carry over). Neighbours that do not touch, often as many as
+// the pairs that do, then cost no manifold (836 bytes each).
+PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
+  PfxUInt32 numTouchingFirst = 0;
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    PfxBroadphasePair& pair = m_pairs[i];
+    const bool hasPoints = pfxGetNumConstraints(pair) > 0;
+    if (pfxGetContactId(pair) == m_sharedEmptyManifold) {
+      numTouchingFirst += hasPoints ? 1 : 0;
+    } else if (!hasPoints) {
+      releaseManifold(pfxGetContactId(pair));
+      pfxSetContactId(pair, m_sharedEmptyManifold);
+    }
+  }
+  if (numTouchingFirst == 0) return PFX_OK;
+  reserveManifolds(numTouchingFirst);
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    PfxBroadphasePair& pair = m_pairs[i];
+    if (pfxGetContactId(pair) != m_sharedEmptyManifold || pfxGetNumConstraints(pair) == 0) {
+      continue;
+    }
+    const PfxUInt32 contactId = takeManifold();
+    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+    pfxSetContactId(pair, contactId);
+    param.contactPairs = &pair;
+    param.numContactPairs = 1;
+    param.offsetContactManifolds = m_manifolds.data();
+    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    if (const PfxInt32 err = pfxDetectCollision(param); err != PFX_OK) return err;
+  }
+  return PFX_OK;
+}
+
+void PfxWorld::releaseManifold(PfxUInt32 contactId) {
+  if (contactId != m_sharedEmptyManifold) m_freeManifolds.push_back(contactId);
 }
 
 // Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),

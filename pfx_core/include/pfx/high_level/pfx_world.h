@@ -19,6 +19,7 @@
 #include "pfx/base_level/task/pfx_tbb_task_manager.h"
 #include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/collision/pfx_detect_collision.h"
 #include "pfx/low_level/collision/pfx_query_contacts.h"
 #include "pfx/low_level/particle/pfx_query_particles.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
@@ -422,6 +423,9 @@ class PfxWorld {
   PfxInt32 findPairs();
   void reserveManifolds(PfxUInt32 numNewPairs);
   PfxUInt32 takeManifold();
+  // Returns a pair's manifold to the free list, unless it is the shared empty one.
+  void releaseManifold(PfxUInt32 contactId);
+  PfxInt32 settleManifolds(PfxDetectCollisionParam& param);
   void composeStablePairs();
   void assignSimplePairs();
   void reservePairs();
@@ -527,6 +531,9 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
+  // The manifold that the stable pipeline's pairs without points name, all of them: it
+  // stays empty and is never freed (pfxDetectCollision's sharedEmptyContactId).
+  PfxUInt32 m_sharedEmptyManifold = 0;
 
   // Pairs that findPairs no longer reports because all their bodies sleep (or are fixed),
   // sorted by key and kept with their manifolds until a body wakes: a woken island gets
