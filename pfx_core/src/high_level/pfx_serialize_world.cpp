@@ -35,10 +35,8 @@ PfxInt32 failOpen(const char* function, const char* path, const char* mode, std:
   return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: '%s' %s", function, path, reason.c_str());
 }
 
-}  // namespace
-
-namespace {
-
+// The pairs naming the world's shared empty manifold, each given an empty one of its own
+// at the end of `manifolds` (PfxSerializeContacts).
 void giveSharingPairsTheirOwn(std::vector<PfxBroadphasePair>& pairs, PfxUInt32 sharedId,
                               std::vector<PfxContactManifold>& manifolds) {
   for (PfxBroadphasePair& pair : pairs) {

@@ -395,7 +395,9 @@ class PfxWorld {
 
   // The pairs of the last step and their contact manifolds: those with an awake body that is
   // not fixed, sorted by key, then those set aside while all their bodies sleep (or are
-  // fixed), sorted by key. A sleeping pair keeps the points it had when it fell asleep.
+  // fixed), sorted by key. A sleeping pair keeps the points it had when it fell asleep. A
+  // pair without points may name the empty manifold that all such pairs share, whose body
+  // ids are not the pair's: take the bodies from the pair.
   PfxUInt32 getNumContactPairs() const { return m_numPairs + m_numSleepingPairs; }
   const PfxConstraintPair& getContactPair(PfxUInt32 i) const {
     return i < m_numPairs ? m_pairs[i] : m_sleepingPairs[i - m_numPairs];

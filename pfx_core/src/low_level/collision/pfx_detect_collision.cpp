@@ -39,9 +39,9 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
       pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
                             PFX_MAX_CONTACT_CANDIDATES);
   const PfxUInt32 contactId = pfxGetContactId(pair);
-  PfxContactManifold& manifold =
-      contactId == param.sharedEmptyContactId ? unshared : param.offsetContactManifolds[contactId];
-  if (&manifold == &unshared) unshared.reset(idA, idB);
+  const bool shared = contactId == param.sharedEmptyContactId;
+  PfxContactManifold& manifold = shared ? unshared : param.offsetContactManifolds[contactId];
+  if (shared) unshared.reset(idA, idB);
   manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
   pfxSetNumConstraints(pair, manifold.getNumContacts());
 }
