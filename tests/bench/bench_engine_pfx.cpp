@@ -48,6 +48,9 @@ class PfxEngine final : public Engine {
       return false;
     }
     m_substeps = settings.substeps;
+    // The scene's count is known: the world's arrays are sized to it, not doubled as bodies
+    // come (the ODE engine reserves its arrays the same way).
+    m_world.reserveRigidBodies(static_cast<PfxUInt32>(scene.bodies.size()));
     for (const BodyDesc& desc : scene.bodies) {
       PfxRigidState state;
       state.reset();

@@ -113,6 +113,53 @@ TEST(Serialize, LoadCanChooseTheThreadCountAndResultsStayTheSame) {
   EXPECT_NE(error.find("numThreads"), std::string::npos) << error;
 }
 
+// Pairs whose spheres do not touch, the neighbours on a floor, all name one manifold that
+// stays empty, in the world and in the world loaded from its file (which gives each pair a
+// manifold of its own, as the format wants).
+TEST(Serialize, PairsWithoutPointsShareOneEmptyManifoldBeforeAndAfter) {
+  PfxWorld original;
+  ASSERT_EQ(original.initialize(PfxWorldParam()), PFX_OK);
+  addBody(original, pfxMakeShape(PfxBox(3, 0.5f, 3)), PfxVector3(0, -0.5f, 0), 0);
+  for (int i = 0; i < 16; ++i) {
+    // 10 cm spheres 25 cm apart: their bounds overlap, their surfaces are 5 cm apart.
+    addBody(original, pfxMakeShape(PfxSphere(0.1f)),
+            PfxVector3(0.25f * (i % 4), 0.1f, 0.25f * (i / 4)), 1);
+  }
+  for (int step = 0; step < 5; ++step) ASSERT_EQ(original.step(), PFX_OK);
+  const auto expectSharing = [](const PfxWorld& world, const char* which) {
+    const PfxContactManifold* shared = nullptr;
+    PfxUInt32 numSharing = 0, numTouching = 0;
+    for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
+      const PfxConstraintPair& pair = world.getContactPair(i);
+      const PfxContactManifold& manifold = world.getContactManifold(pair);
+      if (manifold.getNumContacts() > 0) {
+        ++numTouching;
+        EXPECT_EQ(manifold.getRigidBodyIdA(), pfxGetObjectIdA(pair)) << which;
+        continue;
+      }
+      if (!shared) shared = &manifold;
+      EXPECT_EQ(&manifold, shared) << which << ": pair " << i << " has an empty one of its own";
+      ++numSharing;
+    }
+    EXPECT_EQ(numTouching, 16u) << which << ": each sphere on the floor";
+    // Bounds quantized to 3 cm in the default world overlap for some of the neighbours.
+    EXPECT_GT(numSharing, 1u) << which << ": neighbours, several on one manifold";
+  };
+  expectSharing(original, "saved");
+  const Bytes saved = saveWorld(original);
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  ASSERT_EQ(loadWorld(loaded, meshes, saved), PFX_OK);
+  expectSharing(loaded, "loaded");
+  EXPECT_EQ(saveWorld(loaded), saved);
+  for (int step = 0; step < 30; ++step) {
+    ASSERT_EQ(original.step(), PFX_OK);
+    ASSERT_EQ(loaded.step(), PFX_OK);
+  }
+  EXPECT_TRUE(sameStates(original, loaded));
+  expectSharing(loaded, "stepped after loading");
+}
+
 TEST(Serialize, EmptyAndUnsteppedWorldsRoundTrip) {
   PfxWorld empty;
   const Bytes emptyBytes = saveWorld(empty);

@@ -44,6 +44,31 @@ struct Scene {
   }
 };
 
+// The scene's pair, bodies and `manifolds` as a detect or refresh stage takes them.
+template <typename Param>
+Param pairParam(Scene& s, PfxContactManifold* manifolds, PfxUInt32 numManifolds) {
+  Param param;
+  param.contactPairs = &s.pair;
+  param.numContactPairs = 1;
+  param.offsetContactManifolds = manifolds;
+  param.numContactManifolds = numManifolds;
+  param.offsetRigidStates = s.states;
+  param.numRigidBodies = 2;
+  return param;
+}
+
+PfxDetectCollisionParam detectParam(Scene& s, PfxContactManifold* manifolds,
+                                    PfxUInt32 numManifolds) {
+  auto detect = pairParam<PfxDetectCollisionParam>(s, manifolds, numManifolds);
+  detect.offsetCollidables = s.collidables;
+  return detect;
+}
+
+PfxRefreshContactsParam refreshParam(Scene& s, PfxContactManifold* manifolds,
+                                     PfxUInt32 numManifolds) {
+  return pairParam<PfxRefreshContactsParam>(s, manifolds, numManifolds);
+}
+
 template <typename T>
 std::vector<unsigned char> bytes(const T& value) {
   const auto* p = reinterpret_cast<const unsigned char*>(&value);
@@ -54,14 +79,7 @@ std::vector<unsigned char> bytes(const T& value) {
 
 TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
   Scene s;
-  PfxDetectCollisionParam detect;
-  detect.contactPairs = &s.pair;
-  detect.numContactPairs = 1;
-  detect.offsetContactManifolds = &s.manifold;
-  detect.numContactManifolds = 1;
-  detect.offsetRigidStates = s.states;
-  detect.offsetCollidables = s.collidables;
-  detect.numRigidBodies = 2;
+  PfxDetectCollisionParam detect = detectParam(s, &s.manifold, 1);
   detect.timeStep = 1.0f / 60;
   ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
   // Face on face, 1 cm deep: four points.
@@ -123,16 +141,42 @@ TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
 
   // Pull the box away: refreshing drops every point.
   s.states[1].setPosition(PfxVector3(0, 1.5f, 0));
-  PfxRefreshContactsParam refresh;
-  refresh.contactPairs = &s.pair;
-  refresh.numContactPairs = 1;
-  refresh.offsetContactManifolds = &s.manifold;
-  refresh.numContactManifolds = 1;
-  refresh.offsetRigidStates = s.states;
-  refresh.numRigidBodies = 2;
-  ASSERT_EQ(pfxRefreshContacts(refresh), PFX_OK);
+  ASSERT_EQ(pfxRefreshContacts(refreshParam(s, &s.manifold, 1)), PFX_OK);
   EXPECT_EQ(s.manifold.getNumContacts(), 0u);
   EXPECT_EQ(pfxGetNumConstraints(s.pair), 0u);
+}
+
+TEST(SolverStages, PairsNamingTheSharedEmptyManifoldAreTestedWithoutWritingIt) {
+  Scene s;
+  PfxDetectCollisionParam detect = detectParam(s, &s.manifold, 1);
+  detect.sharedEmptyContactId = 0;
+  const std::vector<unsigned char> before = bytes(s.manifold);
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  // The boxes touch: the pair says how many points it found, its id still names the shared
+  // manifold, and that stays as it was.
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 4u);
+  EXPECT_EQ(pfxGetContactId(s.pair), 0u);
+  EXPECT_EQ(bytes(s.manifold), before);
+
+  // Given a manifold of its own, the pair finds the same points there.
+  PfxContactManifold own[2];
+  own[0].reset(0, 0);
+  own[1].reset(0, 1);
+  pfxSetContactId(s.pair, 1);
+  detect.offsetContactManifolds = own;
+  detect.numContactManifolds = 2;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  EXPECT_EQ(own[1].getNumContacts(), 4u);
+  EXPECT_EQ(own[0].getNumContacts(), 0u);
+
+  // Apart, it finds none, and refreshing a pair that names the empty manifold reads it only.
+  s.states[1].setPosition(PfxVector3(0, 1.5f, 0));
+  pfxSetContactId(s.pair, 0);
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  EXPECT_EQ(pfxGetNumConstraints(s.pair), 0u);
+  const std::vector<unsigned char> empty = bytes(own[0]);
+  ASSERT_EQ(pfxRefreshContacts(refreshParam(s, own, 2)), PFX_OK);
+  EXPECT_EQ(bytes(own[0]), empty);
 }
 
 TEST(SolverStages, RejectBadInputAndChangeNothing) {
@@ -146,14 +190,7 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
     EXPECT_EQ(bytes(s.pair), pairBefore) << what;
   };
 
-  PfxDetectCollisionParam detect;
-  detect.contactPairs = &s.pair;
-  detect.numContactPairs = 1;
-  detect.offsetContactManifolds = &s.manifold;
-  detect.numContactManifolds = 1;
-  detect.offsetRigidStates = s.states;
-  detect.offsetCollidables = s.collidables;
-  detect.numRigidBodies = 2;
+  PfxDetectCollisionParam detect = detectParam(s, &s.manifold, 1);
   detect.timeStep = 1.0f / 60;
   PfxDetectCollisionParam bad = detect;
   bad.offsetCollidables = nullptr;
@@ -172,13 +209,7 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
   EXPECT_EQ(pfxDetectCollision(bad), PFX_ERR_OUT_OF_RANGE);
   unchanged("detect");
 
-  PfxRefreshContactsParam refresh;
-  refresh.contactPairs = &s.pair;
-  refresh.numContactPairs = 1;
-  refresh.offsetContactManifolds = &s.manifold;
-  refresh.numContactManifolds = 1;
-  refresh.offsetRigidStates = s.states;
-  refresh.numRigidBodies = 2;
+  PfxRefreshContactsParam refresh = refreshParam(s, &s.manifold, 1);
   refresh.breakDistance = -1;
   EXPECT_EQ(pfxRefreshContacts(refresh), PFX_ERR_INVALID_VALUE);
   refresh.breakDistance = 0.02f;

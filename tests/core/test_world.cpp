@@ -277,6 +277,44 @@ TEST(World, StepAllocatesNothingAfterWarmUp) {
   }
 }
 
+TEST(World, ReservedBodiesStepAsGrownOnesAndRoomGrowsBeyond) {
+  PfxWorld reserved, grown;
+  ASSERT_EQ(reserved.initialize(PfxWorldParam()), PFX_OK);
+  ASSERT_EQ(grown.initialize(PfxWorldParam()), PFX_OK);
+  constexpr PfxUInt32 kBodies = 100;
+  reserved.reserveRigidBodies(kBodies);
+  reserved.reserveRigidBodies(kBodies / 2);  // less than there is room for: nothing changes
+  for (PfxUInt32 i = 0; i < kBodies; ++i) {
+    PfxBodyInit init;
+    init.mass = i == 0 ? 0 : 1;
+    init.position = PfxVector3(PfxFloat(i % 10) * 1.1f, PfxFloat(i / 10) * 1.1f, 0);
+    ASSERT_EQ(pfxAddBody(reserved, pfxMakeShape(PfxSphere(0.5f)), init), PFX_OK);
+    ASSERT_EQ(pfxAddBody(grown, pfxMakeShape(PfxSphere(0.5f)), init), PFX_OK);
+  }
+  const long afterAdding = pfx_test::pfxAllocationCount();
+  ASSERT_EQ(pfxAddBody(reserved, pfxMakeShape(PfxSphere(0.5f)), PfxBodyInit()), PFX_OK);
+  EXPECT_GT(pfx_test::pfxAllocationCount(), afterAdding) << "one body beyond the room grows it";
+  ASSERT_EQ(pfxAddBody(grown, pfxMakeShape(PfxSphere(0.5f)), PfxBodyInit()), PFX_OK);
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_EQ(reserved.step(), PFX_OK);
+    ASSERT_EQ(grown.step(), PFX_OK);
+  }
+  EXPECT_EQ(snapshot(reserved), snapshot(grown));
+}
+
+TEST(World, ReservingBodiesAllocatesOnceForThemAll) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  world.reserveRigidBodies(64);
+  const long before = pfx_test::pfxAllocationCount();
+  for (PfxUInt32 i = 0; i < 64; ++i) {
+    PfxBodyInit init;
+    init.position = PfxVector3(PfxFloat(i) * 2, 0, 0);
+    ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.5f)), init), PFX_OK);
+  }
+  EXPECT_EQ(pfx_test::pfxAllocationCount() - before, 0);
+}
+
 TEST(World, SameWorldSameStepsGiveIdenticalBits) {
   for (PfxPipelineType pipeline : {kPfxPipelineSimple, kPfxPipelineStable}) {
     PfxWorld a, b;

@@ -91,6 +91,17 @@ PfxInt32 pfxDecodeSerialized(const std::vector<PfxUInt8>& bytes, PfxSerializeIma
                              PfxSerializeError& error, PfxSerializeUpdateFunc update,
                              void* userData);
 
+// A world's contacts as a file holds them: every pair with a manifold of its own. The pairs
+// that name the world's shared empty manifold (PfxWorld::settleManifolds) get empty ones,
+// appended in pair order, awake pairs first; the shared one is written as the first free
+// slot. Reading a world back undoes both (PfxSerializeAccess::restoreWorld).
+struct PfxSerializeContacts {
+  std::vector<PfxContactManifold> manifolds;
+  std::vector<PfxUInt32> freeManifolds;
+  std::vector<PfxBroadphasePair> pairs;
+  std::vector<PfxBroadphasePair> sleepingPairs;
+};
+
 // The private state the serializer reads and restores (friend of PfxWorld,
 // PfxContactManifold, PfxRigidState and PfxSerializedMeshes).
 class PfxSerializeAccess {
@@ -114,9 +125,10 @@ class PfxSerializeAccess {
     return PfxWorld::validateBody(state, body);
   }
   // The world's arrays as the writer takes them (it finds the shapes through the
-  // collidables).
+  // collidables); the contacts as the file holds them, in `contacts`.
   static void describeWorld(const PfxWorld& world, PfxSerializeCapacity& counts,
-                            PfxSerializeBuffer& buffer, PfxWorldParam& param, double& time);
+                            PfxSerializeBuffer& buffer, PfxWorldParam& param, double& time,
+                            PfxSerializeContacts& contacts);
   // Replaces the world's content by the image's (already checked) and hands the meshes to
   // `meshes`. Cannot fail but for memory.
   static void restoreWorld(PfxWorld& world, PfxSerializeImage& image,

@@ -35,11 +35,47 @@ PfxInt32 failOpen(const char* function, const char* path, const char* mode, std:
   return pfxRejectParam(PFX_ERR_INVALID_VALUE, "%s: '%s' %s", function, path, reason.c_str());
 }
 
+// The pairs naming the world's shared empty manifold, each given an empty one of its own
+// at the end of `manifolds` (PfxSerializeContacts).
+void giveSharingPairsTheirOwn(std::vector<PfxBroadphasePair>& pairs, PfxUInt32 sharedId,
+                              std::vector<PfxContactManifold>& manifolds) {
+  for (PfxBroadphasePair& pair : pairs) {
+    if (pfxGetContactId(pair) != sharedId) continue;
+    pfxSetContactId(pair, static_cast<PfxUInt32>(manifolds.size()));
+    manifolds.emplace_back().reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+  }
+}
+
+// The file's empty manifolds at the end of the slots, each a pair's, go back to being the
+// shared empty one: the first free slot, or a new one when none is free. Others stay the
+// pairs' own (a file may hold them; the next step gives them back).
+PfxUInt32 shareTrailingEmptyManifolds(PfxSerializeImage& image) {
+  std::vector<PfxBroadphasePair*> namedBy(image.manifolds.size(), nullptr);
+  for (auto* pairs : {&image.pairs, &image.sleepingPairs}) {
+    for (PfxBroadphasePair& pair : *pairs) namedBy[pfxGetContactId(pair)] = &pair;
+  }
+  std::vector<PfxBroadphasePair*> sharing;
+  while (!image.manifolds.empty() && namedBy[image.manifolds.size() - 1] &&
+         image.manifolds.back().getNumContacts() == 0) {
+    sharing.push_back(namedBy[image.manifolds.size() - 1]);
+    image.manifolds.pop_back();
+  }
+  PfxUInt32 sharedId = static_cast<PfxUInt32>(image.manifolds.size());
+  if (image.freeManifolds.empty()) {
+    image.manifolds.emplace_back().reset(0, 0);
+  } else {
+    sharedId = image.freeManifolds.front();
+    image.freeManifolds.erase(image.freeManifolds.begin());
+  }
+  for (PfxBroadphasePair* pair : sharing) pfxSetContactId(*pair, sharedId);
+  return sharedId;
+}
+
 }  // namespace
 
 void PfxSerializeAccess::describeWorld(const PfxWorld& world, PfxSerializeCapacity& counts,
                                        PfxSerializeBuffer& buffer, PfxWorldParam& param,
-                                       double& time) {
+                                       double& time, PfxSerializeContacts& contacts) {
   // The buffer's pointers are not const as a read fills them; the writer only reads.
   PfxWorld& w = const_cast<PfxWorld&>(world);
   param = w.m_param;
@@ -49,8 +85,17 @@ void PfxSerializeAccess::describeWorld(const PfxWorld& world, PfxSerializeCapaci
   counts.numJointCouplings = w.getNumJointCouplings();
   counts.numContactPairs = w.m_numPairs;
   counts.numSleepingPairs = w.m_numSleepingPairs;
-  counts.numContactManifolds = static_cast<PfxUInt32>(w.m_manifolds.size());
-  counts.numFreeManifolds = static_cast<PfxUInt32>(w.m_freeManifolds.size());
+  contacts.pairs.assign(w.m_pairs.begin(), w.m_pairs.begin() + w.m_numPairs);
+  contacts.sleepingPairs.assign(w.m_sleepingPairs.begin(),
+                                w.m_sleepingPairs.begin() + w.m_numSleepingPairs);
+  contacts.manifolds = w.m_manifolds;
+  giveSharingPairsTheirOwn(contacts.pairs, w.m_sharedEmptyManifold, contacts.manifolds);
+  giveSharingPairsTheirOwn(contacts.sleepingPairs, w.m_sharedEmptyManifold, contacts.manifolds);
+  contacts.freeManifolds.assign(1, w.m_sharedEmptyManifold);
+  contacts.freeManifolds.insert(contacts.freeManifolds.end(), w.m_freeManifolds.begin(),
+                                w.m_freeManifolds.end());
+  counts.numContactManifolds = static_cast<PfxUInt32>(contacts.manifolds.size());
+  counts.numFreeManifolds = static_cast<PfxUInt32>(contacts.freeManifolds.size());
   counts.numExcludedPairs = static_cast<PfxUInt32>(w.m_excludedPairKeys.size());
   buffer.worldParam = &param;
   buffer.simulatedTime = &time;
@@ -61,10 +106,10 @@ void PfxSerializeAccess::describeWorld(const PfxWorld& world, PfxSerializeCapaci
   buffer.torques = w.m_torques.data();
   buffer.joints = w.m_joints.data();
   buffer.jointCouplings = w.m_jointCouplings.data();
-  buffer.contactPairs = w.m_pairs.data();
-  buffer.sleepingPairs = w.m_sleepingPairs.data();
-  buffer.contactManifolds = w.m_manifolds.data();
-  buffer.freeManifolds = w.m_freeManifolds.data();
+  buffer.contactPairs = contacts.pairs.data();
+  buffer.sleepingPairs = contacts.sleepingPairs.data();
+  buffer.contactManifolds = contacts.manifolds.data();
+  buffer.freeManifolds = contacts.freeManifolds.data();
   buffer.excludedPairKeys = w.m_excludedPairKeys.data();
 }
 
@@ -77,7 +122,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_simulatedTime = image.simulatedTime;
 
   const PfxUInt32 numBodies = image.numBodies();
-  world.reserveBodies(numBodies);
+  world.reserveBodies(numBodies, numBodies);
   for (PfxUInt32 id = 0; id < numBodies; ++id) {
     const PfxUInt32 first = image.firstShape[id];
     const PfxUInt32 count = image.firstShape[id + 1] - first;
@@ -104,12 +149,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
     world.m_compoundShapeIds.push_back(std::move(compoundIds));
     if (image.states[id].isAsleep()) ++world.m_numSleepingBodies;
   }
-  const std::size_t capacity = world.m_states.capacity();
-  world.m_solverBodies.resize(capacity);
-  world.m_islandMarks.resize(capacity);
-  world.m_proxies.resize(capacity);
-  world.m_proxySortWork.resize(capacity);
-  if (world.m_param.enableSleep) world.reserveSleepingProxies();
+  world.sizeBodyArraysToCapacity();
 
   world.m_removedBodies.assign(numBodies, 0);
   world.m_removedJoints.assign(image.joints.size(), 0);
@@ -133,6 +173,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_jointCouplings = image.jointCouplings;
   world.m_excludedPairKeys = image.excludedPairKeys;
 
+  world.m_sharedEmptyManifold = shareTrailingEmptyManifolds(image);
   world.m_manifolds = image.manifolds;
   world.m_freeManifolds.reserve(world.m_manifolds.capacity());
   world.m_freeManifolds = image.freeManifolds;
@@ -175,7 +216,8 @@ PfxInt32 pfxSaveWorldToBytes(const PfxWorld& world, std::vector<PfxUInt8>& bytes
   PfxSerializeBuffer buffer;
   PfxWorldParam param;
   double time = 0;
-  PfxSerializeAccess::describeWorld(world, counts, buffer, param, time);
+  PfxSerializeContacts contacts;
+  PfxSerializeAccess::describeWorld(world, counts, buffer, param, time, contacts);
   const PfxSerializeRemovals removals = PfxSerializeAccess::removals(world);
   std::vector<PfxUInt8> encoded;
   if (pfxEncodeSerialized(counts, buffer, encoded, failure, &PfxSerializeAccess::particleGroups(world), &removals) != PFX_OK) {

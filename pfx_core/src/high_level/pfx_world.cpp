@@ -109,6 +109,8 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numFoundPairs = 0;
   m_manifolds.clear();
   m_freeManifolds.clear();
+  m_sharedEmptyManifold = 0;
+  m_manifolds.emplace_back().reset(0, 0);
   m_joints.clear();
   m_jointPairs.clear();
   m_jointCouplings.clear();
@@ -156,9 +158,14 @@ PfxInt32 PfxWorld::validateBody(const PfxRigidState& state, const PfxRigidBody& 
   return PFX_OK;
 }
 
-void PfxWorld::reserveBodies(std::size_t n) {
+void PfxWorld::reserveRigidBodies(PfxUInt32 numBodies) {
+  if (m_states.capacity() >= numBodies) return;
+  reserveBodies(numBodies, numBodies);
+  sizeBodyArraysToCapacity();
+}
+
+void PfxWorld::reserveBodies(std::size_t n, std::size_t capacity) {
   if (m_states.capacity() >= n) return;
-  const std::size_t capacity = std::max<std::size_t>(n, m_states.capacity() * 2);
   m_states.reserve(capacity);
   m_bodies.reserve(capacity);
   m_collidables.reserve(capacity);
@@ -194,7 +201,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   collidable.finish();
 
   const PfxUInt32 id = getNumRigidBodies();
-  reserveBodies(id + 1);
+  reserveBodies(id + 1, std::max<std::size_t>(id + 1, m_states.capacity() * 2));
   m_states.push_back(state);
   m_states.back().setRigidBodyId(id);
   m_states.back().wakeup();
@@ -205,11 +212,7 @@ PfxInt32 PfxWorld::addRigidBody(const PfxRigidState& state, const PfxRigidBody& 
   m_compoundShapes.push_back(std::move(compound));
   m_compoundShapeIds.push_back(std::move(compoundIds));
   m_removedBodies.push_back(0);
-  m_solverBodies.resize(m_states.capacity());
-  m_islandMarks.resize(m_states.capacity());
-  m_proxies.resize(m_states.capacity());
-  m_proxySortWork.resize(m_states.capacity());
-  if (m_param.enableSleep) reserveSleepingProxies();
+  sizeBodyArraysToCapacity();
   m_rayProxiesStale = true;
   if (outId) *outId = id;
   return PFX_OK;
@@ -329,6 +332,17 @@ PfxInt32 PfxWorld::setKeyframeTarget(PfxUInt32 id, const PfxVector3& position,
   m_states[id].setLinearVelocity(target.getLinearVelocity());
   m_states[id].setAngularVelocity(target.getAngularVelocity());
   return PFX_OK;
+}
+
+// The arrays a step fills per body, sized with the bodies' own arrays (not to the bodies
+// there are now), so that adding a body does not move them each time.
+void PfxWorld::sizeBodyArraysToCapacity() {
+  const std::size_t capacity = m_states.capacity();
+  m_solverBodies.resize(capacity);
+  m_islandMarks.resize(capacity);
+  m_proxies.resize(capacity);
+  m_proxySortWork.resize(capacity);
+  if (m_param.enableSleep) reserveSleepingProxies();
 }
 
 // Room for every body to sleep, taken with the bodies' own arrays so that a step in which
@@ -495,7 +509,7 @@ PfxInt32 PfxWorld::truncate(PfxUInt32 numBodies, PfxUInt32 numJoints,
       if (pfxGetObjectIdA(pairs[i]) < numBodies && pfxGetObjectIdB(pairs[i]) < numBodies) {
         pairs[kept++] = pairs[i];
       } else {
-        m_freeManifolds.push_back(pfxGetContactId(pairs[i]));
+        releaseManifold(pfxGetContactId(pairs[i]));
       }
     }
     numPairs = kept;
@@ -696,14 +710,12 @@ void PfxWorld::composeStablePairs() {
   pfxDecomposePairs(param, result);
 
   for (PfxUInt32 i = 0; i < result.numOutRemovePairs; ++i) {
-    m_freeManifolds.push_back(pfxGetContactId(result.outRemovePairs[i]));
+    releaseManifold(pfxGetContactId(result.outRemovePairs[i]));
   }
-  reserveManifolds(result.numOutNewPairs);
+  // A new pair has no points yet: it takes a manifold of its own only once it finds some
+  // (settleManifolds).
   for (PfxUInt32 i = 0; i < result.numOutNewPairs; ++i) {
-    PfxBroadphasePair& pair = result.outNewPairs[i];
-    const PfxUInt32 contactId = takeManifold();
-    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
-    pfxSetContactId(pair, contactId);
+    pfxSetContactId(result.outNewPairs[i], m_sharedEmptyManifold);
   }
 
   growTo(m_pairs, m_numFoundPairs);
@@ -719,9 +731,7 @@ void PfxWorld::composeStablePairs() {
 // pipeline, so that the pairs set aside while their bodies sleep keep theirs. Returned in
 // reverse, the slots come back in pair order while the number of pairs holds.
 void PfxWorld::assignSimplePairs() {
-  for (PfxUInt32 i = m_numPairs; i > 0; --i) {
-    m_freeManifolds.push_back(pfxGetContactId(m_pairs[i - 1]));
-  }
+  for (PfxUInt32 i = m_numPairs; i > 0; --i) releaseManifold(pfxGetContactId(m_pairs[i - 1]));
   growTo(m_pairs, m_numFoundPairs);
   reserveManifolds(m_numFoundPairs);
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
@@ -756,7 +766,50 @@ PfxInt32 PfxWorld::detectCollision() {
   param.contactMargin = m_param.contactMargin;
   param.timeStep = m_param.timeStep;
   param.matchDistanceSq = stable ? kMatchDistanceSq : 0;
-  return pfxDetectCollision(param, &m_taskManager);
+  if (!stable) return pfxDetectCollision(param, &m_taskManager);
+  param.sharedEmptyContactId = m_sharedEmptyManifold;
+  if (const PfxInt32 err = pfxDetectCollision(param, &m_taskManager); err != PFX_OK) return err;
+  return settleManifolds(param);
+}
+
+// After the stable pipeline's collision detection: a pair left without points gives its
+// manifold back and names the shared empty one, and a pair that found its first points
+// takes a manifold of its own and is detected again into it (the same points, as the
+// shared manifold had none to carry over). Neighbours that do not touch, often as many as
+// the pairs that do, then cost no manifold (836 bytes each).
+PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
+  PfxUInt32 numTouchingFirst = 0;
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    PfxBroadphasePair& pair = m_pairs[i];
+    const bool hasPoints = pfxGetNumConstraints(pair) > 0;
+    if (pfxGetContactId(pair) == m_sharedEmptyManifold) {
+      numTouchingFirst += hasPoints ? 1 : 0;
+    } else if (!hasPoints) {
+      releaseManifold(pfxGetContactId(pair));
+      pfxSetContactId(pair, m_sharedEmptyManifold);
+    }
+  }
+  if (numTouchingFirst == 0) return PFX_OK;
+  reserveManifolds(numTouchingFirst);
+  for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
+    PfxBroadphasePair& pair = m_pairs[i];
+    if (pfxGetContactId(pair) != m_sharedEmptyManifold || pfxGetNumConstraints(pair) == 0) {
+      continue;
+    }
+    const PfxUInt32 contactId = takeManifold();
+    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+    pfxSetContactId(pair, contactId);
+    param.contactPairs = &pair;
+    param.numContactPairs = 1;
+    param.offsetContactManifolds = m_manifolds.data();
+    param.numContactManifolds = static_cast<PfxUInt32>(m_manifolds.size());
+    if (const PfxInt32 err = pfxDetectCollision(param); err != PFX_OK) return err;
+  }
+  return PFX_OK;
+}
+
+void PfxWorld::releaseManifold(PfxUInt32 contactId) {
+  if (contactId != m_sharedEmptyManifold) m_freeManifolds.push_back(contactId);
 }
 
 // Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),

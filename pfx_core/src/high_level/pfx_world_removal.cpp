@@ -36,7 +36,7 @@ void PfxWorld::dropPairsOf(PfxUInt32 id) {
       if (pfxGetObjectIdA(pairs[i]) != id && pfxGetObjectIdB(pairs[i]) != id) {
         pairs[kept++] = pairs[i];
       } else {
-        m_freeManifolds.push_back(pfxGetContactId(pairs[i]));
+        releaseManifold(pfxGetContactId(pairs[i]));
       }
     }
     numPairs = kept;

@@ -19,6 +19,7 @@
 #include "pfx/base_level/task/pfx_tbb_task_manager.h"
 #include "pfx/high_level/pfx_particle_group.h"
 #include "pfx/low_level/broadphase/pfx_update_broadphase_proxies.h"
+#include "pfx/low_level/collision/pfx_detect_collision.h"
 #include "pfx/low_level/collision/pfx_query_contacts.h"
 #include "pfx/low_level/particle/pfx_query_particles.h"
 #include "pfx/low_level/raycast/pfx_cast_rays.h"
@@ -201,6 +202,11 @@ class PfxWorld {
   // any other, invalid shapes and too many shapes; the world is unchanged then.
   PfxInt32 addRigidBody(const PfxRigidState& state, const PfxRigidBody& body,
                         const PfxShape* shapes, PfxUInt32 numShapes, PfxUInt32* outId = nullptr);
+  // Room for `numBodies` bodies in all, taken at once: the world's per-body arrays then hold
+  // exactly that many, where adding bodies one by one doubles them (up to twice the memory
+  // needed). Adding beyond it still works and grows them as before; a count at or below the
+  // room there is changes nothing.
+  void reserveRigidBodies(PfxUInt32 numBodies);
 
   // Ids run below getNumRigidBodies(), removed ones included (see removeRigidBody).
   PfxUInt32 getNumRigidBodies() const { return static_cast<PfxUInt32>(m_states.size()); }
@@ -389,7 +395,9 @@ class PfxWorld {
 
   // The pairs of the last step and their contact manifolds: those with an awake body that is
   // not fixed, sorted by key, then those set aside while all their bodies sleep (or are
-  // fixed), sorted by key. A sleeping pair keeps the points it had when it fell asleep.
+  // fixed), sorted by key. A sleeping pair keeps the points it had when it fell asleep. A
+  // pair without points may name the empty manifold that all such pairs share, whose body
+  // ids are not the pair's: take the bodies from the pair.
   PfxUInt32 getNumContactPairs() const { return m_numPairs + m_numSleepingPairs; }
   const PfxConstraintPair& getContactPair(PfxUInt32 i) const {
     return i < m_numPairs ? m_pairs[i] : m_sleepingPairs[i - m_numPairs];
@@ -410,11 +418,16 @@ class PfxWorld {
 
   static PfxInt32 checkParam(const PfxWorldParam& param);
   static PfxInt32 validateBody(const PfxRigidState& state, const PfxRigidBody& body);
-  void reserveBodies(std::size_t n);
+  // Room for n bodies; when there is less, `capacity` (at least n) is taken.
+  void reserveBodies(std::size_t n, std::size_t capacity);
+  void sizeBodyArraysToCapacity();
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
   void reserveManifolds(PfxUInt32 numNewPairs);
   PfxUInt32 takeManifold();
+  // Returns a pair's manifold to the free list, unless it is the shared empty one.
+  void releaseManifold(PfxUInt32 contactId);
+  PfxInt32 settleManifolds(PfxDetectCollisionParam& param);
   void composeStablePairs();
   void assignSimplePairs();
   void reservePairs();
@@ -520,6 +533,9 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
+  // The manifold that the stable pipeline's pairs without points name, all of them: it
+  // stays empty and is never freed (pfxDetectCollision's sharedEmptyContactId).
+  PfxUInt32 m_sharedEmptyManifold = 0;
 
   // Pairs that findPairs no longer reports because all their bodies sleep (or are fixed),
   // sorted by key and kept with their manifolds until a body wakes: a woken island gets

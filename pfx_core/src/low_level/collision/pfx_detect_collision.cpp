@@ -24,7 +24,7 @@ PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const 
 constexpr PfxUInt32 kDetectedPairsPerTask = 32;
 
 void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
-                PfxContactCandidate* candidates) {
+                PfxContactCandidate* candidates, PfxContactManifold& unshared) {
   const PfxUInt32 idA = pfxGetObjectIdA(pair);
   const PfxUInt32 idB = pfxGetObjectIdB(pair);
   const PfxRigidState& stateA = param.offsetRigidStates[idA];
@@ -38,7 +38,10 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   const PfxUInt32 numCandidates =
       pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
                             PFX_MAX_CONTACT_CANDIDATES);
-  PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+  const PfxUInt32 contactId = pfxGetContactId(pair);
+  const bool shared = contactId == param.sharedEmptyContactId;
+  PfxContactManifold& manifold = shared ? unshared : param.offsetContactManifolds[contactId];
+  if (shared) unshared.reset(idA, idB);
   manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
   pfxSetNumConstraints(pair, manifold.getNumContacts());
 }
@@ -69,12 +72,14 @@ PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager
     return err;
   }
 
-  // Each pair writes only its own manifold and its own pair.
+  // Each pair writes only its own manifold (or the task's, for a pair naming the shared
+  // empty one) and its own pair.
   pfxParallelFor(taskManager, param.numContactPairs, kDetectedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
+                   PfxContactManifold unshared;
                    for (PfxUInt32 i = begin; i < end; ++i) {
-                     detectPair(param, param.contactPairs[i], candidates);
+                     detectPair(param, param.contactPairs[i], candidates, unshared);
                    }
                  });
   return PFX_OK;

@@ -10,6 +10,11 @@ constexpr PfxUInt32 kRefreshedPairsPerTask = 128;
 
 void refreshPair(const PfxRefreshContactsParam& param, PfxConstraintPair& pair) {
   PfxContactManifold& manifold = param.offsetContactManifolds[pfxGetContactId(pair)];
+  // Nothing to refresh; and a manifold that pairs share (pfxDetectCollision) is only read.
+  if (manifold.getNumContacts() == 0) {
+    pfxSetNumConstraints(pair, 0);
+    return;
+  }
   if (param.offsetCollidables) {
     manifold.carryMeshContacts(param.offsetCollidables[pfxGetObjectIdA(pair)],
                                param.offsetCollidables[pfxGetObjectIdB(pair)]);

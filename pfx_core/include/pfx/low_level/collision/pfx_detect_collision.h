@@ -9,6 +9,9 @@
 
 namespace pfx {
 
+// PfxDetectCollisionParam::sharedEmptyContactId when no manifold is shared.
+constexpr PfxUInt32 PFX_NO_SHARED_CONTACT = 0xFFFFFFFFu;
+
 struct PfxDetectCollisionParam {
   PfxConstraintPair* contactPairs = nullptr;
   PfxUInt32 numContactPairs = 0;
@@ -28,10 +31,18 @@ struct PfxDetectCollisionParam {
   // carries the solver's work from one frame to the next (warm starting, the stable
   // pipeline). 0 starts every point afresh, as if the manifold had just been reset.
   PfxFloat matchDistanceSq = PfxFloat(0.02 * 0.02);
+  // A manifold that pairs without points may share, so that they cost no manifold of their
+  // own (most pairs of a pile or a floor of spheres are neighbours that do not touch). A
+  // pair naming it is tested into a manifold of the stage's own; the shared one is only
+  // read, and stays empty. When such a pair finds points, its number of constraints says
+  // how many while its id still names the shared manifold: the caller gives it one of its
+  // own, reset for its bodies, and detects it again. PFX_NO_SHARED_CONTACT: none.
+  PfxUInt32 sharedEmptyContactId = PFX_NO_SHARED_CONTACT;
 };
 
 // Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints);
-// pairs run in parallel with a task manager. Pairs must name distinct manifolds.
+// pairs run in parallel with a task manager. Pairs must name distinct manifolds, but for
+// the shared empty one.
 PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param,
                             PfxTaskManager* taskManager = nullptr);
 

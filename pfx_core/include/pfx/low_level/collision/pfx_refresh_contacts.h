@@ -25,7 +25,8 @@ struct PfxRefreshContactsParam {
   const PfxCollidable* offsetCollidables = nullptr;
 };
 
-// Pairs run in parallel with a task manager; they must name distinct manifolds.
+// Pairs run in parallel with a task manager; they must name distinct manifolds, but for an
+// empty one, which is only read (pfxDetectCollision's shared empty manifold).
 PfxInt32 pfxRefreshContacts(const PfxRefreshContactsParam& param,
                             PfxTaskManager* taskManager = nullptr);
 
