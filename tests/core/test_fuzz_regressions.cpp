@@ -838,8 +838,8 @@ TEST(FuzzRegressions, FixedBodyBeyondTheSpeedLimitIsRefusedWithNothingChanged) {
 // and 0.031 or 0.0017, 0.031 and 7.3e-9 kg m^2 was read. Neither is a rigid body's (each
 // moment is a sum of m (y^2 + z^2) and the like, so the largest is at most the sum of the
 // others), and the second turned the bars NaN in the first step; so did a thin bar of
-// 7.4e-9 about its length beside 0.0308 across, a body, but one whose small moment is lost
-// in rounding once its tensor turns. Both are refused now (PfxRigidBody::isValid, so
+// 7.4e-9 about its length beside 0.0308 across (2 epsilon of it in float), a body, but one
+// whose small moment is lost in rounding once its tensor turns. Both are refused now (PfxRigidBody::isValid, so
 // addRigidBody, setRigidBody, the file reader and the loaders, which name the rule).
 TEST(FuzzRegressions, InertiaOfNoRigidBodyOrLostInRoundingIsRefusedWithNothingChanged) {
   PfxWorld world;
@@ -857,7 +857,10 @@ TEST(FuzzRegressions, InertiaOfNoRigidBodyOrLostInRoundingIsRefusedWithNothingCh
   const PfxRigidBody heavyAcross =
       withMoments(PfxFloat(7.0e3), PfxFloat(0.031), PfxFloat(0.031));
   const PfxRigidBody tiny = withMoments(PfxFloat(0.0017), PfxFloat(0.031), PfxFloat(7.3e-9));
-  const PfxRigidBody thin = withMoments(PfxFloat(7.4e-9), PfxFloat(0.0308), PfxFloat(0.0308));
+  // 7.3e-9 kg m^2 beside 0.0308 in float: 2 epsilon of it.
+  const PfxFloat across = PfxFloat(0.0308);
+  const PfxFloat lostInRounding = 2 * std::numeric_limits<PfxFloat>::epsilon() * across;
+  const PfxRigidBody thin = withMoments(lostInRounding, across, across);
   for (const PfxRigidBody* body : {&heavyAcross, &tiny}) {
     ASSERT_NE(body->problem(), nullptr);
     EXPECT_NE(std::string(body->problem()).find("of no rigid body"), std::string::npos)
@@ -880,7 +883,6 @@ TEST(FuzzRegressions, InertiaOfNoRigidBodyOrLostInRoundingIsRefusedWithNothingCh
   EXPECT_TRUE(withMoments(PfxFloat(0.25), PfxFloat(0.25), PfxFloat(0.5)).isValid());
   EXPECT_TRUE(withMoments(PfxFloat(0.125), PfxFloat(0.125), PfxFloat(0.2525)).isValid());
   // The thinnest bar taken steps to finite states.
-  const PfxFloat across = PfxFloat(0.0308);
   ASSERT_EQ(world.setRigidBody(bar, withMoments(kPfxMinMomentRatio * across, across, across)),
             PFX_OK);
   expectStepsFinite(world, 20);
@@ -888,7 +890,7 @@ TEST(FuzzRegressions, InertiaOfNoRigidBodyOrLostInRoundingIsRefusedWithNothingCh
   // The saved bar made thin, then heavy across one axis.
   const PfxFloat along = PfxFloat(0.0123);  // unique in the saved file, as is `across`
   ASSERT_EQ(world.setRigidBody(bar, withMoments(along, across, across)), PFX_OK);
-  expectFileRefused(world, along, PfxFloat(7.4e-9), "kPfxMinMomentRatio");
+  expectFileRefused(world, along, lostInRounding, "kPfxMinMomentRatio");
   expectFileRefused(world, across, PfxFloat(7.0e3), "of no rigid body");
 }
 
