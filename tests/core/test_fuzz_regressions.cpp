@@ -80,7 +80,7 @@ TEST(FuzzRegressions, TimeStepThatMakesGravityInfiniteIsRefusedWithNothingChange
   param.timeStep = kLargestFloat;
   EXPECT_EQ(world.initialize(param), PFX_ERR_INVALID_VALUE);
   param.gravity = PfxVector3::Zero();
-  EXPECT_EQ(world.initialize(param), PFX_OK);  // without gravity the step adds nothing
+  EXPECT_EQ(world.initialize(param), PFX_ERR_OUT_OF_RANGE);  // above PFX_MAX_TIME_STEP
 
   ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
   const PfxUInt32 id = addSphere(world, PfxVector3(0, 2, 0));
@@ -452,8 +452,11 @@ TEST(FuzzRegressions, KeyframeMoveWhoseSpeedSquareOverflowsIsRefusedWithNothingC
             PFX_ERR_INVALID_VALUE);
   EXPECT_TRUE(sameState(state, before));
 
-  // A far but usable move is taken and steps to finite states.
-  ASSERT_EQ(world.setKeyframeTarget(id, PfxVector3(1e6f, 0, 0), turned), PFX_OK);
+  // A move beyond the speed limit of a body forces do not move is refused too (issue 19's
+  // fixed bodies); one at 6e4 m/s is taken and steps to finite states.
+  EXPECT_EQ(world.setKeyframeTarget(id, PfxVector3(1e6f, 0, 0), turned), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(world.getRigidState(id), before));
+  ASSERT_EQ(world.setKeyframeTarget(id, PfxVector3(1e3f, 0, 0), turned), PFX_OK);
   ASSERT_EQ(world.step(), PFX_OK);
   EXPECT_TRUE(world.getRigidState(id).isValid());
 }
@@ -757,4 +760,170 @@ TEST(FuzzRegressions, SavedContactPointBeyondAnyShapeIsRefused) {
   const PfxFloat onGroundX = (groundIsA ? point.m_localPointA : point.m_localPointB).x();
   expectFileRefused(world, onGroundX, PfxFloat(6.3e29),
                     groundIsA ? "localPointA" : "localPointB", "CONT", PFX_ERR_OUT_OF_RANGE);
+}
+
+namespace {
+
+// Steps `world` `steps` times; every body must stay valid.
+void expectStepsFinite(PfxWorld& world, int steps) {
+  for (int step = 0; step < steps; ++step) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    for (PfxUInt32 id = 0; id < world.getNumRigidBodies(); ++id) {
+      ASSERT_TRUE(world.getRigidState(id).isValid()) << "body " << id << ", step " << step;
+    }
+  }
+}
+
+}  // namespace
+
+// fuzz_world_file (issue 19's search of a saved world): the fixed ground saved moving at
+// 5.8e17 m/s, or a hinged bar's fixed base turning at 1e19 rad/s (their squares finite, so
+// read), turned the bodies on it or jointed to it NaN in the first step: stage (1) cuts the
+// speeds of the bodies forces move, but the solver took the others' as they were. A body
+// forces do not move must now be given speeds within kPfxMaxLinearSpeed and
+// kPfxMaxAngularSpeed (PfxRigidState::isValid: addRigidBody, setRigidState, the file
+// reader; pfxSetKeyframeTarget), and at those speeds the world steps to finite states.
+TEST(FuzzRegressions, FixedBodyBeyondTheSpeedLimitIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  const PfxUInt32 ground = initializeWithGround(world);
+  PfxUInt32 jointId = 0;
+  const PfxUInt32 bar = addPendulum(world, &jointId);
+  const PfxUInt32 base = world.getJoint(jointId).m_rigidBodyIdA;
+
+  PfxRigidState fuzzed = world.getRigidState(ground);
+  fuzzed.setLinearVelocity(PfxVector3(0, PfxFloat(5.8e17), 0));
+  EXPECT_FALSE(fuzzed.isValid());
+  const PfxRigidState groundBefore = world.getRigidState(ground);
+  EXPECT_EQ(world.setRigidState(ground, fuzzed), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(world.getRigidState(ground), groundBefore));
+  fuzzed = world.getRigidState(base);
+  fuzzed.setAngularVelocity(PfxVector3(PfxFloat(1e19), 0, 0));
+  const PfxRigidState baseBefore = world.getRigidState(base);
+  EXPECT_EQ(world.setRigidState(base, fuzzed), PFX_ERR_INVALID_VALUE);
+  EXPECT_TRUE(sameState(world.getRigidState(base), baseBefore));
+  PfxBodyInit spinningFixed;
+  spinningFixed.motionType = kPfxMotionTypeFixed;
+  spinningFixed.angularVelocity = PfxVector3(0, PfxFloat(1e19), 0);
+  EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(PfxFloat(0.1))), spinningFixed),
+            PFX_ERR_INVALID_VALUE);
+  EXPECT_EQ(world.getNumRigidBodies(), 3u);
+  // A keyframe move that fast is refused too.
+  PfxRigidState keyframe = world.getRigidState(base);
+  keyframe.setMotionType(kPfxMotionTypeKeyframe);
+  EXPECT_EQ(pfxSetKeyframeTarget(keyframe, PfxVector3(1e5f, 0, 0), keyframe.getOrientation(),
+                                 PfxFloat(1) / 60),
+            PFX_ERR_INVALID_VALUE);
+
+  // The saved ground moving at 5.8e17 m/s is refused by the reader.
+  const PfxFloat groundSpeed = PfxFloat(0.4375);  // unique in the saved file
+  PfxRigidState moving = groundBefore;
+  moving.setLinearVelocity(PfxVector3(0, groundSpeed, 0));
+  ASSERT_EQ(world.setRigidState(ground, moving), PFX_OK);
+  expectFileRefused(world, groundSpeed, PfxFloat(5.8e17), "kPfxMaxLinearSpeed");
+
+  // At the limits, the bar on its turning base and a box on the moving ground stay finite.
+  PfxBodyInit box;
+  box.position = PfxVector3(-1, PfxFloat(0.1), 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.1f, 0.1f, 0.1f)), box), PFX_OK);
+  moving.setLinearVelocity(PfxVector3(0, kPfxMaxLinearSpeed, 0));
+  ASSERT_EQ(world.setRigidState(ground, moving), PFX_OK);
+  PfxRigidState turning = baseBefore;
+  turning.setAngularVelocity(PfxVector3(kPfxMaxAngularSpeed, 0, 0));
+  ASSERT_EQ(world.setRigidState(base, turning), PFX_OK);
+  expectStepsFinite(world, 20);
+  EXPECT_TRUE(world.getRigidState(bar).isValid());
+}
+
+// fuzz_world_file (issue 19): a hinged bar whose saved principal moments were 7.0e3, 0.031
+// and 0.031 or 0.0017, 0.031 and 7.3e-9 kg m^2 was read. Neither is a rigid body's (each
+// moment is a sum of m (y^2 + z^2) and the like, so the largest is at most the sum of the
+// others), and the second turned the bars NaN in the first step; so did a thin bar of
+// 7.4e-9 about its length beside 0.0308 across (2 epsilon of it in float), a body, but one
+// whose small moment is lost in rounding once its tensor turns. Both are refused now (PfxRigidBody::isValid, so
+// addRigidBody, setRigidBody, the file reader and the loaders, which name the rule).
+TEST(FuzzRegressions, InertiaOfNoRigidBodyOrLostInRoundingIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  initializeWithGround(world);
+  PfxUInt32 jointId = 0;
+  const PfxUInt32 bar = addPendulum(world, &jointId);
+  const PfxRigidBody before = world.getRigidBody(bar);
+  const auto withMoments = [&](PfxFloat x, PfxFloat y, PfxFloat z) {
+    PfxRigidBody body = before;
+    PfxMatrix3 inertia = PfxMatrix3::Zero();
+    inertia.diagonal() = PfxVector3(x, y, z);
+    body.setInertia(inertia);
+    return body;
+  };
+  const PfxRigidBody heavyAcross =
+      withMoments(PfxFloat(7.0e3), PfxFloat(0.031), PfxFloat(0.031));
+  const PfxRigidBody tiny = withMoments(PfxFloat(0.0017), PfxFloat(0.031), PfxFloat(7.3e-9));
+  // 7.3e-9 kg m^2 beside 0.0308 in float: 2 epsilon of it.
+  const PfxFloat across = PfxFloat(0.0308);
+  const PfxFloat lostInRounding = 2 * std::numeric_limits<PfxFloat>::epsilon() * across;
+  const PfxRigidBody thin = withMoments(lostInRounding, across, across);
+  for (const PfxRigidBody* body : {&heavyAcross, &tiny}) {
+    ASSERT_NE(body->problem(), nullptr);
+    EXPECT_NE(std::string(body->problem()).find("of no rigid body"), std::string::npos)
+        << body->problem();
+  }
+  ASSERT_NE(thin.problem(), nullptr);
+  EXPECT_NE(std::string(thin.problem()).find("kPfxMinMomentRatio"), std::string::npos)
+      << thin.problem();
+  for (const PfxRigidBody* body : {&heavyAcross, &tiny, &thin}) {
+    EXPECT_EQ(world.setRigidBody(bar, *body), PFX_ERR_INVALID_VALUE);
+    EXPECT_EQ(world.getRigidBody(bar).getInertia(), before.getInertia());
+    EXPECT_EQ(world.addRigidBody(world.getRigidState(bar), *body,
+                                 &world.getCollidable(bar).getShape(0), 1),
+              PFX_ERR_INVALID_VALUE);
+  }
+  EXPECT_EQ(world.getNumRigidBodies(), 3u);
+
+  // A flat disc has the largest moment equal to the sum; moments written to three
+  // significant digits may exceed it by up to 1e-2 of it: both bodies.
+  EXPECT_TRUE(withMoments(PfxFloat(0.25), PfxFloat(0.25), PfxFloat(0.5)).isValid());
+  EXPECT_TRUE(withMoments(PfxFloat(0.125), PfxFloat(0.125), PfxFloat(0.2525)).isValid());
+  // The thinnest bar taken steps to finite states.
+  ASSERT_EQ(world.setRigidBody(bar, withMoments(kPfxMinMomentRatio * across, across, across)),
+            PFX_OK);
+  expectStepsFinite(world, 20);
+
+  // The saved bar made thin, then heavy across one axis.
+  const PfxFloat along = PfxFloat(0.0123);  // unique in the saved file, as is `across`
+  ASSERT_EQ(world.setRigidBody(bar, withMoments(along, across, across)), PFX_OK);
+  expectFileRefused(world, along, lostInRounding, "kPfxMinMomentRatio");
+  expectFileRefused(world, across, PfxFloat(7.0e3), "of no rigid body");
+}
+
+// fuzz_world_file (issue 19): a saved time step of 1.6e17 s (gravity over it finite, so it
+// was read) turned the hinged bars NaN in their first step at two sub-steps; 1e10 s did at
+// four. PfxWorldParam::timeStep is now at most PFX_MAX_TIME_STEP (100 s), refused above
+// with PFX_ERR_OUT_OF_RANGE by initialize, setStepParam and the file reader, which names it.
+TEST(FuzzRegressions, TimeStepAboveTheBoundIsRefusedWithNothingChanged) {
+  PfxWorld world;
+  PfxWorldParam param;
+  param.timeStep = PfxFloat(1.6e17);
+  param.subStep = 2;
+  EXPECT_EQ(world.initialize(param), PFX_ERR_OUT_OF_RANGE);
+  initializeWithGround(world);
+  PfxUInt32 jointId = 0;
+  const PfxUInt32 bar = addPendulum(world, &jointId);
+  EXPECT_EQ(world.setStepParam(PfxFloat(1e10), 4, 10, PfxVector3(0, PfxFloat(-9.8), 0)),
+            PFX_ERR_OUT_OF_RANGE);
+  EXPECT_EQ(world.getParam().timeStep, PfxWorldParam().timeStep);
+  EXPECT_EQ(world.getParam().subStep, PfxWorldParam().subStep);
+
+  // The longest step taken, at every sub-step count the fuzzed files asked for.
+  for (const PfxUInt32 subSteps : {1u, 2u, 4u, PFX_MAX_SUB_STEPS}) {
+    PfxWorld longest;
+    initializeWithGround(longest);
+    addPendulum(longest, &jointId);
+    ASSERT_EQ(longest.setStepParam(PFX_MAX_TIME_STEP, subSteps, 10,
+                                   PfxVector3(0, PfxFloat(-9.8), 0)),
+              PFX_OK);
+    expectStepsFinite(longest, 5);
+  }
+
+  EXPECT_TRUE(world.getRigidState(bar).isValid());
+  expectFileRefused(world, PfxWorldParam().timeStep, PfxFloat(1.6e17), "timeStep", nullptr,
+                    PFX_ERR_OUT_OF_RANGE);
 }

@@ -673,6 +673,9 @@ TEST(UrdfLoader, MalformedFilesFailNamingTheElementAndChangeNothing) {
        "link 'forearm': mass 'heavy' is not a number"},
       {"inertia not positive definite", robot(linkXml("forearm", "1", "-0.01")),
        PFX_ERR_INVALID_VALUE, "link 'forearm': inertia is not positive definite"},
+      // 0.05 kg m^2 about x beside 0.01 about y and z: no mass distribution has them.
+      {"inertia of no rigid body", robot(linkXml("forearm", "1", "0.05")), PFX_ERR_INVALID_VALUE,
+       "link 'forearm': principal moments of inertia of no rigid body"},
       {"unknown joint type", robot(linkXml("a") + linkXml("b") + jointXml("j", "ball", "a", "b")),
        PFX_ERR_INVALID_FLAG, "joint 'j': unknown type 'ball'"},
       {"cycle",

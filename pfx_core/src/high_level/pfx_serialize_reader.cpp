@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <iterator>
+#include <sstream>
 
 #include "base_level/collision/pfx_large_tri_mesh_access.h"
 #include "high_level/pfx_serialize_image.h"
@@ -90,6 +91,11 @@ bool Parser::param() {
   m_image.simulatedTime = r.f64("simulatedTime");
   if (m_version >= 2) p.enableShockPropagation = r.u8("enableShockPropagation") != 0;
   if (!r.ok()) return false;
+  if (p.timeStep > PFX_MAX_TIME_STEP) {
+    std::ostringstream text;
+    text << p.timeStep << " s above PFX_MAX_TIME_STEP (" << PFX_MAX_TIME_STEP << " s)";
+    return r.fail(PFX_ERR_OUT_OF_RANGE, "timeStep", text.str());
+  }
   if (p.subStep > PFX_MAX_SUB_STEPS) {
     return r.fail(PFX_ERR_OUT_OF_RANGE, "subStep",
                   std::to_string(p.subStep) + " above " + std::to_string(PFX_MAX_SUB_STEPS));
@@ -460,9 +466,15 @@ bool Parser::bodies() {
     m_image.torques[id] = r.vec3("torque");
     if (!r.ok()) return false;
     if (const PfxInt32 err = PfxSerializeAccess::checkBody(state, body); err != PFX_OK) {
+      const char* bodyProblem = state.isValid() && pfxMotionTypeIsDynamic(state.getMotionType())
+                                    ? body.problem()
+                                    : nullptr;
       return r.fail(err, "state",
-                    "PfxWorld rejects it: not finite, not a unit orientation, or a mass, "
-                    "inertia, friction or restitution it cannot simulate");
+                    bodyProblem ? std::string("PfxWorld rejects its body: ") + bodyProblem
+                                : "PfxWorld rejects it: a position or velocity not finite, a "
+                                  "speed beyond kPfxMaxLinearSpeed or kPfxMaxAngularSpeed (1e5) "
+                                  "for a body forces do not move, not a unit orientation, or a "
+                                  "mass, inertia, friction or restitution it cannot simulate");
     }
     const PfxUInt8 count = r.u8("numShapes");
     if (!r.ok()) return false;

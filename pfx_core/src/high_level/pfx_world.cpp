@@ -67,8 +67,8 @@ PfxInt32 PfxWorld::checkParam(const PfxWorldParam& param) {
       param.sleepAngularVelocity >= 0 && pfxIsFinite(param.sleepAngularVelocity) &&
       param.sleepTime >= 0 && std::ceil(double(param.sleepTime) / param.timeStep) <= 0xffff;
   if (!valid) return PFX_ERR_INVALID_VALUE;
-  if (param.numThreads > PFX_MAX_THREADS || param.subStep > PFX_MAX_SUB_STEPS ||
-      param.iteration > PFX_MAX_ITERATIONS) {
+  if (param.timeStep > PFX_MAX_TIME_STEP || param.numThreads > PFX_MAX_THREADS ||
+      param.subStep > PFX_MAX_SUB_STEPS || param.iteration > PFX_MAX_ITERATIONS) {
     return PFX_ERR_OUT_OF_RANGE;
   }
   if (param.pipeline > kPfxPipelineStable ||

@@ -436,8 +436,8 @@ class Reader {
     }
     body.body.setMass(mass);
     body.body.setInertia(inertia);
-    if (!body.body.isValid()) {
-      return fail(e, "inertia (ixx iyy izz ixy ixz iyz) is not symmetric positive definite");
+    if (const char* problem = body.body.problem()) {
+      return fail(e, std::string("inertia (ixx iyy izz ixy ixz iyz) or mass: ") + problem);
     }
     return PFX_OK;
   }

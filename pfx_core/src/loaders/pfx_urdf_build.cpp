@@ -540,11 +540,14 @@ class UrdfBuilder {
         local = 0.5 * (local + local.transpose());
         out.body.setMass(static_cast<PfxFloat>(body.mass));
         out.body.setInertia(local.cast<PfxFloat>());
-        if (!out.body.isValid()) {
+        if (const char* problem = out.body.problem()) {
+          const Eigen::SelfAdjointEigenSolver<Mat3> moments(local, Eigen::EigenvaluesOnly);
           return fail(PFX_ERR_INVALID_VALUE,
-                      "link " + pfxUrdfQuoted(linkName(group.links[0])) +
-                          ": mass or inertia out of the range the solver takes (mass " +
-                          pfxUrdfNumber(body.mass) + " kg)");
+                      "link " + pfxUrdfQuoted(linkName(group.links[0])) + ": " + problem +
+                          " (mass " + pfxUrdfNumber(body.mass) + " kg, principal moments " +
+                          pfxUrdfNumber(moments.eigenvalues()[0]) + ", " +
+                          pfxUrdfNumber(moments.eigenvalues()[1]) + ", " +
+                          pfxUrdfNumber(moments.eigenvalues()[2]) + " kg m^2)");
         }
       }
       m_build.bodies.push_back(out);

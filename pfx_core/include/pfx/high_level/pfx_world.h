@@ -40,12 +40,17 @@ enum PfxPipelineType : PfxUInt8 {
 // times.
 constexpr PfxUInt32 PFX_MAX_SUB_STEPS = 100;
 constexpr PfxUInt32 PFX_MAX_ITERATIONS = 1000;
+// Bound on PfxWorldParam::timeStep (seconds), refused above with PFX_ERR_OUT_OF_RANGE: a body
+// at the speed limit (kPfxMaxLinearSpeed) moves at most kPfxMaxShapeReach in a step. A time
+// step of 1.6e17 s, whose gravity alone was finite, turned hinged bars NaN in their first
+// step at two sub-steps, and one of 1e10 s at four.
+constexpr PfxFloat PFX_MAX_TIME_STEP = PfxFloat(100);
 
 struct PfxWorldParam {
   PfxVector3 worldCenter = PfxVector3::Zero();
   PfxVector3 worldExtent = PfxVector3::Constant(1000);
   PfxVector3 gravity = PfxVector3(0, PfxFloat(-9.80665), 0);
-  PfxFloat timeStep = PfxFloat(1) / 60;
+  PfxFloat timeStep = PfxFloat(1) / 60;  // above 0, at most PFX_MAX_TIME_STEP
   // The solver and the integrator run subStep times per step, at timeStep / subStep, on
   // the contacts found once per step: small steps converge stacks and chains far better
   // than more iterations of one large step.
@@ -181,9 +186,9 @@ class PfxWorld {
 
   // Validates and takes the parameters; removes every body. PFX_ERR_INVALID_VALUE for a
   // value that is not finite, not positive or not within its rule above; PFX_ERR_OUT_OF_RANGE
-  // for more threads, sub-steps or iterations than PFX_MAX_THREADS, PFX_MAX_SUB_STEPS,
-  // PFX_MAX_ITERATIONS; PFX_ERR_INVALID_FLAG for an unknown pipeline or behaviour. On error
-  // nothing changes.
+  // for a longer time step, more threads, sub-steps or iterations than PFX_MAX_TIME_STEP,
+  // PFX_MAX_THREADS, PFX_MAX_SUB_STEPS, PFX_MAX_ITERATIONS; PFX_ERR_INVALID_FLAG for an unknown
+  // pipeline or behaviour. On error nothing changes.
   PfxInt32 initialize(const PfxWorldParam& param);
   // Between steps: a new time step, sub-steps, iterations and gravity, with the bodies,
   // joints, contacts and sleep kept. Checked as initialize() checks them; on error

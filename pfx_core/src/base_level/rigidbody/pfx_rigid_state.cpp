@@ -5,6 +5,19 @@
 
 namespace pfx {
 
+namespace {
+
+// Stage (1) cuts the speeds of the bodies forces move, but the solver takes the others'
+// velocities as they are: a fixed ground saved moving at 5.8e17 m/s, or a fixed base turning
+// at 1e19 rad/s (their squares finite), turned the bodies on it or jointed to it NaN in the
+// first step.
+bool withinSpeedLimits(const PfxVector3& linear, const PfxVector3& angular) {
+  return linear.squaredNorm() <= kPfxMaxLinearSpeed * kPfxMaxLinearSpeed &&
+         angular.squaredNorm() <= kPfxMaxAngularSpeed * kPfxMaxAngularSpeed;
+}
+
+}  // namespace
+
 void PfxRigidState::reset() {
   // Zero the padding too, so that states compare and serialize byte for byte.
   std::memset(static_cast<void*>(this), 0, sizeof(*this));
@@ -31,7 +44,9 @@ bool PfxRigidState::isValid() const {
          // one (or NaN, which fails the comparison) is no carry.
          m_orientationCarry.coeffs().cwiseAbs().maxCoeff() <=
              std::numeric_limits<PfxFloat>::epsilon() &&
-         pfxIsFinite(m_angularVelocityCarry.squaredNorm()) && m_motionType < kPfxMotionTypeCount;
+         pfxIsFinite(m_angularVelocityCarry.squaredNorm()) && m_motionType < kPfxMotionTypeCount &&
+         (pfxMotionTypeIsDynamic(getMotionType()) ||
+          withinSpeedLimits(m_linearVelocity, m_angularVelocity));
 }
 
 PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,
@@ -49,10 +64,8 @@ PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosi
   const PfxVector3 angular =
       aa.angle() == 0 ? PfxVector3::Zero() : PfxVector3(aa.axis() * (aa.angle() / timeStep));
   // A target 1e20 m away, or a turn over a step of 1e-40 s, is finite but no velocity the
-  // stages can square.
-  if (!pfxIsFinite(linear.squaredNorm()) || !pfxIsFinite(angular.squaredNorm())) {
-    return PFX_ERR_INVALID_VALUE;
-  }
+  // solver can take from a body that impulses do not slow.
+  if (!withinSpeedLimits(linear, angular)) return PFX_ERR_INVALID_VALUE;
   state.setLinearVelocity(linear);
   state.setAngularVelocity(angular);
   return PFX_OK;

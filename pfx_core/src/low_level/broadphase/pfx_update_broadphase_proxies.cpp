@@ -248,7 +248,12 @@ PfxInt32 pfxUpdateBroadphaseProxies(const PfxUpdateBroadphaseProxiesParam& param
       const bool outOfWorld =
           buildProxy(proxy, state, param.offsetCollidables[i], grid, param.timeStep);
       if (outOfWorld && fixOutside) {
+        // Stopped as well: a fixed body keeps the velocity it has, which the solver would
+        // give whatever touched it, and which may be beyond the speed limits of a body
+        // forces do not move (PfxRigidState::isValid) when forces had driven it out.
         state.setMotionType(kPfxMotionTypeFixed);
+        state.setLinearVelocity(PfxVector3::Zero());
+        state.setAngularVelocity(PfxVector3::Zero());
         pfxSetIdentity(proxy, state.getRigidBodyId(), kPfxMotionTypeFixed, state.isAsleep());
       }
       pfxSetSortValue(proxy, outOfWorld ? 1 : 0);

@@ -9,7 +9,9 @@ namespace pfx {
 // The speeds a body moved by forces keeps: stage (1), pfxApplyExternalForce, cuts a faster
 // one back to them, direction kept. Far beyond any body a robot meets (a rifle bullet flies
 // at 1e3 m/s), they bound what a force, however large, on a body, however light, can make of
-// its velocity, and so every impulse that velocity meets later.
+// its velocity, and so every impulse that velocity meets later. A body forces do not move
+// (fixed, keyframe, trigger) keeps the velocity it is given, so it must be given one within
+// them (PfxRigidState::isValid).
 constexpr PfxFloat kPfxMaxLinearSpeed = PfxFloat(1e5);   // m/s
 constexpr PfxFloat kPfxMaxAngularSpeed = PfxFloat(1e5);  // rad/s
 
@@ -73,8 +75,9 @@ class PfxRigidState {
   PfxTransform3 getTransform() const { return pfxMakeTransform(m_orientation, m_position); }
 
   // A body whose position is finite, whose orientation is a unit quaternion and whose
-  // velocities have finite squared lengths (the stages square them); anything else would
-  // spread NaN through the solver.
+  // velocities have finite squared lengths (the stages square them), within
+  // kPfxMaxLinearSpeed and kPfxMaxAngularSpeed if forces do not move it; anything else
+  // would spread NaN through the solver.
   bool isValid() const;
 
  private:
@@ -101,7 +104,8 @@ static_assert(sizeof(PfxRigidState) == 20 * sizeof(PfxFloat) + 4 * sizeof(PfxUIn
 // Drives a keyframe body toward a target pose over the next step: the change of pose
 // becomes the linear and angular velocity that the other bodies see (seed 4_motion_type).
 // PFX_ERR_INVALID_VALUE, the state unchanged, for a non-finite target, a non-positive time
-// step, or a move whose velocity isValid() would refuse (its square overflows).
+// step, or a move whose velocity isValid() would refuse (faster than kPfxMaxLinearSpeed or
+// kPfxMaxAngularSpeed).
 PfxInt32 pfxSetKeyframeTarget(PfxRigidState& state, const PfxVector3& targetPosition,
                               const PfxQuat& targetOrientation, PfxFloat timeStep);
 
