@@ -2,8 +2,8 @@
 // x86-64 a vector is one SSE2 register (SSE2 is the baseline there), and every operation
 // is, lane for lane, the one Eigen performs on a PfxVector3, in the same order (a dot
 // product is x + (y + z), as Eigen's unrolled sum; a matrix times a vector takes the dot
-// products of its rows so), so the results are the same bits, in a third of the
-// instructions and without the calls GCC leaves Eigen's 3x3 products in. Other builds
+// products of its rows so), so the results are the same bits, in fewer instructions and
+// without the calls GCC leaves Eigen's 3x3 products in. Other builds
 // (double, other processors) hold a PfxVector3 and use Eigen itself.
 #pragma once
 
@@ -23,14 +23,17 @@ struct PfxSolverVec3 {
   __m128 v;
 };
 
-inline PfxSolverVec3 pfxLoadVec3(const PfxVector3& a) {
-  // Exactly three floats: a PfxVector3 may end its allocation.
-  const __m128 xy = _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(a.data())));
-  return {_mm_movelh_ps(xy, _mm_load_ss(a.data() + 2))};
+// Exactly three floats: a PfxVector3 may end its allocation.
+inline __m128 pfxLoadFloat3(const float* xyz) {
+  // __m64 may alias anything, a double may not alias floats.
+  const __m128 xy = _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(xyz));
+  return _mm_movelh_ps(xy, _mm_load_ss(xyz + 2));
 }
 
+inline PfxSolverVec3 pfxLoadVec3(const PfxVector3& a) { return {pfxLoadFloat3(a.data())}; }
+
 inline void pfxStoreVec3(PfxVector3& out, PfxSolverVec3 a) {
-  _mm_store_sd(reinterpret_cast<double*>(out.data()), _mm_castps_pd(a.v));
+  _mm_storel_pi(reinterpret_cast<__m64*>(out.data()), a.v);
   _mm_store_ss(out.data() + 2, _mm_movehl_ps(a.v, a.v));
 }
 
@@ -67,10 +70,7 @@ struct PfxSolverMat3 {
 };
 
 inline PfxSolverMat3 pfxLoadMat3(const PfxMatrix3& m) {
-  const auto column = [&](int c) {
-    return pfxLoadVec3(*reinterpret_cast<const PfxVector3*>(m.data() + 3 * c)).v;
-  };
-  return {column(0), column(1), column(2)};
+  return {pfxLoadFloat3(m.data()), pfxLoadFloat3(m.data() + 3), pfxLoadFloat3(m.data() + 6)};
 }
 
 // Row i of m times a is m(i,0) a.x + (m(i,1) a.y + m(i,2) a.z), as Eigen sums it.
