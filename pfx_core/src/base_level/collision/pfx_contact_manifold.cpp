@@ -123,9 +123,28 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
                                 PfxFloat matchDistanceSq) {
   if (!candidates) numCandidates = 0;
 
-  PfxContactPoint oldPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
-  const PfxUInt32 numOld = m_numContacts;
-  for (PfxUInt32 i = 0; i < numOld; ++i) oldPoints[i] = m_contactPoints[i];
+  // Of the old points only what matching reads and what a match carries over is kept,
+  // about a sixth of a contact point.
+  struct OldPoint {
+    PfxVector3 localPointA;
+    PfxFloat accumImpulse[3];
+    PfxUInt32 duration;
+    PfxUInt8 shapeIdA;
+    PfxUInt8 shapeIdB;
+  };
+  OldPoint oldPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  const PfxUInt32 numOld = matchDistanceSq > 0 ? m_numContacts : 0;
+  for (PfxUInt32 i = 0; i < numOld; ++i) {
+    const PfxContactPoint& point = m_contactPoints[i];
+    OldPoint& old = oldPoints[i];
+    old.localPointA = point.m_localPointA;
+    for (int row = 0; row < 3; ++row) {
+      old.accumImpulse[row] = point.m_constraintRow[row].m_accumImpulse;
+    }
+    old.duration = point.m_duration;
+    old.shapeIdA = point.m_shapeIdA;
+    old.shapeIdB = point.m_shapeIdB;
+  }
 
   PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD];
   const PfxUInt32 numNew = pfxReduceContactCandidates(candidates, numCandidates, chosen);
@@ -148,7 +167,7 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
   }
   m_numContacts = numNew;
 
-  if (matchDistanceSq <= 0 || numOld == 0 || numNew == 0) return;
+  if (numOld == 0 || numNew == 0) return;
 
   // Each old point goes to at most one new point, the closest pairs first, so that two new
   // points near one old point do not both receive its impulse (which would double the
@@ -163,12 +182,11 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
   for (PfxUInt32 n = 0; n < numNew; ++n) {
     const PfxContactPoint& newPoint = m_contactPoints[n];
     for (PfxUInt32 o = 0; o < numOld; ++o) {
-      const PfxContactPoint& oldPoint = oldPoints[o];
-      if (oldPoint.m_shapeIdA != newPoint.m_shapeIdA ||
-          oldPoint.m_shapeIdB != newPoint.m_shapeIdB) {
+      const OldPoint& oldPoint = oldPoints[o];
+      if (oldPoint.shapeIdA != newPoint.m_shapeIdA || oldPoint.shapeIdB != newPoint.m_shapeIdB) {
         continue;
       }
-      const PfxFloat distanceSq = (newPoint.m_localPointA - oldPoint.m_localPointA).squaredNorm();
+      const PfxFloat distanceSq = (newPoint.m_localPointA - oldPoint.localPointA).squaredNorm();
       if (distanceSq <= matchDistanceSq) matches[numMatches++] = {distanceSq, n, o};
     }
   }
@@ -185,11 +203,11 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
     if (newTaken[match.newIndex] || oldTaken[match.oldIndex]) continue;
     newTaken[match.newIndex] = oldTaken[match.oldIndex] = true;
     PfxContactPoint& newPoint = m_contactPoints[match.newIndex];
-    const PfxContactPoint& oldPoint = oldPoints[match.oldIndex];
+    const OldPoint& oldPoint = oldPoints[match.oldIndex];
     for (int row = 0; row < 3; ++row) {
-      newPoint.m_constraintRow[row].m_accumImpulse = oldPoint.m_constraintRow[row].m_accumImpulse;
+      newPoint.m_constraintRow[row].m_accumImpulse = oldPoint.accumImpulse[row];
     }
-    newPoint.m_duration = oldPoint.m_duration + 1;
+    newPoint.m_duration = oldPoint.duration + 1;
   }
 }
 

@@ -110,11 +110,11 @@ void contactPair(const PfxShape& shapeA, const PfxTransform3& transformA, const 
   }
 }
 
-bool boundsOverlap(const PfxShape& shapeA, const PfxTransform3& transformA,
-                   const PfxShape& shapeB, const PfxTransform3& transformB, PfxFloat threshold) {
-  PfxVector3 centreA, halfA, centreB, halfB;
-  shapeA.getAabb(centreA, halfA);
-  shapeB.getAabb(centreB, halfB);
+// The world bounds of two shapes (body-frame bounds from getAabb), grown by `threshold`,
+// overlap.
+bool boundsOverlap(const PfxVector3& centreA, const PfxVector3& halfA,
+                   const PfxTransform3& transformA, const PfxVector3& centreB,
+                   const PfxVector3& halfB, const PfxTransform3& transformB, PfxFloat threshold) {
   const PfxVector3 worldCentreA = transformA * centreA;
   const PfxVector3 worldCentreB = transformB * centreB;
   const PfxVector3 reach = transformA.linear().cwiseAbs() * halfA +
@@ -149,36 +149,57 @@ PfxUInt32 pfxContactCheckedConvexShapes(const PfxShape& shapeA, const PfxTransfo
 
 namespace {
 
-// With `shapesChecked`, every shape passed pfxIsContactShape already.
+// Whether a shape of a collidable takes part in contacts, whether it is a large mesh, and
+// its bounds in the body's frame; validated once for all that (getAabb is most of the check).
+struct ShapeUse {
+  bool usable = false;
+  bool mesh = false;
+  PfxVector3 centre;
+  PfxVector3 half;
+};
+
+// With `shapesChecked`, the shape passed pfxIsContactShape already.
+ShapeUse useShape(const PfxShape& shape, bool shapesChecked) {
+  ShapeUse use;
+  use.mesh = shape.getType() == kPfxShapeLargeTriMesh;
+  if (shapesChecked) {
+    use.usable = true;
+    shape.getAabb(use.centre, use.half);
+  } else if (shape.validate(use.centre, use.half) == PFX_OK) {
+    // As isLargeMeshShape and isConvexShape decide, past validate.
+    use.usable = use.mesh ? shape.getLargeTriMesh()->m_numNodes > 0
+                          : shape.getType() != kPfxShapeConvexMesh ||
+                                isUsableMesh(shape.getConvexMesh());
+  }
+  return use;
+}
+
 PfxUInt32 contactCollidables(const PfxCollidable& collidableA, const PfxTransform3& transformA,
                              const PfxCollidable& collidableB, const PfxTransform3& transformB,
                              PfxFloat contactThreshold, PfxContactCandidate* out,
                              PfxUInt32 maxOut, bool shapesChecked) {
-  const auto isMesh = [&](const PfxShape& shape) {
-    return shapesChecked ? shape.getType() == kPfxShapeLargeTriMesh : isLargeMeshShape(shape);
-  };
-  const auto isConvex = [&](const PfxShape& shape, bool mesh) {
-    return shapesChecked ? !mesh : isConvexShape(shape);
-  };
   // One sink for all shape pairs: when more contacts come than fit, the deepest stay.
   PfxContactSink sink(out, maxOut, contactThreshold);
   // A large mesh meets convex shapes only: two meshes have no inside to push apart.
   for (PfxUInt32 i = 0; i < collidableA.getNumShapes(); ++i) {
     const PfxShape& shapeA = collidableA.getShape(i);
-    const bool meshA = isMesh(shapeA);
-    if (!meshA && !isConvex(shapeA, meshA)) continue;
+    const ShapeUse useA = useShape(shapeA, shapesChecked);
+    if (!useA.usable) continue;
     const PfxTransform3 poseA = transformA * shapeA.getOffsetTransform();
     for (PfxUInt32 j = 0; j < collidableB.getNumShapes(); ++j) {
       const PfxShape& shapeB = collidableB.getShape(j);
-      const bool meshB = isMesh(shapeB);
-      if (meshA && meshB) continue;
-      if (!meshB && !isConvex(shapeB, meshB)) continue;
-      if (!boundsOverlap(shapeA, transformA, shapeB, transformB, contactThreshold)) continue;
+      if (useA.mesh && shapeB.getType() == kPfxShapeLargeTriMesh) continue;
+      const ShapeUse useB = useShape(shapeB, shapesChecked);
+      if (!useB.usable) continue;
+      if (!boundsOverlap(useA.centre, useA.half, transformA, useB.centre, useB.half, transformB,
+                         contactThreshold)) {
+        continue;
+      }
       sink.setShapeIds(static_cast<PfxUInt8>(i), static_cast<PfxUInt8>(j));
       const PfxTransform3 poseB = transformB * shapeB.getOffsetTransform();
-      if (meshA) {
+      if (useA.mesh) {
         pfxContactLargeMesh(shapeA, poseA, shapeB, poseB, sink);
-      } else if (meshB) {
+      } else if (useB.mesh) {
         sink.setSwapped(true);
         pfxContactLargeMesh(shapeB, poseB, shapeA, poseA, sink);
         sink.setSwapped(false);

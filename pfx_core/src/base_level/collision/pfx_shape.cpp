@@ -53,6 +53,11 @@ void PfxShape::setLargeTriMesh(const PfxLargeTriMesh* mesh) {
 }
 
 PfxInt32 PfxShape::validate() const {
+  PfxVector3 center, half;
+  return validate(center, half);
+}
+
+PfxInt32 PfxShape::validate(PfxVector3& center, PfxVector3& half) const {
   if (m_type >= kPfxShapeCount) return PFX_ERR_INVALID_FLAG;
   if (!pfxIsFinite(m_offsetPosition) || !pfxIsUnitQuat(m_offsetOrientation)) {
     return PFX_ERR_INVALID_VALUE;
@@ -77,7 +82,6 @@ PfxInt32 PfxShape::validate() const {
   // The bounds the collidable takes from the shape, as PfxCollidable::finish sums them, must
   // be finite too: a convex mesh at an offset of -3.4e38 passed the checks above, the sum of
   // its box's corners overflowed to infinity, and the step of the world holding it failed.
-  PfxVector3 center, half;
   getAabb(center, half);
   const PfxVector3 lo = center - half, hi = center + half;
   if (!pfxIsFinite(PfxVector3(lo + hi)) || !pfxIsFinite(PfxVector3(hi - lo))) {

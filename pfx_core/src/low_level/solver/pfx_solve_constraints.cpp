@@ -12,6 +12,7 @@
 #include "low_level/solver/pfx_joint_tree_solver.h"
 #include "low_level/solver/pfx_normal_block.h"
 #include "low_level/solver/pfx_shock_propagation.h"
+#include "low_level/solver/pfx_solver_vec3.h"
 #include "low_level/solver/pfx_tree_contact_rows.h"
 
 namespace pfx {
@@ -31,12 +32,106 @@ PairBodies bodiesOf(const PfxConstraintPair& pair, PfxSolverBody* solverBodies) 
           pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
 }
 
+// One manifold's two bodies as its solve sees them: the chosen velocities (the solved
+// changes or the push velocities) and the inverse inertias held in registers from the
+// first point to the last (pfx_solver_vec3.h), and written back once, by the bodies that
+// take impulses only (a fixed body is shared by pairs solved at once on other threads).
+class ManifoldBodies {
+ public:
+  ManifoldBodies(const PairBodies& p, PfxVector3 PfxSolverBody::*linear,
+                 PfxVector3 PfxSolverBody::*angular)
+      : m_a(p.a),
+        m_b(p.b),
+        m_linear(linear),
+        m_angular(angular),
+        m_movesA(pfxTakesImpulse(p.a, p.receivesA)),
+        m_movesB(pfxTakesImpulse(p.b, p.receivesB)),
+        m_linearA(pfxLoadVec3(p.a.*linear)),
+        m_angularA(pfxLoadVec3(p.a.*angular)),
+        m_linearB(pfxLoadVec3(p.b.*linear)),
+        m_angularB(pfxLoadVec3(p.b.*angular)),
+        m_inertiaInvA(pfxLoadMat3(p.a.m_inertiaInv)),
+        m_inertiaInvB(pfxLoadMat3(p.b.m_inertiaInv)) {}
+
+  ~ManifoldBodies() {
+    if (m_movesA) {
+      pfxStoreVec3(m_a.*m_linear, m_linearA);
+      pfxStoreVec3(m_a.*m_angular, m_angularA);
+    }
+    if (m_movesB) {
+      pfxStoreVec3(m_b.*m_linear, m_linearB);
+      pfxStoreVec3(m_b.*m_angular, m_angularB);
+    }
+  }
+
+  ManifoldBodies(const ManifoldBodies&) = delete;
+  ManifoldBodies& operator=(const ManifoldBodies&) = delete;
+
+  // Velocity of B's point at armB relative to A's point at armA.
+  PfxSolverVec3 relativeVelocity(PfxSolverVec3 armA, PfxSolverVec3 armB) const {
+    return m_linearB + pfxCross(m_angularB, armB) - m_linearA - pfxCross(m_angularA, armA);
+  }
+
+  PfxFloat normalVelocity(const PfxContactPoint& cp) const {
+    return pfxDot(pfxLoadVec3(cp.getNormal()),
+                  relativeVelocity(pfxLoadVec3(cp.m_armA), pfxLoadVec3(cp.m_armB)));
+  }
+
+  // B takes `impulse` at armB, A its opposite at armA.
+  void applyImpulse(PfxSolverVec3 impulse, PfxSolverVec3 armA, PfxSolverVec3 armB) {
+    applyForceAndTorques(impulse, pfxCross(armA, impulse), pfxCross(armB, impulse));
+  }
+
+  // Normal impulses `delta` at the manifold's points, summed into one push and two moments.
+  void applyNormalImpulses(const PfxContactManifold& manifold, const PfxFloat* delta) {
+    PfxSolverVec3 force = pfxZeroVec3();
+    PfxSolverVec3 torqueA = pfxZeroVec3();
+    PfxSolverVec3 torqueB = pfxZeroVec3();
+    for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
+      const PfxContactPoint& cp = manifold.getContactPoint(i);
+      const PfxSolverVec3 impulse = pfxLoadVec3(cp.getNormal()) * delta[i];
+      force = force + impulse;
+      torqueA = torqueA + pfxCross(pfxLoadVec3(cp.m_armA), impulse);
+      torqueB = torqueB + pfxCross(pfxLoadVec3(cp.m_armB), impulse);
+    }
+    applyForceAndTorques(force, torqueA, torqueB);
+  }
+
+ private:
+  void applyForceAndTorques(PfxSolverVec3 force, PfxSolverVec3 torqueA, PfxSolverVec3 torqueB) {
+    if (m_movesA) {
+      m_linearA = m_linearA - m_a.m_massInv * force;
+      m_angularA = m_angularA - m_inertiaInvA * torqueA;
+    }
+    if (m_movesB) {
+      m_linearB = m_linearB + m_b.m_massInv * force;
+      m_angularB = m_angularB + m_inertiaInvB * torqueB;
+    }
+  }
+
+  PfxSolverBody& m_a;
+  PfxSolverBody& m_b;
+  PfxVector3 PfxSolverBody::*m_linear;
+  PfxVector3 PfxSolverBody::*m_angular;
+  bool m_movesA;
+  bool m_movesB;
+  PfxSolverVec3 m_linearA;
+  PfxSolverVec3 m_angularA;
+  PfxSolverVec3 m_linearB;
+  PfxSolverVec3 m_angularB;
+  PfxSolverMat3 m_inertiaInvA;
+  PfxSolverMat3 m_inertiaInvB;
+};
+
 void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
+  ManifoldBodies bodies(p, &PfxSolverBody::m_deltaLinearVelocity,
+                        &PfxSolverBody::m_deltaAngularVelocity);
   for (PfxUInt32 c = 0; c < manifold.getNumContacts(); ++c) {
-    PfxContactPoint& cp = manifold.getContactPoint(c);
+    const PfxContactPoint& cp = manifold.getContactPoint(c);
+    const PfxSolverVec3 armA = pfxLoadVec3(cp.m_armA);
+    const PfxSolverVec3 armB = pfxLoadVec3(cp.m_armB);
     for (const PfxConstraintRow& row : cp.m_constraintRow) {
-      pfxApplyRowImpulse(row.m_normal, row.m_accumImpulse, p.a, cp.m_armA, p.receivesA, p.b,
-                         cp.m_armB, p.receivesB);
+      bodies.applyImpulse(pfxLoadVec3(row.m_normal) * row.m_accumImpulse, armA, armB);
     }
   }
 }
@@ -56,30 +151,24 @@ void solveNormalBlock(const PfxContactManifold& manifold, const PfxFloat* residu
   pfxSolveNormalBlock(n, k, residual, impulse, delta);
 }
 
-void applyNormalImpulses(const PfxContactManifold& manifold, const PfxFloat* delta,
-                         const PairBodies& p, PfxVector3 PfxSolverBody::*linear,
-                         PfxVector3 PfxSolverBody::*angular) {
-  pfxApplyNormalImpulses(manifold, delta, p.a, p.receivesA, p.b, p.receivesB, linear, angular);
-}
-
 void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
   const PfxUInt32 n = manifold.getNumContacts();
   PfxFloat residual[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
   PfxFloat impulse[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
   PfxFloat delta[PFX_NUM_CONTACTS_PER_MANIFOLD] = {};
+  ManifoldBodies bodies(p, &PfxSolverBody::m_deltaLinearVelocity,
+                        &PfxSolverBody::m_deltaAngularVelocity);
 
   // Velocities: each row's rhs is (target - initial velocity) scaled by its effective mass.
   for (PfxUInt32 i = 0; i < n; ++i) {
     const PfxContactPoint& cp = manifold.getContactPoint(i);
     const PfxConstraintRow& row = cp.m_constraintRow[0];
     const PfxFloat target = row.m_jacDiagInv > 0 ? row.m_rhs / row.m_jacDiagInv : 0;
-    residual[i] = target - pfxContactNormalVelocity(cp, p.a, p.b, &PfxSolverBody::m_deltaLinearVelocity,
-                                          &PfxSolverBody::m_deltaAngularVelocity);
+    residual[i] = target - bodies.normalVelocity(cp);
     impulse[i] = row.m_accumImpulse;
   }
   solveNormalBlock(manifold, residual, impulse, delta);
-  applyNormalImpulses(manifold, delta, p, &PfxSolverBody::m_deltaLinearVelocity,
-                      &PfxSolverBody::m_deltaAngularVelocity);
+  bodies.applyNormalImpulses(manifold, delta);
   bool pushing = false;
   for (PfxUInt32 i = 0; i < n; ++i) {
     PfxContactPoint& cp = manifold.getContactPoint(i);
@@ -90,17 +179,17 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
 
   // Split impulses push overlaps apart through the push velocities only.
   if (pushing) {
+    ManifoldBodies pushed(p, &PfxSolverBody::m_pushLinearVelocity,
+                          &PfxSolverBody::m_pushAngularVelocity);
     for (PfxUInt32 i = 0; i < n; ++i) {
       const PfxContactPoint& cp = manifold.getContactPoint(i);
       const PfxFloat jacDiagInv = cp.m_constraintRow[0].m_jacDiagInv;
       const PfxFloat target = jacDiagInv > 0 ? cp.m_pushRhs / jacDiagInv : 0;
-      residual[i] = target - pfxContactNormalVelocity(cp, p.a, p.b, &PfxSolverBody::m_pushLinearVelocity,
-                                            &PfxSolverBody::m_pushAngularVelocity);
+      residual[i] = target - pushed.normalVelocity(cp);
       impulse[i] = cp.m_pushImpulse;
     }
     solveNormalBlock(manifold, residual, impulse, delta);
-    applyNormalImpulses(manifold, delta, p, &PfxSolverBody::m_pushLinearVelocity,
-                        &PfxSolverBody::m_pushAngularVelocity);
+    pushed.applyNormalImpulses(manifold, delta);
     for (PfxUInt32 i = 0; i < n; ++i) manifold.getContactPoint(i).m_pushImpulse = impulse[i];
   }
 
@@ -111,11 +200,15 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
     PfxContactPoint& cp = manifold.getContactPoint(i);
     PfxConstraintRow& row1 = cp.m_constraintRow[1];
     PfxConstraintRow& row2 = cp.m_constraintRow[2];
-    const PfxVector3 dv = pfxRelativeDeltaVelocity(p.a, cp.m_armA, p.b, cp.m_armB);
+    const PfxSolverVec3 armA = pfxLoadVec3(cp.m_armA);
+    const PfxSolverVec3 armB = pfxLoadVec3(cp.m_armB);
+    const PfxSolverVec3 tangent1 = pfxLoadVec3(row1.m_normal);
+    const PfxSolverVec3 tangent2 = pfxLoadVec3(row2.m_normal);
+    const PfxSolverVec3 dv = bodies.relativeVelocity(armA, armB);
     const PfxFloat old1 = row1.m_accumImpulse;
     const PfxFloat old2 = row2.m_accumImpulse;
-    PfxFloat new1 = old1 + row1.m_rhs - row1.m_jacDiagInv * row1.m_normal.dot(dv);
-    PfxFloat new2 = old2 + row2.m_rhs - row2.m_jacDiagInv * row2.m_normal.dot(dv);
+    PfxFloat new1 = old1 + row1.m_rhs - row1.m_jacDiagInv * pfxDot(tangent1, dv);
+    PfxFloat new2 = old2 + row2.m_rhs - row2.m_jacDiagInv * pfxDot(tangent2, dv);
     const PfxFloat limit = friction * cp.m_constraintRow[0].m_accumImpulse;
     const PfxFloat magnitudeSq = new1 * new1 + new2 * new2;
     if (magnitudeSq > limit * limit) {
@@ -125,8 +218,7 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
     }
     row1.m_accumImpulse = new1;
     row2.m_accumImpulse = new2;
-    pfxApplyRowImpulse(row1.m_normal * (new1 - old1) + row2.m_normal * (new2 - old2), 1, p.a,
-                       cp.m_armA, p.receivesA, p.b, cp.m_armB, p.receivesB);
+    bodies.applyImpulse(tangent1 * (new1 - old1) + tangent2 * (new2 - old2), armA, armB);
   }
 }
 

@@ -63,6 +63,8 @@ class PfxShape {
   // Finite, non-negative sizes, a unit offset orientation, a mesh where one is named, and
   // bounds within kPfxMaxShapeReach of the body's origin.
   PfxInt32 validate() const;
+  // The same, and where it returns PFX_OK the bounds getAabb gives, which it computes anyway.
+  PfxInt32 validate(PfxVector3& center, PfxVector3& half) const;
 
  private:
   PfxVector3 m_offsetPosition;

@@ -2,11 +2,15 @@
 
 namespace pfx {
 
-PfxUInt32 pfxClipPolygonByPlane(const PfxVector3* in, PfxUInt32 numIn, const PfxVector3& normal,
-                                PfxFloat offset, PfxVector3* out, PfxUInt32 capacity) {
+namespace {
+
+// The clipping itself, for any signed distance `distanceTo(p)` (above the plane > 0).
+template <typename DistanceTo>
+PfxUInt32 clipPolygon(const PfxVector3* in, PfxUInt32 numIn, const DistanceTo& distanceTo,
+                      PfxVector3* out, PfxUInt32 capacity) {
   if (numIn == 0 || capacity == 0) return 0;
   if (numIn == 1) {
-    if (normal.dot(in[0]) > offset) return 0;
+    if (distanceTo(in[0]) > 0) return 0;
     out[0] = in[0];
     return 1;
   }
@@ -16,16 +20,34 @@ PfxUInt32 pfxClipPolygonByPlane(const PfxVector3* in, PfxUInt32 numIn, const Pfx
   const auto push = [&](const PfxVector3& p) {
     if (numOut < capacity) out[numOut++] = p;
   };
-  if (numIn == 2 && normal.dot(in[0]) - offset <= 0) push(in[0]);
+  if (numIn == 2 && distanceTo(in[0]) <= 0) push(in[0]);
   for (PfxUInt32 i = 0; i < numEdges; ++i) {
     const PfxVector3& a = in[i];
     const PfxVector3& b = in[(i + 1) % numIn];
-    const PfxFloat da = normal.dot(a) - offset;
-    const PfxFloat db = normal.dot(b) - offset;
+    const PfxFloat da = distanceTo(a);
+    const PfxFloat db = distanceTo(b);
     if ((da < 0 && db > 0) || (da > 0 && db < 0)) push(a + (b - a) * (da / (da - db)));
     if (db <= 0) push(b);
   }
   return numOut;
+}
+
+}  // namespace
+
+PfxUInt32 pfxClipPolygonByPlane(const PfxVector3* in, PfxUInt32 numIn, const PfxVector3& normal,
+                                PfxFloat offset, PfxVector3* out, PfxUInt32 capacity) {
+  // A lone point is dropped when the difference is above zero, which for floats is exactly
+  // when dot(normal, p) > offset: a difference of floats rounds to zero only when they are equal.
+  return clipPolygon(
+      in, numIn, [&](const PfxVector3& p) { return normal.dot(p) - offset; }, out, capacity);
+}
+
+PfxUInt32 pfxClipPolygonByAxisPlane(const PfxVector3* in, PfxUInt32 numIn, int axis,
+                                    PfxFloat direction, PfxFloat offset, PfxVector3* out,
+                                    PfxUInt32 capacity) {
+  return clipPolygon(
+      in, numIn, [&](const PfxVector3& p) { return direction * p[axis] - offset; }, out,
+      capacity);
 }
 
 }  // namespace pfx

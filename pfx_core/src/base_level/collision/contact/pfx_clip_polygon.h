@@ -15,6 +15,13 @@ constexpr PfxUInt32 PFX_MAX_CLIP_VERTICES = 2 * PFX_CONVEX_MESH_MAX_VERTICES + 4
 PfxUInt32 pfxClipPolygonByPlane(const PfxVector3* in, PfxUInt32 numIn, const PfxVector3& normal,
                                 PfxFloat offset, PfxVector3* out, PfxUInt32 capacity);
 
+// The same for the plane whose normal is `direction` (+1 or -1) times the unit vector of
+// `axis`: the signed distance is one product, where a general normal costs a dot product, and
+// it is the same float the general routine gives for that normal.
+PfxUInt32 pfxClipPolygonByAxisPlane(const PfxVector3* in, PfxUInt32 numIn, int axis,
+                                    PfxFloat direction, PfxFloat offset, PfxVector3* out,
+                                    PfxUInt32 capacity);
+
 }  // namespace pfx
 
 namespace pfx {

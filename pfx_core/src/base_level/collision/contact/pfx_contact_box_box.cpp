@@ -194,8 +194,8 @@ class BoxBoxContact {
     for (int side = 1; side < 3 && count > 0; ++side) {
       const int axis = (k + side) % 3;
       for (const PfxFloat direction : {PfxFloat(1), PfxFloat(-1)}) {
-        count = pfxClipPolygonByPlane(polygon, count, PfxVector3::Unit(axis) * direction,
-                                      reference.half[axis], scratch, PFX_MAX_CLIP_VERTICES);
+        count = pfxClipPolygonByAxisPlane(polygon, count, axis, direction, reference.half[axis],
+                                          scratch, PFX_MAX_CLIP_VERTICES);
         std::swap(polygon, scratch);
         if (count == 0) break;
       }
