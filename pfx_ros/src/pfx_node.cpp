@@ -88,7 +88,9 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   const std::string subStepsRange = "~substeps must be 1 .. " + std::to_string(PFX_MAX_SUB_STEPS);
   const std::string iterationsRange =
       "~iterations must be 1 .. " + std::to_string(PFX_MAX_ITERATIONS);
-  if (!positiveFinite(dt)) invalid = "~dt must be a positive number of seconds";
+  const std::string dtRange =
+      "~dt must be a positive number of seconds, at most " + std::to_string(int(PFX_MAX_TIME_STEP));
+  if (!positiveFinite(dt) || dt > PFX_MAX_TIME_STEP) invalid = dtRange.c_str();
   if (subSteps < 1 || PfxUInt32(subSteps) > PFX_MAX_SUB_STEPS) invalid = subStepsRange.c_str();
   if (iterations < 1 || PfxUInt32(iterations) > PFX_MAX_ITERATIONS) {
     invalid = iterationsRange.c_str();

@@ -237,6 +237,24 @@ TEST(Autosave, BadValuesAndFilesAreRefusedAtStartup) {
   EXPECT_EQ(bytesOf(damaged), bytes) << "a refused file is left as it was";
 }
 
+// The time step's bound is the world's (PFX_MAX_TIME_STEP); the node names the parameter.
+TEST(Startup, ATimeStepOutsideTheWorldsRangeIsRefusedByName) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double steps[] = {1000.0, 0.0, nan};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string ns = "/bad_dt" + std::to_string(i);
+    setAutosaveParams(ns, 0, "", false, true);
+    ros::param::set(privateParam(ns, "dt"), steps[i]);
+    int status = 0;
+    const std::string output = runRefusedNode(ns, status);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124)
+        << "~dt " << steps[i] << " exits by itself, refusing: " << output;
+    EXPECT_NE(output.find("~dt must be a positive number of seconds, at most 100"),
+              std::string::npos)
+        << "~dt " << steps[i] << ": " << output;
+  }
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_autosave");
