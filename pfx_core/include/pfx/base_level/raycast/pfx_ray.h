@@ -59,7 +59,7 @@ struct PfxRayOutput {
   PfxUInt32 m_objectId;        // rigid body id, PFX_RAY_NO_OBJECT on a miss
   PfxUInt32 m_triangleIndex;   // large meshes: the triangle in the creator's list
   PfxUInt8 m_shapeId;          // index of the shape in the body's collidable
-  bool m_contactFlag;          // whether anything was hit
+  bool m_contactFlag = false;  // whether anything was hit
   // A particle group's hit (PfxWorld): the group and the particle, m_objectId then being
   // PFX_RAY_NO_OBJECT and m_triangleIndex the cloth's triangle; PFX_RAY_NO_OBJECT when a
   // body was hit or nothing.
