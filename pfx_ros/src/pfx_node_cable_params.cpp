@@ -98,16 +98,9 @@ class EntryReader {
   Value& m_entry;
 };
 
-std::string firstOf(std::initializer_list<std::string> reasons) {
-  for (const std::string& why : reasons) {
-    if (!why.empty()) return why;
-  }
-  return "";
-}
-
 std::string readCable(Value& entry, PfxNodeCableSpec& spec) {
   EntryReader r(entry);
-  return firstOf({r.checkKeys({"name", "start_link", "start_point", "end_link", "end_point",
+  return pfxFirstReason({r.checkKeys({"name", "start_link", "start_point", "end_link", "end_point",
                                "length", "radius", "mass_per_metre", "stiffness", "segments",
                                "iterations"}),
                   r.readString("start_link", spec.startLink),
@@ -121,7 +114,7 @@ std::string readCable(Value& entry, PfxNodeCableSpec& spec) {
 
 std::string readCloth(Value& entry, PfxNodeClothSpec& spec) {
   EntryReader r(entry);
-  return firstOf({r.checkKeys({"name", "corner", "edge_u", "edge_v", "resolution",
+  return pfxFirstReason({r.checkKeys({"name", "corner", "edge_u", "edge_v", "resolution",
                                "mass_per_area", "radius", "stiffness", "iterations", "pinned",
                                "pin_link"}),
                   r.readPoint("corner", spec.corner), r.readPoint("edge_u", spec.edgeU),

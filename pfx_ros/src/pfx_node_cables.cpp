@@ -54,13 +54,6 @@ std::string checkPoint(const char* field, const PfxVector3& point, PfxFloat max)
   return std::string(field) + ": must be 3 finite numbers within " + describe(max) + " m";
 }
 
-std::string firstOf(std::initializer_list<std::string> reasons) {
-  for (const std::string& why : reasons) {
-    if (!why.empty()) return why;
-  }
-  return "";
-}
-
 PfxVector3 inBody(const PfxNodeAnchorBody& body, const PfxVector3& world) {
   return body.pose.inverse() * world;
 }
@@ -75,10 +68,17 @@ void pin(PfxParticleGroupBuilder& group, PfxUInt32 particle, const PfxNodeAnchor
 
 }  // namespace
 
+std::string pfxFirstReason(std::initializer_list<std::string> reasons) {
+  for (const std::string& why : reasons) {
+    if (!why.empty()) return why;
+  }
+  return "";
+}
+
 std::string pfxCheckCableSpec(const PfxNodeCableSpec& s) {
   // The world is 1000 m each way from the origin (PfxWorldParam).
   constexpr PfxFloat kWorldReach = 1000;
-  return firstOf({
+  return pfxFirstReason({
       checkPoint("start_point", s.startPoint, kWorldReach),
       checkPoint("end_point", s.endPoint, kWorldReach),
       checkNumber("length", s.length, kPfxNodeMaxCableLength, false, "m"),
@@ -111,7 +111,7 @@ std::string pfxCheckClothSpec(const PfxNodeClothSpec& s) {
       !(s.edgeU.cross(s.edgeV).norm() > PfxFloat(1e-6) * sizeU * sizeV)) {
     shape = "edge_u, edge_v: must not be parallel (the cloth would have no area)";
   }
-  return firstOf({
+  return pfxFirstReason({
       checkPoint("corner", s.corner, kWorldReach),
       checkNumber("edge_u", sizeU, kPfxNodeMaxCableLength, false, "m long"),
       checkNumber("edge_v", sizeV, kPfxNodeMaxCableLength, false, "m long"),

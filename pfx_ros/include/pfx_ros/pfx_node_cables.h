@@ -11,6 +11,7 @@
 // cells. 0 (the default) makes either inextensible.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,10 @@ struct PfxNodeClothSpec {
 // for the simulation to check.
 std::string pfxCheckCableSpec(const PfxNodeCableSpec& spec);
 std::string pfxCheckClothSpec(const PfxNodeClothSpec& spec);
+
+// The first non-empty reason, in the order given (a spec's fields are checked and reported in
+// the order a user reads them), or "" when all are empty.
+std::string pfxFirstReason(std::initializer_list<std::string> reasons);
 
 // Where a cable end or a cloth's pins are held: a body (PFX_PARTICLE_PIN_WORLD for the
 // world) and its pose now, to turn world points into the body's frame.
