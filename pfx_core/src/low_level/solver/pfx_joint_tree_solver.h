@@ -120,14 +120,18 @@ class PfxJointTreeSolver {
   struct Node;
   struct BoundedRow;
   void solve(bool push, PfxTaskManager* taskManager);
-  // A velocity solve of the trees t with solves(t).
+  // A velocity solve of the trees t with solves(t); with `skipHeld`, of those only whose
+  // locked axes do not hold (solveTree).
   template <typename TreePredicate>
-  void solveVelocitiesOf(TreePredicate solves, PfxTaskManager* taskManager);
+  void solveVelocitiesOf(TreePredicate solves, bool skipHeld, PfxTaskManager* taskManager);
   bool hasBoundedRows(PfxUInt32 tree) const {
     return m_treeRowStarts[tree] != m_treeRowStarts[tree + 1];
   }
   void markTreeOfBody(PfxUInt32 rigidBodyId);
-  void solveTree(bool push, std::size_t begin, std::size_t end);
+  // With `skipHeld`, a tree whose locked axes already hold but for rounding
+  // (kHeldLockedRowVelocity) is left as it is; the solves that end the velocity solve and
+  // those of the position correction take that rounding out as well.
+  void solveTree(bool push, std::size_t begin, std::size_t end, bool skipHeld = false);
   // Adds a joint node's negated multipliers to its locked rows' impulses.
   void addLockedRowImpulses(const Node& node, bool push);
   PfxJointRowJacobian boundedRowJacobian(const BoundedRow& row) const;
