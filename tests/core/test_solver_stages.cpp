@@ -6,10 +6,12 @@
 #include <limits>
 #include <vector>
 
+#include "pfx/base_level/joint/pfx_joint_init.h"
 #include "pfx/high_level/pfx_body_init.h"
 #include "pfx/low_level/collision/pfx_detect_collision.h"
 #include "pfx/low_level/collision/pfx_refresh_contacts.h"
 #include "pfx/low_level/solver/pfx_setup_contact_constraints.h"
+#include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
 
@@ -268,4 +270,120 @@ TEST(SolverStages, RejectBadInputAndChangeNothing) {
   solve.offsetSolverBodies = nullptr;
   EXPECT_EQ(pfxSolveConstraints(solve), PFX_ERR_NULL_POINTER);
   unchanged("solve");
+}
+
+// The position correction's setup gives every row the direction, bounds, warm-started
+// impulse, effective mass (lock rows) and push that a full setup gives, and leaves what
+// only the velocity solve reads, the rows' aimed-for velocities and the drive rows'
+// effective masses, as they were. A hinge past its limit with a velocity drive, and a
+// damped swing-twist joint, between a fixed and two moving bodies.
+TEST(SolverStages, JointSetupForThePositionCorrectionSetsWhatItReads) {
+  PfxRigidState states[3];
+  PfxRigidBody bodies[3];
+  PfxSolverBody solverBodies[3];
+  for (int i = 0; i < 3; ++i) {
+    states[i].reset();
+    states[i].setPosition(PfxVector3(i * 1.0f, 0, 0));
+    states[i].setRigidBodyId(i);
+    bodies[i].reset();
+  }
+  states[0].setMotionType(kPfxMotionTypeFixed);
+  PfxJoint joints[2];
+  PfxHingeJointInitParam hinge;
+  hinge.anchorPoint = PfxVector3(0.5f, 0, 0);
+  hinge.lowerAngle = -0.2f;
+  hinge.upperAngle = 0.2f;
+  ASSERT_EQ(pfxInitializeHingeJoint(joints[0], states[0], states[1], hinge), PFX_OK);
+  joints[0].m_constraints[kPfxJointAxisTwist].m_drive = kPfxJointDriveVelocity;
+  joints[0].m_constraints[kPfxJointAxisTwist].m_driveTarget = 2;
+  joints[0].m_constraints[kPfxJointAxisTwist].m_driveMaxForce = 30;
+  PfxSwingTwistJointInitParam swingTwist;
+  swingTwist.anchorPoint = PfxVector3(1.5f, 0, 0);
+  swingTwist.damping = 0.3f;
+  ASSERT_EQ(pfxInitializeSwingTwistJoint(joints[1], states[1], states[2], swingTwist), PFX_OK);
+  // Turned past the hinge's upper limit, moving, with impulses to warm start from.
+  states[1].setOrientation(PfxQuat(Eigen::AngleAxis<PfxFloat>(0.3f, PfxVector3::UnitZ())));
+  states[1].setLinearVelocity(PfxVector3(0.1f, -0.4f, 0.2f));
+  states[1].setAngularVelocity(PfxVector3(0.3f, 0.1f, 1.5f));
+  states[2].setAngularVelocity(PfxVector3(-0.5f, 0.8f, 0.2f));
+  constexpr PfxFloat kUnset = 12345;
+  for (PfxJoint& joint : joints) {
+    for (PfxJointConstraint& c : joint.m_constraints) {
+      c.m_constraintRow.m_accumImpulse = 0.7f;
+      c.m_driveRow.m_accumImpulse = 0.9f;
+      c.m_constraintRow.m_rhs = c.m_driveRow.m_rhs = kUnset;
+      c.m_driveRow.m_jacDiagInv = kUnset;
+    }
+  }
+  PfxConstraintPair pairs[2];
+  for (PfxUInt32 i = 0; i < 2; ++i) {
+    pfxUpdateJointPairs(pairs[i], i, joints[i], states[joints[i].m_rigidBodyIdA],
+                        states[joints[i].m_rigidBodyIdB]);
+  }
+  PfxSetupSolverBodiesParam solverParam;
+  solverParam.states = states;
+  solverParam.bodies = bodies;
+  solverParam.solverBodies = solverBodies;
+  solverParam.numRigidBodies = 3;
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+
+  PfxJoint full[2] = {joints[0], joints[1]};
+  PfxJoint corrected[2] = {joints[0], joints[1]};
+  PfxSolverBody fullBodies[3] = {solverBodies[0], solverBodies[1], solverBodies[2]};
+  PfxSolverBody correctedBodies[3] = {solverBodies[0], solverBodies[1], solverBodies[2]};
+  PfxSetupJointConstraintsParam setup;
+  setup.jointPairs = pairs;
+  setup.numJointPairs = 2;
+  setup.numJoints = 2;
+  setup.offsetRigidStates = states;
+  setup.offsetRigidBodies = bodies;
+  setup.numRigidBodies = 3;
+  setup.timeStep = 1.0f / 60;
+  setup.offsetJoints = full;
+  setup.offsetSolverBodies = fullBodies;
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+  setup.forPositionCorrection = true;
+  setup.offsetJoints = corrected;
+  setup.offsetSolverBodies = correctedBodies;
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+
+  int limitRows = 0, driveRows = 0;
+  for (int j = 0; j < 2; ++j) {
+    for (int axis = 0; axis < 6; ++axis) {
+      SCOPED_TRACE(testing::Message() << "joint " << j << " axis " << axis);
+      const PfxJointConstraint& a = full[j].m_constraints[axis];
+      const PfxJointConstraint& b = corrected[j].m_constraints[axis];
+      EXPECT_EQ(a.m_rowType, b.m_rowType);
+      EXPECT_EQ(a.m_position, b.m_position);
+      EXPECT_EQ(bytes(a.m_constraintRow.m_normal), bytes(b.m_constraintRow.m_normal));
+      EXPECT_EQ(a.m_constraintRow.m_jacDiagInv, b.m_constraintRow.m_jacDiagInv);
+      EXPECT_EQ(a.m_constraintRow.m_lowerLimit, b.m_constraintRow.m_lowerLimit);
+      EXPECT_EQ(a.m_constraintRow.m_upperLimit, b.m_constraintRow.m_upperLimit);
+      EXPECT_EQ(a.m_constraintRow.m_accumImpulse, b.m_constraintRow.m_accumImpulse);
+      EXPECT_EQ(a.m_pushRhs, b.m_pushRhs);
+      EXPECT_EQ(a.m_driveRowUsed, b.m_driveRowUsed);
+      EXPECT_EQ(bytes(a.m_driveRow.m_normal), bytes(b.m_driveRow.m_normal));
+      EXPECT_EQ(a.m_driveRow.m_lowerLimit, b.m_driveRow.m_lowerLimit);
+      EXPECT_EQ(a.m_driveRow.m_upperLimit, b.m_driveRow.m_upperLimit);
+      EXPECT_EQ(a.m_driveRow.m_accumImpulse, b.m_driveRow.m_accumImpulse);
+      if (a.m_rowType != kPfxJointRowNone) {
+        EXPECT_NE(a.m_constraintRow.m_rhs, kUnset);
+        EXPECT_EQ(b.m_constraintRow.m_rhs, kUnset);
+      }
+      if (a.m_driveRowUsed) {
+        ++driveRows;
+        EXPECT_NE(a.m_driveRow.m_jacDiagInv, kUnset);
+        EXPECT_EQ(b.m_driveRow.m_jacDiagInv, kUnset);
+        EXPECT_EQ(b.m_driveRow.m_rhs, kUnset);
+      }
+      limitRows += a.m_rowType == kPfxJointRowLimit ? 1 : 0;
+    }
+  }
+  // The hinge's limit holds a push, its drive and the swing-twist's damping use their rows.
+  EXPECT_NE(full[0].m_constraints[kPfxJointAxisTwist].m_pushRhs, 0);
+  EXPECT_GE(limitRows, 2);
+  EXPECT_GE(driveRows, 4);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(bytes(fullBodies[i].m_inertiaInv), bytes(correctedBodies[i].m_inertiaInv));
+  }
 }

@@ -71,6 +71,15 @@ TYPED_TEST(SortTest, ManyEqualKeysKeepInputOrder) {
   checkAgainstStableSort<TypeParam>(0x3000000000000000ull, 2000, 22);
 }
 
+// Short arrays (a robot's proxies and pairs) take an insertion sort; either side of where
+// the radix passes take over, with few distinct keys so that stability is checked too.
+TYPED_TEST(SortTest, ShortArraysMatchStableSort) {
+  for (std::size_t n = 2; n <= 40; ++n) {
+    checkAgainstStableSort<TypeParam>(~PfxUInt64(0), n, static_cast<unsigned>(100 + n));
+    checkAgainstStableSort<TypeParam>(0x3000000000000003ull, n, static_cast<unsigned>(200 + n));
+  }
+}
+
 TYPED_TEST(SortTest, AllKeysEqualLeavesArrayUnchanged) {
   std::mt19937_64 rng(5);
   std::vector<TypeParam> records = randomRecords<TypeParam>(300, rng, 0);

@@ -209,6 +209,7 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, bool seeContact
   setup.numRigidBodies = param.numRigidBodies;
   setup.timeStep = param.timeStep;
   setup.warmStartFactor = 1;
+  setup.forPositionCorrection = true;
   if (const PfxInt32 err = pfxSetupJointConstraints(setup, taskManager); err != PFX_OK) {
     return err;
   }

@@ -35,22 +35,40 @@ PfxFloat rowVelocity(const PfxJointRowJacobian& j, const JointBodies& bodies) {
                              bodies.stateB.getAngularVelocity());
 }
 
+// What a setup computes: every row's direction, bounds and warm-started impulse, its
+// effective mass and push where the position correction reads them, and, unless it sets
+// up the position correction, the velocity each row aims for (m_rhs) and the drive rows'
+// effective masses, which only the velocity solve reads.
+struct SetupMode {
+  PfxFloat timeStep;
+  PfxFloat warmStartFactor;
+  bool velocities;
+};
+
+// The row's direction, its impulse's bounds and its warm-started impulse.
+void setRowBounds(PfxConstraintRow& row, const PfxVector3& direction, PfxFloat lower,
+                  PfxFloat upper, PfxFloat warmStartFactor) {
+  // A row that turned round (the other limit) starts afresh.
+  if (row.m_normal.dot(direction) <= 0) row.m_accumImpulse = 0;
+  row.m_normal = direction;
+  row.m_lowerLimit = lower;
+  row.m_upperLimit = upper;
+  row.m_accumImpulse = std::clamp(row.m_accumImpulse * warmStartFactor, lower, upper);
+}
+
 // Sets `row` to move the coordinate at `targetVelocity` along `direction`, its impulse
 // clamped to [lower, upper] and scaled by the axis weight.
 void setRow(PfxConstraintRow& row, const PfxJoint& joint, PfxUInt32 axis,
             const PfxVector3& direction, PfxFloat targetVelocity, PfxFloat lower, PfxFloat upper,
-            PfxFloat weight, PfxFloat warmStartFactor, const JointBodies& bodies) {
+            PfxFloat weight, const SetupMode& mode, const JointBodies& bodies) {
+  setRowBounds(row, direction, lower, upper, mode.warmStartFactor);
   const PfxJointRowJacobian j = pfxJointRowJacobian(joint, axis, direction);
   const PfxFloat jacDiagInv =
       pfxJointRowJacDiagInv(j, bodies.a, bodies.receivesA, bodies.b, bodies.receivesB);
-  // A row that turned round (the other limit) starts afresh.
-  if (row.m_normal.dot(direction) <= 0) row.m_accumImpulse = 0;
-  row.m_normal = direction;
   row.m_jacDiagInv = weight * jacDiagInv;
-  row.m_rhs = weight * (targetVelocity - rowVelocity(j, bodies)) * jacDiagInv;
-  row.m_lowerLimit = lower;
-  row.m_upperLimit = upper;
-  row.m_accumImpulse = std::clamp(row.m_accumImpulse * warmStartFactor, lower, upper);
+  if (mode.velocities) {
+    row.m_rhs = weight * (targetVelocity - rowVelocity(j, bodies)) * jacDiagInv;
+  }
 }
 
 // A velocity a row aims for along `axis`, cut to the speeds a body keeps (kPfxMaxLinearSpeed,
@@ -70,8 +88,9 @@ void unsetRow(PfxConstraintRow& row) {
 
 // The lock row of one axis: equality, the nearer limit, or nothing.
 void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
-                  PfxFloat position, PfxFloat lower, PfxFloat upper,
-                  PfxFloat timeStep, PfxFloat warmStartFactor, const JointBodies& bodies) {
+                  PfxFloat position, PfxFloat lower, PfxFloat upper, const SetupMode& mode,
+                  const JointBodies& bodies) {
+  const PfxFloat timeStep = mode.timeStep;
   PfxJointConstraint& c = joint.m_constraints[axis];
   c.m_pushRhs = 0;
   c.m_pushImpulse = 0;
@@ -88,7 +107,7 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     const PfxFloat error = position - c.getLockedValue();
     c.m_rowType = kPfxJointRowEquality;
     setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse,
-           c.m_weight, warmStartFactor, bodies);
+           c.m_weight, mode, bodies);
     c.m_pushRhs =
         withinSpeedLimit(axis, -c.m_bias * error / timeStep) * c.m_constraintRow.m_jacDiagInv;
     return;
@@ -100,7 +119,7 @@ void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   const PfxVector3 signedDirection = atLower ? direction : PfxVector3(-direction);
   c.m_rowType = kPfxJointRowLimit;
   setRow(c.m_constraintRow, joint, axis, signedDirection, gap > 0 ? -gap / timeStep : 0, 0,
-         kUnboundedImpulse, c.m_weight, warmStartFactor, bodies);
+         kUnboundedImpulse, c.m_weight, mode, bodies);
   if (gap < 0) {
     c.m_pushRhs =
         withinSpeedLimit(axis, -c.m_bias * gap / timeStep) * c.m_constraintRow.m_jacDiagInv;
@@ -129,8 +148,9 @@ AllowedVelocities allowedVelocities(const PfxJointConstraint& c, PfxFloat timeSt
 // force limit the row solved last would win (a hinge driven 0.9 rad through its stop, its
 // neighbours pulled open). Within the limits, both rows ask for the same velocity.
 void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
-                   const AllowedVelocities& allowed, PfxFloat timeStep,
-                   PfxFloat warmStartFactor, const JointBodies& bodies) {
+                   const AllowedVelocities& allowed, const SetupMode& mode,
+                   const JointBodies& bodies) {
+  const PfxFloat timeStep = mode.timeStep;
   PfxJointConstraint& c = joint.m_constraints[axis];
   const bool movable = c.m_lock != kPfxJointLockLocked;
   PfxFloat target = 0;
@@ -141,6 +161,8 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
   } else if (movable && c.m_drive == kPfxJointDrivePosition) {
     target = std::clamp((c.m_driveTarget - c.m_position) / timeStep, allowed.lower, allowed.upper);
     bound = c.m_driveMaxForce * timeStep;
+  } else if (movable && c.m_friction == 0 && c.m_damping > 0 && !mode.velocities) {
+    // Damping's target is a velocity, and its impulse unbounded: nothing to measure.
   } else if (movable && (c.m_damping > 0 || c.m_friction > 0)) {
     // Damping alone takes its fraction of the velocity away. Friction tries to stop the
     // axis outright, within its force, and damping then adds its share to that force.
@@ -160,12 +182,15 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
     return;
   }
   c.m_driveRowUsed = 1;
+  if (!mode.velocities) {
+    setRowBounds(c.m_driveRow, direction, -bound, bound, mode.warmStartFactor);
+    return;
+  }
   setRow(c.m_driveRow, joint, axis, direction, withinSpeedLimit(axis, target), -bound, bound,
-         c.m_weight, warmStartFactor, bodies);
+         c.m_weight, mode, bodies);
 }
 
-void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
-                PfxFloat warmStartFactor) {
+void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mode) {
   pfxCalcJointAxes(joint, bodies.stateA, bodies.stateB);
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
@@ -187,11 +212,11 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, PfxFloat timeStep,
       lower = -kUnboundedImpulse;
       joint.m_axes[axis] = direction;
     }
-    setupLockRow(joint, axis, direction, position, lower, upper, timeStep, warmStartFactor,
-                 bodies);
+    setupLockRow(joint, axis, direction, position, lower, upper, mode, bodies);
     // The cone's limit row measures the swing angle, not the drive's coordinate.
-    const AllowedVelocities allowed = cone ? AllowedVelocities() : allowedVelocities(c, timeStep);
-    setupDriveRow(joint, axis, direction, allowed, timeStep, warmStartFactor, bodies);
+    const AllowedVelocities allowed =
+        cone ? AllowedVelocities() : allowedVelocities(c, mode.timeStep);
+    setupDriveRow(joint, axis, direction, allowed, mode, bodies);
   }
 }
 
@@ -308,6 +333,7 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
     }
   });
+  const SetupMode mode{param.timeStep, param.warmStartFactor, !param.forPositionCorrection};
   pfxParallelFor(taskManager, param.numJointPairs, kJointsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
     for (PfxUInt32 i = begin; i < end; ++i) {
@@ -319,8 +345,7 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
                                param.offsetSolverBodies[idA], param.offsetSolverBodies[idB],
                                pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
                                pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
-      setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, param.timeStep,
-                 param.warmStartFactor);
+      setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, mode);
     }
   });
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {

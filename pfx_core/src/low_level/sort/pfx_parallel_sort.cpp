@@ -13,6 +13,10 @@ constexpr int kNumBuckets = 256;
 // Below this many records per chunk a pass is too short to be worth a task.
 constexpr PfxUInt32 kMinRecordsPerChunk = 4096;
 constexpr PfxUInt32 kMaxSortChunks = 16;
+// Up to this many records an insertion sort is cheaper than the radix passes, whose 8 KiB
+// of histograms alone cost more to clear and scan than sorting a robot's few proxies and
+// pairs (a sixth of a seven-body arm's sorting time).
+constexpr PfxUInt32 kMaxInsertionSorted = 32;
 
 inline PfxUInt32 digitOf(PfxUInt64 key, int digit) {
   return static_cast<PfxUInt32>(key >> (digit * 8)) & 0xffu;
@@ -75,6 +79,18 @@ void serialRadixSort(Record* data, PfxUInt32 numData, void* workBuff) {
 
   if (src != data) {
     for (PfxUInt32 i = 0; i < numData; ++i) data[i] = src[i];
+  }
+}
+
+// Stable like the radix sort (a record moves only past larger keys), so equal keys keep
+// their input order and the result is the same record for record.
+template <class Record>
+void insertionSort(Record* data, PfxUInt32 numData) {
+  for (PfxUInt32 i = 1; i < numData; ++i) {
+    const Record record = data[i];
+    PfxUInt32 j = i;
+    for (; j > 0 && data[j - 1].key > record.key; --j) data[j] = data[j - 1];
+    data[j] = record;
   }
 }
 
@@ -153,6 +169,10 @@ PfxInt32 radixSort(Record* data, PfxUInt32 numData, void* workBuff, PfxUInt32 wo
   const PfxInt32 err = validateSort(data, numData, workBuff, workBytes);
   if (err != PFX_OK) return err;
   if (numData < 2) return PFX_OK;
+  if (numData <= kMaxInsertionSorted) {
+    insertionSort(data, numData);
+    return PFX_OK;
+  }
   const PfxUInt32 numChunks =
       pfxNumChunks(taskManager, numData, kMinRecordsPerChunk, kMaxSortChunks);
   if (numChunks == 1) {

@@ -27,6 +27,12 @@ struct PfxSetupJointConstraintsParam {
   PfxFloat timeStep = 0;
   // Fraction of last step's impulses applied before iterating (0 disables warm starting).
   PfxFloat warmStartFactor = 1;
+  // Rows for the position correction (pfxCorrectJointPositions) alone: each row's direction,
+  // bounds, warm-started impulse, and a lock row's effective mass and push, as a full setup
+  // gives them; the velocities the rows aim for (m_rhs) and the drive rows' effective masses,
+  // which only a velocity solve reads, are left as they were. A friction drive still
+  // measures its velocity, which its bound depends on.
+  bool forPositionCorrection = false;
 };
 
 // Measures each joint's coordinates and sets up its rows: locked axes hold at zero (or at
