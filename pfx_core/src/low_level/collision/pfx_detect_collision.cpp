@@ -46,6 +46,50 @@ bool boundsApart(const PfxCollidable& collA, const PfxTransform3& transformA,
   return false;
 }
 
+// A ball in the world that holds a body made of one sphere or one box.
+struct ShapeBall {
+  PfxVector3 centre;
+  PfxFloat radius = 0;
+  bool sphere = false;
+};
+
+bool ballOfOnlyShape(const PfxCollidable& collidable, const PfxTransform3& transform,
+                     ShapeBall& ball) {
+  if (collidable.getNumShapes() != 1) return false;
+  const PfxShape& shape = collidable.getShape(0);
+  ball.sphere = shape.getType() == kPfxShapeSphere;
+  if (ball.sphere) {
+    ball.radius = shape.getSphere().m_radius;
+  } else if (shape.getType() == kPfxShapeBox) {
+    ball.radius = shape.getBox().m_half.norm();
+  } else {
+    return false;
+  }
+  ball.centre = transform * shape.getOffsetPosition();
+  return true;
+}
+
+// Whether a sphere lies further than `threshold` from the ball of the other body's sphere
+// or box. The routines for a sphere against a sphere or a box measure the distance from the
+// sphere's centre itself and add nothing beyond the threshold, so they would find no
+// contact; this test spares the shapes' checks and poses for the many such neighbours in a
+// pile. (A box against a box is left to its routine: what it measures along a face normal
+// can be less than the distance between the boxes.) Slack and NaN as in boundsApart.
+bool sphereApart(const PfxCollidable& collA, const PfxTransform3& transformA,
+                 const PfxCollidable& collB, const PfxTransform3& transformB,
+                 PfxFloat threshold) {
+  ShapeBall a, b;
+  if (!ballOfOnlyShape(collA, transformA, a) || !ballOfOnlyShape(collB, transformB, b) ||
+      !(a.sphere || b.sphere)) {
+    return false;
+  }
+  constexpr PfxFloat kRelativeSlack = PfxFloat(1e-5);
+  const PfxFloat reach = a.radius + b.radius + threshold;
+  const PfxFloat slack =
+      kRelativeSlack * (a.centre.cwiseAbs().maxCoeff() + b.centre.cwiseAbs().maxCoeff() + reach);
+  return (b.centre - a.centre).squaredNorm() > (reach + slack) * (reach + slack);
+}
+
 constexpr PfxUInt32 kDetectedPairsPerTask = 32;
 
 void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
@@ -61,7 +105,8 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   const PfxFloat threshold =
       param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
   const PfxUInt32 numCandidates =
-      boundsApart(collA, transformA, collB, transformB, threshold)
+      boundsApart(collA, transformA, collB, transformB, threshold) ||
+              sphereApart(collA, transformA, collB, transformB, threshold)
           ? 0
           : pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
                                   PFX_MAX_CONTACT_CANDIDATES);
