@@ -84,14 +84,17 @@ PfxUInt32 record(const PfxBroadphaseProxy& a, const PfxBroadphaseProxy& b,
 }
 
 // Sweeps the proxies [begin, end) against those after them and against the sleeping ones;
-// writes the first `capacity` pairs found to `out` and returns how many there are.
-PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies,
-                const SleepingProxies& sleeping, int axis, PfxUInt32 begin, PfxUInt32 end,
-                PfxBroadphasePair* out, PfxUInt32 capacity) {
+// writes the first `capacity` pairs found to `out` and returns how many there are. The axis
+// is a constant of each instance, so that the inner loop unpacks the proxies' 16-bit
+// fields with fixed shifts.
+template <int axis>
+PfxUInt32 sweepAlong(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies,
+                     const SleepingProxies& sleeping, PfxUInt32 begin, PfxUInt32 end,
+                     PfxBroadphasePair* out, PfxUInt32 capacity) {
   PfxUInt32 numFound = 0;
-  const int axis1 = (axis + 1) % 3;
-  const int axis2 = (axis + 2) % 3;
-  const auto startsBefore = [axis](const PfxBroadphaseProxy& p, PfxUInt16 value) {
+  constexpr int axis1 = (axis + 1) % 3;
+  constexpr int axis2 = (axis + 2) % 3;
+  const auto startsBefore = [](const PfxBroadphaseProxy& p, PfxUInt16 value) {
     return pfxGetXMin(p, axis) < value;
   };
   for (PfxUInt32 i = begin; i < end; ++i) {
@@ -122,6 +125,16 @@ PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies,
     }
   }
   return numFound;
+}
+
+PfxUInt32 sweep(const PfxBroadphaseProxy* proxies, PfxUInt32 numProxies,
+                const SleepingProxies& sleeping, int axis, PfxUInt32 begin, PfxUInt32 end,
+                PfxBroadphasePair* out, PfxUInt32 capacity) {
+  switch (axis) {
+    case 0: return sweepAlong<0>(proxies, numProxies, sleeping, begin, end, out, capacity);
+    case 1: return sweepAlong<1>(proxies, numProxies, sleeping, begin, end, out, capacity);
+    default: return sweepAlong<2>(proxies, numProxies, sleeping, begin, end, out, capacity);
+  }
 }
 
 // Chunks of at least this many proxies are swept as separate tasks.

@@ -1,5 +1,7 @@
 #include "pfx/low_level/collision/pfx_detect_collision.h"
 
+#include <cmath>
+
 #include "low_level/pfx_param_checks.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
 
@@ -21,6 +23,73 @@ PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const 
   return (linear + angular) * timeStep;
 }
 
+// Whether two bodies' bounds (their collidables' boxes, which hold every shape's box) lie
+// further apart along a world axis than `threshold`: then no pair of their shapes passes
+// the bounds test in pfxContactCollidables either (a shape's world box lies inside its
+// body's), and the pair has no contact. Most broad-phase pairs of a falling crowd are such
+// neighbours, and this test costs a fraction of the shapes' validation and poses. The
+// slack covers the rounding of the two box computations; NaN poses compare false and go
+// on to pfxContactCollidables, which rejects them.
+bool boundsApart(const PfxCollidable& collA, const PfxTransform3& transformA,
+                 const PfxCollidable& collB, const PfxTransform3& transformB,
+                 PfxFloat threshold) {
+  constexpr PfxFloat kRelativeSlack = PfxFloat(1e-5);
+  PfxVector3 centerA, halfA, centerB, halfB;
+  collA.getWorldAabb(transformA, centerA, halfA);
+  collB.getWorldAabb(transformB, centerB, halfB);
+  for (int axis = 0; axis < 3; ++axis) {
+    const PfxFloat reach = halfA[axis] + halfB[axis] + threshold;
+    const PfxFloat slack =
+        kRelativeSlack * (std::abs(centerA[axis]) + std::abs(centerB[axis]) + reach);
+    if (std::abs(centerB[axis] - centerA[axis]) > reach + slack) return true;
+  }
+  return false;
+}
+
+// A ball in the world that holds a body made of one sphere or one box.
+struct ShapeBall {
+  PfxVector3 centre;
+  PfxFloat radius = 0;
+  bool sphere = false;
+};
+
+bool ballOfOnlyShape(const PfxCollidable& collidable, const PfxTransform3& transform,
+                     ShapeBall& ball) {
+  if (collidable.getNumShapes() != 1) return false;
+  const PfxShape& shape = collidable.getShape(0);
+  ball.sphere = shape.getType() == kPfxShapeSphere;
+  if (ball.sphere) {
+    ball.radius = shape.getSphere().m_radius;
+  } else if (shape.getType() == kPfxShapeBox) {
+    ball.radius = shape.getBox().m_half.norm();
+  } else {
+    return false;
+  }
+  ball.centre = transform * shape.getOffsetPosition();
+  return true;
+}
+
+// Whether a sphere lies further than `threshold` from the ball of the other body's sphere
+// or box. The routines for a sphere against a sphere or a box measure the distance from the
+// sphere's centre itself and add nothing beyond the threshold, so they would find no
+// contact; this test spares the shapes' checks and poses for the many such neighbours in a
+// pile. (A box against a box is left to its routine: what it measures along a face normal
+// can be less than the distance between the boxes.) Slack and NaN as in boundsApart.
+bool sphereApart(const PfxCollidable& collA, const PfxTransform3& transformA,
+                 const PfxCollidable& collB, const PfxTransform3& transformB,
+                 PfxFloat threshold) {
+  ShapeBall a, b;
+  if (!ballOfOnlyShape(collA, transformA, a) || !ballOfOnlyShape(collB, transformB, b) ||
+      !(a.sphere || b.sphere)) {
+    return false;
+  }
+  constexpr PfxFloat kRelativeSlack = PfxFloat(1e-5);
+  const PfxFloat reach = a.radius + b.radius + threshold;
+  const PfxFloat slack =
+      kRelativeSlack * (a.centre.cwiseAbs().maxCoeff() + b.centre.cwiseAbs().maxCoeff() + reach);
+  return (b.centre - a.centre).squaredNorm() > (reach + slack) * (reach + slack);
+}
+
 constexpr PfxUInt32 kDetectedPairsPerTask = 32;
 
 void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
@@ -36,10 +105,18 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   const PfxFloat threshold =
       param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
   const PfxUInt32 numCandidates =
-      pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
-                            PFX_MAX_CONTACT_CANDIDATES);
+      boundsApart(collA, transformA, collB, transformB, threshold) ||
+              sphereApart(collA, transformA, collB, transformB, threshold)
+          ? 0
+          : pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
+                                  PFX_MAX_CONTACT_CANDIDATES);
   const PfxUInt32 contactId = pfxGetContactId(pair);
   const bool shared = contactId == param.sharedEmptyContactId;
+  if (shared && numCandidates == 0) {
+    // The shared manifold stays empty; a fresh one given no candidates would too.
+    pfxSetNumConstraints(pair, 0);
+    return;
+  }
   PfxContactManifold& manifold = shared ? unshared : param.offsetContactManifolds[contactId];
   if (shared) unshared.reset(idA, idB);
   manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);

@@ -30,14 +30,22 @@ void pfxSweepNormalBlock(const PfxNormalCoupling& k, const PfxFloat* residual,
     delta[i] = 0;
   }
   for (int sweep = 0; sweep < kPfxNormalBlockSweeps; ++sweep) {
+    bool changed = false;
     for (PfxUInt32 i = 0; i < N; ++i) {
       const PfxFloat updated =
           std::max(impulse[i] + delta[i] + remaining[i] * inverseDiagonal[i], PfxFloat(0)) -
           impulse[i];
       const PfxFloat change = updated - delta[i];
       delta[i] = updated;
+      changed = changed || change != 0;
       for (PfxUInt32 j = 0; j < N; ++j) remaining[j] -= k[j][i] * change;
     }
+    // A sweep that changed no impulse left every residual as it was, so the sweeps after
+    // it would repeat it: stop. Not after the first, which may have turned a residual
+    // into NaN through a NaN or infinite K whatever the changes, where the next sweep
+    // would carry that into the impulses. A manifold of one point (most of a pile of
+    // spheres) settles after two or three of the six.
+    if (!changed && sweep > 0) break;
   }
   for (PfxUInt32 i = 0; i < N; ++i) impulse[i] += delta[i];
 }
