@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=build-fuzz
-targets=(fuzz_urdf fuzz_mesh fuzz_octomap fuzz_world_file fuzz_scene fuzz_world_api)
+targets=(fuzz_urdf fuzz_mesh fuzz_octomap fuzz_world_file fuzz_scene fuzz_sdf fuzz_world_api)
 # Stack traces with function names and lines, where Debian's llvm-symbolizer is installed.
 if [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ]; then
   export ASAN_SYMBOLIZER_PATH=/usr/lib/llvm-14/bin/llvm-symbolizer

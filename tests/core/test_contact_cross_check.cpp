@@ -547,7 +547,8 @@ TEST_F(ContactCrossCheck, EveryPairOfConvexTypesAgreesWithTheReference) {
 // Poses that 10,000 per pair from seed 7 (PFX_CROSS_CHECK_POSES=10000
 // PFX_CROSS_CHECK_SEED=7) found beyond the bounds, as printed by PFX_CROSS_CHECK_SHOW, held
 // to the same bounds in every build: GJK's descent stalled on a cylinder's rim, where every
-// other step shortens its closest point by parts in a billion.
+// other step shortens its closest point by parts in a billion, or on chords between its two
+// rims; two boxes' face contact kept the closest points out.
 struct RarePose {
   const char* what;
   PfxShape a, b;
@@ -587,6 +588,30 @@ TEST_F(ContactCrossCheck, RarePosesOfLongRunsAgreeWithTheReference) {
         0.854497075f, -0.0395938754f, -0.517945051f},
        {0.659105897f, -0.16035527f, -0.31565994f},
        kDepthTolerance},
+      // Apart by 0.049 m, the cylinder's side across the capsule's end: the gap was reported
+      // 3.1e-5 m too large, the descent stalled on a simplex of chords between its two rims.
+      {"capsule's end 0.049 m from a cylinder's side",
+       makeCapsule(PfxFloat(0.133728534), PfxFloat(0.0715533718)),
+       makeCylinder(PfxFloat(0.269633502), PfxFloat(0.163296402)),
+       {0.233388245f, 0.749293387f, -0.619749486f, -0.840223134f, -0.165407181f, -0.51639688f,
+        -0.489443719f, 0.641248822f, 0.590969443f},
+       {0.0652459562f, -0.0674082115f, -0.284954548f},
+       {0.481976449f, 0.870890379f, -0.0961699113f, -0.863030195f, 0.490819871f, 0.119476527f,
+        0.15125306f, 0.025412675f, 0.988168359f},
+       {-0.197580233f, -0.0759422928f, -0.5829705f},
+       1e-6},
+      // Apart by 0.025 m: the face kept within its margin of the best axis reported its
+      // nearest point 6.2e-5 m further than the boxes are, and the closest points stayed out.
+      {"two boxes 0.025 m apart",
+       makeBox(PfxFloat(0.37866956), PfxFloat(0.28987512), PfxFloat(0.137067527)),
+       makeBox(PfxFloat(0.16608426), PfxFloat(0.501857042), PfxFloat(0.155937046)),
+       {0.877975821f, 0.440454721f, 0.187505007f, -0.0562634319f, -0.294031858f, 0.95413816f,
+        0.475387096f, -0.848259926f, -0.233371377f},
+       {0.0324100778f, -0.269428641f, -0.127897605f},
+       {-0.444293976f, -0.895615339f, 0.0218199492f, -0.690842986f, 0.327000976f,
+        -0.644830465f, 0.57038492f, -0.301568389f, -0.764014125f},
+       {-0.0831626728f, -0.685742438f, 0.118392467f},
+       1e-6},
   };
   for (const RarePose& p : poses) {
     SCOPED_TRACE(p.what);

@@ -133,7 +133,8 @@ class BoxBoxContact {
     const PfxFloat nearest =
         referenceIsA ? faceContact(m_a, faceA, m_b, true, apart, separation)
                      : faceContact(m_b, faceB, m_a, false, apart, separation);
-    if (apart && nearest > gap.distance + faceTolerance) {
+    // The closest points join unless the face reaches as close, as in pfxContactPolyhedra.
+    if (apart && nearest > gap.distance + m_mergeDistance) {
       m_sink.add(gap.normal, gap.pointA, gap.pointB, gap.distance);
     }
   }
