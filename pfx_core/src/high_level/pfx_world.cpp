@@ -633,7 +633,7 @@ PfxInt32 PfxWorld::updateBroadphase() {
 PfxInt32 PfxWorld::findPairs() {
   for (;;) {
     PfxFindPairsParam param;
-    param.workBuff = m_pairSortWork.data();
+    param.workBuff = m_pairWork.data();
     param.workBytes = pfxGetWorkBytesOfFindPairs(m_maxPairs);
     param.pairBuff = m_foundPairs.data();
     param.pairBytes = pfxGetPairBytesOfFindPairs(m_maxPairs);
@@ -651,7 +651,7 @@ PfxInt32 PfxWorld::findPairs() {
       // after its first overflow.
       m_maxPairs = std::max<PfxUInt32>(64, 2 * result.numPairsFound);
       m_foundPairs.resize(m_maxPairs);
-      m_pairSortWork.resize(m_maxPairs);
+      growTo(m_pairWork, m_maxPairs);
       continue;
     }
     if (err != PFX_OK) return err;
@@ -662,16 +662,17 @@ PfxInt32 PfxWorld::findPairs() {
 }
 
 // Room for the manifolds of `numNewPairs` more pairs, those the free slots cannot take:
-// a quarter more than needed when the pool first grows (a scene built at once finds most
+// an eighth more than needed when the pool first grows (a scene built at once finds most
 // of its pairs in its first step; doubling from 64 left 10,001 resting spheres with 16,384
 // slots of 836 bytes, and exactly as many as needed had a settling pile allocate again in
-// a later step), then half as many again each time, so that a growing scene seldom moves
-// them. The free list can hold every slot, so that freeing one never allocates.
+// a later step; a quarter more cost 1,045 bytes a resting sphere), then half as many again
+// each time, so that a growing scene seldom moves them. The free list can hold every
+// slot, so that freeing one never allocates.
 void PfxWorld::reserveManifolds(PfxUInt32 numNewPairs) {
   const std::size_t numFree = m_freeManifolds.size();
   const std::size_t needed = m_manifolds.size() + (numNewPairs > numFree ? numNewPairs - numFree : 0);
   if (needed <= m_manifolds.capacity()) return;
-  const std::size_t capacity = std::max(needed + needed / 4, m_manifolds.capacity() * 3 / 2);
+  const std::size_t capacity = std::max(needed + needed / 8, m_manifolds.capacity() * 3 / 2);
   m_manifolds.reserve(capacity);
   m_freeManifolds.reserve(capacity);
 }
@@ -689,19 +690,23 @@ PfxUInt32 PfxWorld::takeManifold() {
   return contactId;
 }
 
-// Moving pairs between the awake and the sleeping lists needs room for both in each.
+// Moving pairs between the awake and the sleeping lists needs room for both in each. The
+// sleeping list and the scratch that moves pairs into it (and gathers both lists for the
+// islands) serve sleep alone: without it they stay empty (a world that was read from a
+// file with sleeping pairs still moves them).
 void PfxWorld::reservePairs() {
   const std::size_t total = std::size_t(m_numPairs) + m_numSleepingPairs;
   growTo(m_pairs, total);
+  if (!m_param.enableSleep && m_numSleepingPairs == 0) return;
   growTo(m_sleepingPairs, total);
   growTo(m_pairScratch, total);
 }
 
 void PfxWorld::composeStablePairs() {
-  growTo(m_decomposedPairs, m_numPairs + m_numFoundPairs);
+  growTo(m_pairWork, m_numPairs + m_numFoundPairs);
   PfxDecomposePairsParam param;
-  param.pairBuff = m_decomposedPairs.data();
-  param.pairBytes = static_cast<PfxUInt32>(m_decomposedPairs.size() * sizeof(PfxBroadphasePair));
+  param.pairBuff = m_pairWork.data();
+  param.pairBytes = static_cast<PfxUInt32>(m_pairWork.size() * sizeof(PfxBroadphasePair));
   param.previousPairs = m_pairs.data();
   param.numPreviousPairs = m_numPairs;
   param.currentPairs = m_foundPairs.data();

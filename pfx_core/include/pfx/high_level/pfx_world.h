@@ -527,11 +527,11 @@ class PfxWorld {
   PfxUInt32 m_numSleepingOutOfWorld = 0;
   bool m_sleepingProxiesStale = true;
 
-  // Pairs of the current frame (m_pairs) and the scratch the stages write into.
+  // Pairs of the current frame (m_pairs), the pairs found, and one scratch for the two
+  // stages after: pfxFindPairs sorts in it, then pfxDecomposePairs writes its lists there.
   std::vector<PfxBroadphasePair> m_pairs;
   std::vector<PfxBroadphasePair> m_foundPairs;
-  std::vector<PfxBroadphasePair> m_pairSortWork;
-  std::vector<PfxBroadphasePair> m_decomposedPairs;
+  std::vector<PfxBroadphasePair> m_pairWork;
   PfxUInt32 m_numPairs = 0;
   PfxUInt32 m_numFoundPairs = 0;
   PfxUInt32 m_maxPairs = 0;
