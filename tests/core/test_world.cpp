@@ -406,3 +406,53 @@ TEST(World, ReportsItsOwnErrorFigures) {
   EXPECT_NEAR((pendulum.getRigidState(bobId).getPosition() - PfxVector3::Zero()).norm(), 1,
               1e-3f);
 }
+
+// Each touching pair holds room for the points it found: a sphere on the ground one, a box
+// resting flat four, and a box that lands on a corner first moves from one to four as more
+// of it touches, keeping its points' impulses (the same bits as room for four from the
+// start: test_golden_state).
+TEST(World, ManifoldsHoldRoomForThePointsTheyFound) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 1, 20)), ground), PFX_OK);
+  PfxBodyInit sphere, box, tipped;
+  sphere.position = PfxVector3(-3, 0.5f, 0);
+  box.position = PfxVector3(0, 0.5f, 0);
+  tipped.position = PfxVector3(3, 1.2f, 0);
+  tipped.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(0.4f, PfxVector3(1, 0, 1).normalized()));
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.5f)), sphere), PFX_OK);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), box), PFX_OK);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), tipped), PFX_OK);
+  const auto manifoldOf = [&](PfxUInt32 id) -> const PfxContactManifold* {
+    for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
+      const PfxConstraintPair& pair = world.getContactPair(i);
+      if (pfxGetObjectIdA(pair) == id || pfxGetObjectIdB(pair) == id) {
+        return &world.getContactManifold(pair);
+      }
+    }
+    return nullptr;
+  };
+  PfxUInt32 stepsWithRoomForOne = 0;
+  for (int step = 0; step < 120; ++step) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxContactManifold* landing = manifoldOf(3);
+    if (landing && landing->getNumContacts() > 0) {
+      EXPECT_LE(landing->getNumContacts(), landing->getCapacity());
+      stepsWithRoomForOne += landing->getCapacity() == 1 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(stepsWithRoomForOne, 0u) << "the corner lands alone first";
+  ASSERT_NE(manifoldOf(1), nullptr);
+  EXPECT_EQ(manifoldOf(1)->getNumContacts(), 1u);
+  EXPECT_EQ(manifoldOf(1)->getCapacity(), 1u);
+  ASSERT_NE(manifoldOf(2), nullptr);
+  EXPECT_EQ(manifoldOf(2)->getNumContacts(), 4u);
+  EXPECT_EQ(manifoldOf(2)->getCapacity(), 4u);
+  ASSERT_NE(manifoldOf(3), nullptr);
+  EXPECT_EQ(manifoldOf(3)->getNumContacts(), 4u) << "the tipped box came to rest flat";
+  EXPECT_EQ(manifoldOf(3)->getCapacity(), 4u);
+  EXPECT_LT(world.getRigidState(3).getLinearVelocity().norm(), 0.01f);
+}
