@@ -360,8 +360,12 @@ void PfxWorld::reserveSleepingProxies() {
 // or joint is added (whose doubling left up to twice the memory needed); grows only while
 // the first steps find more pairs.
 void PfxWorld::reserveSolverWork(PfxUInt32 numContactPairs) {
-  const std::size_t workBytes = pfxGetWorkBytesOfSolveConstraints(
-      getNumRigidBodies(), numContactPairs, getNumJoints(), 1, m_contactTreeNodes);
+  // The position correction after the integration works in the same buffer.
+  const std::size_t workBytes = std::max<std::size_t>(
+      pfxGetWorkBytesOfSolveConstraints(getNumRigidBodies(), numContactPairs, getNumJoints(), 1,
+                                        m_contactTreeNodes),
+      pfxGetWorkBytesOfCorrectJointPositions(getNumRigidBodies(), getNumJoints(),
+                                             numContactPairs));
   growTo(m_solverWork, (workBytes + sizeof(PfxSortData16) - 1) / sizeof(PfxSortData16));
 }
 

@@ -40,8 +40,10 @@ struct PfxCorrectJointPositionsParam {
   PfxUInt32 numContactManifolds = 0;
 };
 
+// numContactPairs: the most contact pairs a call passes (none by default).
 PfxUInt32 pfxGetWorkBytesOfCorrectJointPositions(PfxUInt32 numRigidBodies,
-                                                 PfxUInt32 numJointPairs);
+                                                 PfxUInt32 numJointPairs,
+                                                 PfxUInt32 numContactPairs = 0);
 
 // With a task manager the bodies and joints are set up, the joints' trees solved, and the
 // bodies moved in parallel; the rows left to iteration are swept in joint order on one
