@@ -109,10 +109,8 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numFoundPairs = 0;
   m_manifolds.clear();
   m_freeManifolds.clear();
-  m_onePointBlocks.clear();
-  m_fourPointBlocks.clear();
   m_sharedEmptyManifold = 0;
-  m_manifolds.emplace_back(nullptr, 0);
+  m_manifolds.emplace_back().reset(0, 0);
   m_joints.clear();
   m_jointPairs.clear();
   m_jointCouplings.clear();
@@ -692,33 +690,8 @@ PfxUInt32 PfxWorld::takeManifold() {
     return contactId;
   }
   const PfxUInt32 contactId = static_cast<PfxUInt32>(m_manifolds.size());
-  m_manifolds.emplace_back(nullptr, 0);
+  m_manifolds.emplace_back();
   return contactId;
-}
-
-void PfxWorld::reserveContactPoints(PfxUInt32 numOnePoint, PfxUInt32 numFourPoint) {
-  const auto numManifolds = static_cast<PfxUInt32>(m_manifolds.size());
-  m_onePointBlocks.reserve(numOnePoint, m_manifolds.data(), numManifolds);
-  m_fourPointBlocks.reserve(numFourPoint, m_manifolds.data(), numManifolds);
-}
-
-// A manifold's room comes from one pool or the other by its size, and goes back to it.
-void PfxWorld::sizeManifold(PfxUInt32 contactId, PfxUInt32 numPoints) {
-  PfxContactManifold& manifold = m_manifolds[contactId];
-  const PfxContactPoint* room = manifold.getContactPoints();
-  PfxContactPointPool* from = m_onePointBlocks.holds(manifold)    ? &m_onePointBlocks
-                              : m_fourPointBlocks.holds(manifold) ? &m_fourPointBlocks
-                                                                  : nullptr;
-  PfxContactPointPool* to = numPoints == 0   ? nullptr
-                            : numPoints == 1 ? &m_onePointBlocks
-                                             : &m_fourPointBlocks;
-  if (from == to) return;
-  if (to) {
-    manifold.moveContactPoints(to->take(), to->getPointsPerBlock());
-  } else {
-    manifold.moveContactPoints(nullptr, 0);
-  }
-  if (from) from->give(room);
 }
 
 // Moving pairs between the awake and the sleeping lists needs room for both in each. The
@@ -770,12 +743,10 @@ void PfxWorld::assignSimplePairs() {
   for (PfxUInt32 i = m_numPairs; i > 0; --i) releaseManifold(pfxGetContactId(m_pairs[i - 1]));
   growTo(m_pairs, m_numFoundPairs);
   reserveManifolds(m_numFoundPairs);
-  reserveContactPoints(0, m_numFoundPairs);
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
     m_pairs[i] = m_foundPairs[i];
     const PfxUInt32 contactId = takeManifold();
     pfxSetContactId(m_pairs[i], contactId);
-    sizeManifold(contactId, PFX_NUM_CONTACTS_PER_MANIFOLD);
     m_manifolds[contactId].reset(pfxGetObjectIdA(m_pairs[i]), pfxGetObjectIdB(m_pairs[i]));
   }
   m_numPairs = m_numFoundPairs;
@@ -811,46 +782,32 @@ PfxInt32 PfxWorld::detectCollision() {
 }
 
 // After the stable pipeline's collision detection: a pair left without points gives its
-// manifold back and names the shared empty one; a pair that found its first points takes a
-// manifold of its own, with room for one point or four as it found, and a pair that found
-// more points than its manifold has room for (pfxDetectCollision left it as it was) moves
-// to room for four. Both are detected again into their manifolds (the same points: the
-// shared manifold had none to carry over, and a moved one keeps its old points). Neighbours
-// that do not touch, often as many as the pairs that do, then cost no manifold, and a sphere
-// on the ground the room of one point.
+// manifold back and names the shared empty one, and a pair that found its first points
+// takes a manifold of its own and is detected again into it (the same points, as the
+// shared manifold had none to carry over). Neighbours that do not touch, often as many as
+// the pairs that do, then cost no manifold (836 bytes each).
 PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
-  PfxUInt32 numFirst = 0, numOnePoint = 0, numFourPoint = 0;
+  PfxUInt32 numTouchingFirst = 0;
   for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
     PfxBroadphasePair& pair = m_pairs[i];
-    const PfxUInt32 numPoints = pfxGetNumConstraints(pair);
-    const PfxUInt32 contactId = pfxGetContactId(pair);
-    const bool shared = contactId == m_sharedEmptyManifold;
-    if (!shared && numPoints == 0) {
-      releaseManifold(contactId);
+    const bool hasPoints = pfxGetNumConstraints(pair) > 0;
+    if (pfxGetContactId(pair) == m_sharedEmptyManifold) {
+      numTouchingFirst += hasPoints ? 1 : 0;
+    } else if (!hasPoints) {
+      releaseManifold(pfxGetContactId(pair));
       pfxSetContactId(pair, m_sharedEmptyManifold);
-    } else if (numPoints > (shared ? 0 : m_manifolds[contactId].getCapacity())) {
-      numFirst += shared ? 1 : 0;
-      (numPoints == 1 ? numOnePoint : numFourPoint) += 1;
     }
   }
-  if (numOnePoint + numFourPoint == 0) return PFX_OK;
-  reserveManifolds(numFirst);
-  reserveContactPoints(numOnePoint, numFourPoint);
+  if (numTouchingFirst == 0) return PFX_OK;
+  reserveManifolds(numTouchingFirst);
   for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
     PfxBroadphasePair& pair = m_pairs[i];
-    const PfxUInt32 numPoints = pfxGetNumConstraints(pair);
-    PfxUInt32 contactId = pfxGetContactId(pair);
-    if (contactId == m_sharedEmptyManifold) {
-      if (numPoints == 0) continue;
-      contactId = takeManifold();
-      sizeManifold(contactId, numPoints);
-      m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
-      pfxSetContactId(pair, contactId);
-    } else if (numPoints > m_manifolds[contactId].getCapacity()) {
-      sizeManifold(contactId, numPoints);
-    } else {
+    if (pfxGetContactId(pair) != m_sharedEmptyManifold || pfxGetNumConstraints(pair) == 0) {
       continue;
     }
+    const PfxUInt32 contactId = takeManifold();
+    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+    pfxSetContactId(pair, contactId);
     param.contactPairs = &pair;
     param.numContactPairs = 1;
     param.offsetContactManifolds = m_manifolds.data();
@@ -861,28 +818,7 @@ PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
 }
 
 void PfxWorld::releaseManifold(PfxUInt32 contactId) {
-  if (contactId == m_sharedEmptyManifold) return;
-  sizeManifold(contactId, 0);
-  m_freeManifolds.push_back(contactId);
-}
-
-void PfxWorld::adoptManifolds(const std::vector<PfxContactManifold>& manifolds) {
-  m_manifolds.clear();
-  m_onePointBlocks.clear();
-  m_fourPointBlocks.clear();
-  PfxUInt32 numOnePoint = 0, numFourPoint = 0;
-  for (const PfxContactManifold& manifold : manifolds) {
-    numOnePoint += manifold.getNumContacts() == 1 ? 1 : 0;
-    numFourPoint += manifold.getNumContacts() > 1 ? 1 : 0;
-  }
-  m_manifolds.reserve(manifolds.size());
-  reserveContactPoints(numOnePoint, numFourPoint);
-  for (const PfxContactManifold& manifold : manifolds) {
-    const auto contactId = static_cast<PfxUInt32>(m_manifolds.size());
-    m_manifolds.emplace_back(nullptr, 0);
-    sizeManifold(contactId, manifold.getNumContacts());
-    m_manifolds[contactId] = manifold;
-  }
+  if (contactId != m_sharedEmptyManifold) m_freeManifolds.push_back(contactId);
 }
 
 // Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),

@@ -11,7 +11,6 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
-#include "pfx/high_level/pfx_contact_point_pool.h"
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
@@ -430,17 +429,9 @@ class PfxWorld {
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
   void reserveManifolds(PfxUInt32 numNewPairs);
-  // Room in the pools for `numOnePoint` manifolds of one point and `numFourPoint` of four.
-  void reserveContactPoints(PfxUInt32 numOnePoint, PfxUInt32 numFourPoint);
   PfxUInt32 takeManifold();
-  // Gives manifold `contactId` room for `numPoints` points from the pool of their size,
-  // moving those it holds; the room it had goes back to its pool.
-  void sizeManifold(PfxUInt32 contactId, PfxUInt32 numPoints);
-  // Returns a pair's manifold, and its points' room, to the free lists, unless it is the
-  // shared empty one.
+  // Returns a pair's manifold to the free list, unless it is the shared empty one.
   void releaseManifold(PfxUInt32 contactId);
-  // The manifolds read from a file, each holding room from the pools for its points.
-  void adoptManifolds(const std::vector<PfxContactManifold>& manifolds);
   PfxInt32 settleManifolds(PfxDetectCollisionParam& param);
   void composeStablePairs();
   void assignSimplePairs();
@@ -547,10 +538,6 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
-  // The manifolds' points: a pair that touches at one point (a sphere on the ground) holds
-  // room for one, others room for four; a pair without points holds none.
-  PfxContactPointPool m_onePointBlocks{1};
-  PfxContactPointPool m_fourPointBlocks{PFX_NUM_CONTACTS_PER_MANIFOLD};
   // The manifold that the stable pipeline's pairs without points name, all of them: it
   // stays empty and is never freed (pfxDetectCollision's sharedEmptyContactId).
   PfxUInt32 m_sharedEmptyManifold = 0;

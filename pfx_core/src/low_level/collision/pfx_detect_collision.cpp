@@ -119,8 +119,8 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   }
   PfxContactManifold& manifold = shared ? unshared : param.offsetContactManifolds[contactId];
   if (shared) unshared.reset(idA, idB);
-  pfxSetNumConstraints(pair, manifold.update(candidates, numCandidates, transformA, transformB,
-                                             param.matchDistanceSq));
+  manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
+  pfxSetNumConstraints(pair, manifold.getNumContacts());
 }
 
 }  // namespace
@@ -154,8 +154,7 @@ PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager
   pfxParallelFor(taskManager, param.numContactPairs, kDetectedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
-                   PfxContactPoint unsharedPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
-                   PfxContactManifold unshared(unsharedPoints, PFX_NUM_CONTACTS_PER_MANIFOLD);
+                   PfxContactManifold unshared;
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      detectPair(param, param.contactPairs[i], candidates, unshared);
                    }
