@@ -23,24 +23,27 @@ PfxFloat closingDistance(const PfxRigidState& a, const PfxCollidable& ca, const 
   return (linear + angular) * timeStep;
 }
 
+// The slack of boundsApart and sphereApart, relative to the coordinates compared: it covers
+// the rounding of the two bounds' computations, so that a pair is only called apart when
+// its routine would surely find nothing.
+constexpr PfxFloat kApartRelativeSlack = PfxFloat(1e-5);
+
 // Whether two bodies' bounds (their collidables' boxes, which hold every shape's box) lie
 // further apart along a world axis than `threshold`: then no pair of their shapes passes
 // the bounds test in pfxContactCollidables either (a shape's world box lies inside its
 // body's), and the pair has no contact. Most broad-phase pairs of a falling crowd are such
-// neighbours, and this test costs a fraction of the shapes' validation and poses. The
-// slack covers the rounding of the two box computations; NaN poses compare false and go
-// on to pfxContactCollidables, which rejects them.
+// neighbours, and this test costs a fraction of the shapes' validation and poses. NaN poses
+// compare false and go on to pfxContactCollidables, which rejects them.
 bool boundsApart(const PfxCollidable& collA, const PfxTransform3& transformA,
                  const PfxCollidable& collB, const PfxTransform3& transformB,
                  PfxFloat threshold) {
-  constexpr PfxFloat kRelativeSlack = PfxFloat(1e-5);
   PfxVector3 centerA, halfA, centerB, halfB;
   collA.getWorldAabb(transformA, centerA, halfA);
   collB.getWorldAabb(transformB, centerB, halfB);
   for (int axis = 0; axis < 3; ++axis) {
     const PfxFloat reach = halfA[axis] + halfB[axis] + threshold;
     const PfxFloat slack =
-        kRelativeSlack * (std::abs(centerA[axis]) + std::abs(centerB[axis]) + reach);
+        kApartRelativeSlack * (std::abs(centerA[axis]) + std::abs(centerB[axis]) + reach);
     if (std::abs(centerB[axis] - centerA[axis]) > reach + slack) return true;
   }
   return false;
@@ -83,10 +86,9 @@ bool sphereApart(const PfxCollidable& collA, const PfxTransform3& transformA,
       !(a.sphere || b.sphere)) {
     return false;
   }
-  constexpr PfxFloat kRelativeSlack = PfxFloat(1e-5);
   const PfxFloat reach = a.radius + b.radius + threshold;
   const PfxFloat slack =
-      kRelativeSlack * (a.centre.cwiseAbs().maxCoeff() + b.centre.cwiseAbs().maxCoeff() + reach);
+      kApartRelativeSlack * (a.centre.cwiseAbs().maxCoeff() + b.centre.cwiseAbs().maxCoeff() + reach);
   return (b.centre - a.centre).squaredNorm() > (reach + slack) * (reach + slack);
 }
 
