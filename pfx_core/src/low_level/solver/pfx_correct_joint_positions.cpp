@@ -100,13 +100,21 @@ constexpr PfxFloat kNegligibleApproach = PfxFloat(1e-4);
 // about 8.5 times a pass for the few that a contact kept moving.
 class CorrectionRegion {
  public:
-  CorrectionRegion(unsigned char* work, std::size_t bytes, const PfxJointTreeSolver& tree,
+  // Each array holds numRigidBodies entries.
+  struct Work {
+    PfxUInt32* groups = nullptr;
+    PfxUInt32* treesToSolve = nullptr;
+    PfxUInt8* flags = nullptr;
+  };
+
+  CorrectionRegion(const Work& work, const PfxJointTreeSolver& tree,
                    const PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies)
-      : m_tree(tree), m_solverBodies(solverBodies), m_numRigidBodies(numRigidBodies) {
-    PfxWorkCarver carver(work, bytes);
-    m_groups = carver.take<PfxUInt32>(numRigidBodies);
-    m_treesToSolve = carver.take<PfxUInt32>(numRigidBodies);
-    m_flags = carver.take<PfxUInt8>(numRigidBodies);
+      : m_tree(tree),
+        m_solverBodies(solverBodies),
+        m_numRigidBodies(numRigidBodies),
+        m_groups(work.groups),
+        m_treesToSolve(work.treesToSolve),
+        m_flags(work.flags) {
     // At first every group is in the region, and every tree's locked axes are to be solved.
     for (PfxUInt32 i = 0; i < numRigidBodies; ++i) {
       const PfxInt32 treeBody = tree.getTreeBody(i);
@@ -166,9 +174,19 @@ class CorrectionRegion {
   const PfxJointTreeSolver& m_tree;
   const PfxSolverBody* m_solverBodies;
   PfxUInt32 m_numRigidBodies;
-  PfxUInt32* m_groups = nullptr;  // a body of its tree, or the body itself in no tree
-  PfxUInt32* m_treesToSolve = nullptr;
-  PfxUInt8* m_flags = nullptr;
+  PfxUInt32* m_groups;  // a body of its tree, or the body itself in no tree
+  PfxUInt32* m_treesToSolve;
+  PfxUInt8* m_flags;
+};
+
+// The work buffer, carved once for every pass: the joints' forest, the region, and the
+// touching pairs (regionWorkBytes, touchingPairsWorkBytes).
+struct CorrectionWork {
+  void* tree = nullptr;
+  PfxUInt32 treeBytes = 0;
+  CorrectionRegion::Work region;
+  PfxConstraintPair* touchingPairs = nullptr;
+  PfxUInt32 numTouchingPairs = 0;
 };
 
 // Marks both bodies of the contacts at which the push velocities move them closer by more
@@ -198,10 +216,11 @@ void markApproachingContacts(const PfxCorrectJointPositionsParam& param,
   }
 }
 
-// The contacts take part when `numTouchingPairs` is not 0.
-PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param,
-                     const PfxConstraintPair* touchingPairs, PfxUInt32 numTouchingPairs,
+// The contacts take part when the work has touching pairs.
+PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, const CorrectionWork& work,
                      bool lastPass, PfxTaskManager* taskManager) {
+  const PfxConstraintPair* const touchingPairs = work.touchingPairs;
+  const PfxUInt32 numTouchingPairs = work.numTouchingPairs;
   const bool seeContacts = numTouchingPairs > 0;
   // Masses at the current orientations, and the joints measured at the current poses.
   // Last step's impulses stay as they are (warm start factor 1): they seed the next
@@ -230,15 +249,10 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param,
     return err;
   }
 
-  const std::size_t treeBytes =
-      PfxJointTreeSolver::getWorkBytes(param.numRigidBodies, param.numJointPairs);
   PfxJointTreeSolver tree;
-  tree.build(param.workBuff, static_cast<PfxUInt32>(treeBytes), param.jointPairs,
-             param.numJointPairs, param.offsetJoints, param.offsetSolverBodies,
-             param.numRigidBodies, taskManager);
-  CorrectionRegion region(static_cast<unsigned char*>(param.workBuff) + treeBytes,
-                          regionWorkBytes(param.numRigidBodies), tree, param.offsetSolverBodies,
-                          param.numRigidBodies);
+  tree.build(work.tree, work.treeBytes, param.jointPairs, param.numJointPairs,
+             param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies, taskManager);
+  CorrectionRegion region(work.region, tree, param.offsetSolverBodies, param.numRigidBodies);
   clearContactPushImpulses(touchingPairs, numTouchingPairs, param.offsetContactManifolds);
   // The negligible velocity of a contact's approach, and of a joint row's update as its two
   // bodies alone answer it (rad/s for a rotation).
@@ -352,20 +366,19 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
   // cost a hanging chain a quarter of its step). The choice follows the contacts there
   // are, not whether they acted in this step: going from two passes to three and back from
   // step to step kept the seed's ragdoll creeping at 4 cm/s for 20 s.
-  const std::size_t touchingPairsOffset =
-      PfxJointTreeSolver::getWorkBytes(param.numRigidBodies, param.numJointPairs) +
-      regionWorkBytes(param.numRigidBodies);
-  PfxWorkCarver carver(static_cast<unsigned char*>(param.workBuff) + touchingPairsOffset,
-                       param.workBytes - touchingPairsOffset);
-  PfxConstraintPair* touchingPairs = carver.take<PfxConstraintPair>(param.numContactPairs);
-  const PfxUInt32 numTouchingPairs = gatherTouchingPairs(param, touchingPairs);
-  const PfxUInt32 passes = numTouchingPairs > 0 ? kNewtonPasses + 1 : kNewtonPasses;
+  CorrectionWork work;
+  PfxWorkCarver carver(param.workBuff, workBytes);
+  work.treeBytes = PfxJointTreeSolver::getWorkBytes(param.numRigidBodies, param.numJointPairs);
+  work.tree = carver.take<unsigned char>(work.treeBytes);
+  work.region.groups = carver.take<PfxUInt32>(param.numRigidBodies);
+  work.region.treesToSolve = carver.take<PfxUInt32>(param.numRigidBodies);
+  work.region.flags = carver.take<PfxUInt8>(param.numRigidBodies);
+  work.touchingPairs = carver.take<PfxConstraintPair>(param.numContactPairs);
+  work.numTouchingPairs = gatherTouchingPairs(param, work.touchingPairs);
+  const PfxUInt32 passes = work.numTouchingPairs > 0 ? kNewtonPasses + 1 : kNewtonPasses;
   for (PfxUInt32 pass = 0; pass < passes; ++pass) {
     const bool last = pass + 1 == passes;
-    if ((err = correctOnce(param, touchingPairs, numTouchingPairs, last, taskManager)) !=
-        PFX_OK) {
-      return err;
-    }
+    if ((err = correctOnce(param, work, last, taskManager)) != PFX_OK) return err;
   }
   return PFX_OK;
 }
