@@ -1,5 +1,6 @@
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -368,9 +369,52 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
 
 constexpr PfxUInt32 kSolvedBodiesPerTask = 512;
 
+// The contact pairs with points that touch a body of a joint tree: first, in their order,
+// those between a tree's body and one that does not move (the pairs that
+// pfxSweepTreeContacts takes with PfxTreeContactPairs::kOnTrees), then the others. Each
+// iteration's sweep of those pairs through the trees, and its marking of the trees that
+// contacts move, went through every pair the broad phase found, most of them without a
+// point (three quarters of the piled ragdolls' pairs).
+struct TreeContactPairs {
+  const PfxConstraintPair* pairs;
+  PfxUInt32 numOnFixed;
+  PfxUInt32 numPairs;
+};
+
+TreeContactPairs gatherTreeContactPairs(const PfxSolveConstraintsParam& param,
+                                        const PfxJointTreeSolver& tree, PfxConstraintPair* pairs) {
+  PfxUInt32 numOnFixed = 0, numOthers = 0;
+  // The others are gathered from the end backwards (their order does not matter), then
+  // moved up behind the first.
+  PfxConstraintPair* const others = pairs + param.numContactPairs;
+  for (PfxUInt32 i = 0; i < param.numContactPairs; ++i) {
+    const PfxConstraintPair& pair = param.contactPairs[i];
+    if (!pfxGetActive(pair) ||
+        param.offsetContactManifolds[pfxGetContactId(pair)].getNumContacts() == 0) {
+      continue;
+    }
+    const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+    if (tree.getTreeBody(idA) < 0 && tree.getTreeBody(idB) < 0) continue;
+    const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
+    const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
+    const bool treeA = receivesA != 0 && tree.getTreeBody(idA) >= 0;
+    const bool treeB = receivesB != 0 && tree.getTreeBody(idB) >= 0;
+    const bool fixedA = !pfxTakesImpulse(param.offsetSolverBodies[idA], receivesA);
+    const bool fixedB = !pfxTakesImpulse(param.offsetSolverBodies[idB], receivesB);
+    if ((treeA && fixedB) || (treeB && fixedA)) {
+      pairs[numOnFixed++] = pair;
+    } else {
+      *(others - ++numOthers) = pair;
+    }
+  }
+  std::copy(others - numOthers, others, pairs + numOnFixed);
+  return {pairs, numOnFixed, numOnFixed + numOthers};
+}
+
 // The work buffer: the joints' forest and its bounded rows, the contacts' forest, the
-// bodies' batch words, the batches of contacts and of joints, shock propagation's work, then
-// the scratch of the contacts' direct solve, whatever is left.
+// bodies' batch words, the batches of contacts and of joints, shock propagation's work
+// (without joints) or the contact pairs on the trees' bodies (with them), then the scratch
+// of the contacts' direct solve, whatever is left.
 struct SolverWorkLayout {
   PfxUInt32 jointTreeBytes = 0;
   PfxUInt32 boundedRowBytes = 0;
@@ -378,7 +422,7 @@ struct SolverWorkLayout {
   std::size_t bodyBatchBytes = 0;
   std::size_t contactBatchBytes = 0;
   std::size_t jointBatchBytes = 0;
-  std::size_t shockBytes = 0;
+  std::size_t shockOrTreeContactBytes = 0;
 
   SolverWorkLayout(PfxUInt32 numRigidBodies, PfxUInt32 numContactPairs, PfxUInt32 numJointPairs) {
     if (numJointPairs > 0) {
@@ -393,12 +437,17 @@ struct SolverWorkLayout {
     }
     contactBatchBytes = PfxConstraintBatches::getWorkBytes(numContactPairs);
     jointBatchBytes = PfxConstraintBatches::getWorkBytes(numJointPairs);
-    if (numContactPairs > 0) shockBytes = PfxShockPropagation::getWorkBytes(numContactPairs);
+    if (numContactPairs > 0) {
+      shockOrTreeContactBytes =
+          std::max(PfxShockPropagation::getWorkBytes(numContactPairs),
+                   PfxWorkCarver::bytesFor(alignof(PfxConstraintPair),
+                                           sizeof(PfxConstraintPair) * numContactPairs));
+    }
   }
   // All but the contacts' scratch.
   std::size_t fixedBytes() const {
     return std::size_t(jointTreeBytes) + boundedRowBytes + contactTreeBytes + bodyBatchBytes +
-           contactBatchBytes + jointBatchBytes + shockBytes;
+           contactBatchBytes + jointBatchBytes + shockOrTreeContactBytes;
   }
 };
 
@@ -532,7 +581,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                      },
                      taskManager);
   cursor += layout.jointBatchBytes;
-  unsigned char* const shockWork = cursor;
+  unsigned char* const shockOrTreeContactWork = cursor;
 
   // work(sweep, ...) over numSweeps sweeps of the contacts, or one of the joints.
   auto sweepContacts = [&](PfxUInt32 numSweeps, auto&& work) {
@@ -576,7 +625,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     });
     solveContactTrees();
     PfxShockPropagation shock;
-    shock.build(shockWork, param.contactPairs, param.numContactPairs,
+    shock.build(shockOrTreeContactWork, param.contactPairs, param.numContactPairs,
                 param.offsetContactManifolds, param.offsetRigidStates, param.offsetSolverBodies,
                 param.gravity.isZero(0) ? PfxVector3(PfxVector3::Zero())
                                         : PfxVector3(-param.gravity.normalized()));
@@ -596,6 +645,10 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       tree.prepareBoundedRows(boundedRowWork, layout.boundedRowBytes, taskManager);
       tree.markTreesMovedFromOutside(param.offsetJointCouplings, param.numJointCouplings);
     }
+    const TreeContactPairs treeContacts = gatherTreeContactPairs(
+        param, tree,
+        PfxWorkCarver(shockOrTreeContactWork, layout.shockOrTreeContactBytes)
+            .take<PfxConstraintPair>(param.numContactPairs));
     for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
       const PfxJointCoupling& coupling = param.offsetJointCouplings[i];
       pfxApplyJointCouplingImpulse(coupling, coupling.m_row.m_accumImpulse,
@@ -614,14 +667,12 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       // The contacts on the trees' bodies again, as the trees answer them
       // (pfx_tree_contact_rows.h): the sweep above leaves a landing foot sinking with the
       // body's momentum. Before the joints' limits, which the trees' solve does not hold.
-      pfxSweepTreeContacts(param.contactPairs, param.numContactPairs,
+      pfxSweepTreeContacts(treeContacts.pairs, treeContacts.numOnFixed,
                            param.offsetContactManifolds, param.offsetSolverBodies, tree,
                            PfxTreeContactVelocities::kVelocity, PfxTreeContactPairs::kOnTrees,
                            kNegligibleTreeContactShortfall / param.timeStep);
-      if (param.numJointPairs > 0) {
-        tree.markTreesMovedByContacts(param.contactPairs, param.numContactPairs,
-                                      param.offsetContactManifolds);
-      }
+      tree.markTreesMovedByContacts(treeContacts.pairs, treeContacts.numPairs,
+                                    param.offsetContactManifolds);
       tree.solveVelocitiesBeforeSweep(first, taskManager);
       sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
