@@ -132,6 +132,9 @@ void warmStart(PfxContactManifold& manifold, const PairBodies& p) {
     const PfxSolverVec3 armA = pfxLoadVec3(cp.m_armA);
     const PfxSolverVec3 armB = pfxLoadVec3(cp.m_armB);
     for (const PfxConstraintRow& row : cp.m_constraintRow) {
+      // A row without impulse (half the points of a pile of ragdolls, a gap apart) moves
+      // nothing.
+      if (row.m_accumImpulse == 0) continue;
       bodies.applyImpulse(pfxLoadVec3(row.m_normal) * row.m_accumImpulse, armA, armB);
     }
   }
@@ -206,6 +209,11 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
     PfxContactPoint& cp = manifold.getContactPoint(i);
     PfxConstraintRow& row1 = cp.m_constraintRow[1];
     PfxConstraintRow& row2 = cp.m_constraintRow[2];
+    const PfxFloat limit = friction * cp.m_constraintRow[0].m_accumImpulse;
+    // Without a limit the friction is clamped to nothing, which a point without friction
+    // impulse already has: a point that does not push (a speculative point a gap apart,
+    // half of a ragdoll pile's manifolds) has nothing to do here.
+    if (limit == 0 && row1.m_accumImpulse == 0 && row2.m_accumImpulse == 0) continue;
     const PfxSolverVec3 armA = pfxLoadVec3(cp.m_armA);
     const PfxSolverVec3 armB = pfxLoadVec3(cp.m_armB);
     const PfxSolverVec3 tangent1 = pfxLoadVec3(row1.m_normal);
@@ -215,7 +223,6 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
     const PfxFloat old2 = row2.m_accumImpulse;
     PfxFloat new1 = old1 + row1.m_rhs - row1.m_jacDiagInv * pfxDot(tangent1, dv);
     PfxFloat new2 = old2 + row2.m_rhs - row2.m_jacDiagInv * pfxDot(tangent2, dv);
-    const PfxFloat limit = friction * cp.m_constraintRow[0].m_accumImpulse;
     const PfxFloat magnitudeSq = new1 * new1 + new2 * new2;
     if (magnitudeSq > limit * limit) {
       const PfxFloat scale = limit / std::sqrt(magnitudeSq);
