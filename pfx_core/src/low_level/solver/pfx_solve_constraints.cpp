@@ -169,15 +169,21 @@ void solveContacts(PfxContactManifold& manifold, const PairBodies& p) {
                         &PfxSolverBody::m_deltaAngularVelocity);
 
   // Velocities: each row's rhs is (target - initial velocity) scaled by its effective mass.
+  bool idle = true;
   for (PfxUInt32 i = 0; i < n; ++i) {
     const PfxContactPoint& cp = manifold.getContactPoint(i);
     const PfxConstraintRow& row = cp.m_constraintRow[0];
     const PfxFloat target = row.m_jacDiagInv > 0 ? row.m_rhs / row.m_jacDiagInv : 0;
     residual[i] = target - bodies.normalVelocity(cp);
     impulse[i] = row.m_accumImpulse;
+    idle = idle && impulse[i] == 0 && residual[i] <= 0;
   }
-  solveNormalBlock(manifold, residual, impulse, delta);
-  bodies.applyNormalImpulses(manifold, delta);
+  // Points that do not push and need no push (a gap that no approach closes) keep their
+  // impulses at zero through the block's sweeps, which change nothing.
+  if (!idle) {
+    solveNormalBlock(manifold, residual, impulse, delta);
+    bodies.applyNormalImpulses(manifold, delta);
+  }
   bool pushing = false;
   for (PfxUInt32 i = 0; i < n; ++i) {
     PfxContactPoint& cp = manifold.getContactPoint(i);
