@@ -254,6 +254,27 @@ PfxTreeBlock faceJacobian(const PfxContactManifold& manifold, const Face& face, 
   return rows;
 }
 
+// Whether joints hold every body that moves (a pile of ragdolls, robots): the trees of
+// such bodies are left to the iterations (see build), so the forest is empty, and
+// looking for it, which reads every pair's manifold, can be skipped. `jointed` is scratch
+// of numRigidBodies entries.
+bool everyMovingBodyJointed(const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
+                            const PfxSolverBody* solverBodies, PfxUInt32 numRigidBodies,
+                            PfxInt32* jointed) {
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) jointed[b] = 0;
+  for (PfxUInt32 i = 0; i < numJointPairs; ++i) {
+    const PfxConstraintPair& pair = jointPairs[i];
+    if (!pfxGetActive(pair)) continue;
+    for (const PfxUInt32 id : {pfxGetObjectIdA(pair), pfxGetObjectIdB(pair)}) {
+      if (id < numRigidBodies) jointed[id] = 1;
+    }
+  }
+  for (PfxUInt32 b = 0; b < numRigidBodies; ++b) {
+    if (solverBodies[b].m_massInv > 0 && !jointed[b]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
@@ -286,6 +307,10 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     return false;
   }
 
+  if (numJointPairs > 0 &&
+      everyMovingBodyJointed(jointPairs, numJointPairs, solverBodies, numRigidBodies, sets)) {
+    return true;
+  }
   auto movable = [&](PfxUInt32 id, bool receives) { return movesWith(solverBodies[id], receives); };
   // Faces that touch and act on a body that moves. A body that moves but takes nothing
   // from the pair (one-way) cannot be both inside and outside the system: such a pair
