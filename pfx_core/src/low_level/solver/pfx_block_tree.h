@@ -64,20 +64,14 @@ void invertDefinite(double* a) {
         x[i][j] = -sum;
       }
     }
-    // A^-1 = L^-T D^-1 L^-1, symmetric: entry (i, j) is x(i, j) / d(i) plus, for k > i in
-    // increasing order, x(k, i) x(k, j) / d(k). Summed as rank-one updates, k after k, so
-    // that the entries of a column take their terms side by side: the same terms in the
-    // same order, so the same bits, in a quarter less time than entry after entry.
+    // A^-1 = L^-T D^-1 L^-1, symmetric.
     for (int j = 0; j < N; ++j) {
-      for (int i = j; i < N; ++i) a[i + 6 * j] = (i == j ? 1.0 : x[i][j]) * inversePivot[i];
-    }
-    for (int k = 1; k < N; ++k) {
-      for (int j = 0; j < k; ++j) {
-        for (int i = j; i < k; ++i) a[i + 6 * j] += x[k][i] * x[k][j] * inversePivot[k];
+      for (int i = j; i < N; ++i) {
+        double sum = (i == j ? 1.0 : x[i][j]) * inversePivot[i];
+        for (int k = i + 1; k < N; ++k) sum += x[k][i] * x[k][j] * inversePivot[k];
+        a[i + 6 * j] = sum;
+        a[j + 6 * i] = sum;
       }
-    }
-    for (int j = 0; j < N; ++j) {
-      for (int i = j + 1; i < N; ++i) a[j + 6 * i] = a[i + 6 * j];
     }
   }
 }
