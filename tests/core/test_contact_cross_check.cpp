@@ -642,7 +642,8 @@ TEST_F(ContactCrossCheck, RarePosesOfLongRunsAgreeWithTheReference) {
 }
 
 // Box routines (a box against a sphere or capsule, two boxes, two polyhedra): poses that
-// 10,000 per pair from seeds 1 to 12 found beyond the bounds.
+// 10,000 per pair from seeds 1 to 12 found beyond the bounds, and poses that show a
+// contact point where the shapes are not.
 TEST_F(ContactCrossCheck, BoxRoutinesRarePosesAgreeWithTheReference) {
   const RarePose poses[] = {
       // Seed 8: the capsule nearly parallel to the box's face, closest just past its rim;
@@ -662,6 +663,49 @@ TEST_F(ContactCrossCheck, BoxRoutinesRarePosesAgreeWithTheReference) {
     // Each of these now meets the reference's best direction to float rounding.
     const Errors e = expectAgreesWithTheReference(p, referenceOf(p.a), referenceOf(p.b));
     EXPECT_LE(e.normal, 1e-6) << p.what;
+  }
+}
+
+// The largest distance of a contact's point on one box from the other box (local
+// coordinates clamped to its half extents): a point of a contact between two boxes lies on
+// one and, where they overlap, inside the other.
+double pointOffTheOtherBox(const PfxVector3& point, const PfxTransform3& box,
+                           const PfxVector3& half) {
+  const Vec3 local = placementOf(box).rotation.transpose() *
+                     (toDouble(point) - placementOf(box).translation);
+  const Vec3 h = toDouble(half);
+  return (local - local.cwiseMax(-h).cwiseMin(h)).norm();
+}
+
+// A tall box touching the far top rim of a wide one, faces parallel to 4e-4 rad: clipping
+// the tall box's bottom face to the wide one's top face leaves nothing (they meet only on
+// the rim), and the deepest corner of that bottom face, reported in their place, lay
+// 0.126 m beside the wide box. The same with the tall box as a convex mesh (the polyhedra's
+// routine).
+TEST_F(ContactCrossCheck, BoxesMeetingOnAFaceRimTouchWhereBothAre) {
+  const PfxVector3 halfA(PfxFloat(0.394624799), PfxFloat(0.250621885), PfxFloat(0.127238467));
+  const PfxVector3 halfB(PfxFloat(0.117143318), PfxFloat(0.103365555), PfxFloat(0.54699266));
+  const PfxFloat rotationB[9] = {0.99999994f,      1.3329729e-05f, -0.000364691194f,
+                                 -1.34905149e-05f, 0.999999881f,   -0.000440883654f,
+                                 0.000364685256f,  0.000440888543f, 0.999999821f};
+  const PfxFloat positionB[3] = {0.511568367f, -0.273293853f, 0.674126863f};
+  const PfxTransform3 poseA = PfxTransform3::Identity();
+  const PfxTransform3 poseB = poseOf(rotationB, positionB);
+  const PfxConvexMesh meshB = buildMesh(makeBoxTriangles(halfB.x(), halfB.y(), halfB.z()));
+  const PfxShape shapesB[2] = {makeBox(halfB.x(), halfB.y(), halfB.z()), makeMeshShape(&meshB)};
+  for (const PfxShape& shapeB : shapesB) {
+    SCOPED_TRACE(shapeB.getType() == kPfxShapeBox ? "box" : "box as a convex mesh");
+    Contacts r;
+    r.n = pfxContactConvexShapes(makeBox(halfA.x(), halfA.y(), halfA.z()), poseA, shapeB, poseB,
+                                 kThreshold, r.c, PFX_MAX_CONTACT_CANDIDATES);
+    ASSERT_GT(r.n, 0u);
+    for (PfxUInt32 i = 0; i < r.n; ++i) {
+      const PfxContactCandidate& c = r.c[i];
+      // They touch to float rounding: each point is on both boxes to that, and to 1e-5 m.
+      EXPECT_LT(std::abs(c.m_distance), 1e-5);
+      EXPECT_LT(pointOffTheOtherBox(c.m_pointA, poseB, halfB), 1e-5);
+      EXPECT_LT(pointOffTheOtherBox(c.m_pointB, poseA, halfA), 1e-5);
+    }
   }
 }
 
