@@ -658,6 +658,18 @@ TEST_F(ContactCrossCheck, BoxRoutinesRarePosesAgreeWithTheReference) {
         -0.699366927f, -0.69602108f, -0.162605643f},
        {0.932615578f, 0.450227112f, -0.247448683f},
        kDepthTolerance},
+      // Seed 6: the capsule's segment 0.03 mm from the box's edge; the rounding of the
+      // closest point along the segment tilted the normal by a milliradian, 2.9e-4 m more push.
+      {"capsule's segment 0.03 mm from a box's edge",
+       makeBox(PfxFloat(0.459113061), PfxFloat(0.409104526), PfxFloat(0.232735202)),
+       makeCapsule(PfxFloat(0.238599464), PfxFloat(0.0627350807)),
+       {0.0631563663f, 0.417232394f, 0.906602621f, 0.561816216f, 0.735940278f, -0.377828538f,
+        -0.824847698f, 0.533206344f, -0.187928677f},
+       {0.111877464f, -0.266441226f, 0.0805760622f},
+       {0.178545177f, -0.157702088f, -0.971211493f, -0.26073429f, -0.95936799f, 0.1078462f,
+        -0.948756754f, 0.233972698f, -0.212409019f},
+       {0.488325059f, 0.161531612f, 0.128065959f},
+       kDepthTolerance},
   };
   for (const RarePose& p : poses) {
     // Each of these now meets the reference's best direction to float rounding.
