@@ -26,6 +26,15 @@ PfxUInt32 pfxClipPolygonByAxisPlane(const PfxVector3* in, PfxUInt32 numIn, int a
 
 namespace pfx {
 
+// The point of the convex polygon `incident` that comes nearest to the convex polygon
+// `reference` seen along the unit `normal` (their distance measured across it); of the
+// points as near to within `tolerance`, the deepest (smallest along `normal`). Meant for
+// polygons that clipping showed to meet at most on their rims: a vertex of one inside the
+// other is measured to that other's rim, not taken as zero.
+PfxVector3 pfxNearestPointAcross(const PfxVector3* incident, PfxUInt32 numIncident,
+                                 const PfxVector3* reference, PfxUInt32 numReference,
+                                 const PfxVector3& normal, PfxFloat tolerance);
+
 // Drops points within `tolerance` of an earlier point and returns how many remain: a face
 // of zero size clips to copies of one point, which are one contact.
 PfxUInt32 pfxRemoveDuplicatePoints(PfxVector3* points, PfxUInt32 count, PfxFloat tolerance);

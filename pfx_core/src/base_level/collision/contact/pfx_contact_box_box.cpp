@@ -204,12 +204,23 @@ class BoxBoxContact {
 
     count = pfxRemoveDuplicatePoints(polygon, count, m_mergeDistance);
     if (count == 0 && !apart) {
-      // Round-off clipped everything away: the deepest incident corner stands for the face.
+      // The boxes touch, yet clipping left nothing of the incident face: the faces meet at
+      // most on the reference face's rim (rounding cut the sliver there away). The incident
+      // face's point nearest that rim stands for them. The deepest incident corner did
+      // before: for nearly parallel faces, a corner up to a box's length beside the
+      // reference face, a contact where neither box is.
       const PfxVector3 corners[4] = {faceCentre + edgeU + edgeV, faceCentre - edgeU + edgeV,
                                      faceCentre - edgeU - edgeV, faceCentre + edgeU - edgeV};
-      polygon[0] = *std::min_element(corners, corners + 4, [&](const PfxVector3& p, const PfxVector3& q) {
-        return normal.dot(p) < normal.dot(q);
-      });
+      const int refU = (k + 1) % 3;
+      const int refV = (k + 2) % 3;
+      PfxVector3 rim[4];
+      const PfxFloat signs[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
+      for (int i = 0; i < 4; ++i) {
+        rim[i][k] = face.sign * reference.half[k];
+        rim[i][refU] = signs[i][0] * reference.half[refU];
+        rim[i][refV] = signs[i][1] * reference.half[refV];
+      }
+      polygon[0] = pfxNearestPointAcross(corners, 4, rim, 4, normal, m_mergeDistance);
       count = 1;
     }
     const PfxVector3 worldNormal = refTransform.linear() * normal;

@@ -22,7 +22,12 @@ PfxFloat distanceSqToBox(const PfxVector3& half, const PfxVector3& p) {
 
 // The squared distance from the segment to the box is convex and piecewise quadratic in t,
 // with pieces separated where the segment crosses a face plane. The minimum over each
-// piece is found in closed form, so the answer is exact, not iterated.
+// piece is found in closed form, so the answer is exact, not iterated. A piece whose
+// quadratic has its vertex strictly inside it holds the minimum of all (convexity); it wins
+// over a smaller distance computed at another piece's end. Comparing the distances alone
+// let rounding pick the end: a segment nearly parallel to a face, closest just past its rim,
+// differs there by parts in a million of the distance squared, below what float resolves,
+// and the face's normal then needed 4.4e-4 m more push than the closest points' normal.
 PfxFloat closestParameterToBox(const PfxVector3& half, const LocalSegment& seg,
                                PfxFloat& bestDistSq) {
   PfxFloat breaks[8];
@@ -42,6 +47,7 @@ PfxFloat closestParameterToBox(const PfxVector3& half, const LocalSegment& seg,
 
   PfxFloat bestT = 0;
   bestDistSq = std::numeric_limits<PfxFloat>::max();
+  bool bestIsVertex = false;
   for (int k = 0; k + 1 < numBreaks; ++k) {
     const PfxFloat t0 = breaks[k];
     const PfxFloat t1 = breaks[k + 1];
@@ -60,12 +66,15 @@ PfxFloat closestParameterToBox(const PfxVector3& half, const LocalSegment& seg,
       a += seg.dir[i] * seg.dir[i];
       b += PfxFloat(2) * seg.dir[i] * (seg.p0[i] - face);
     }
-    const PfxFloat t =
-        a > PFX_EPSILON * PFX_EPSILON ? std::min(std::max(-b / (2 * a), t0), t1) : t0;
+    const bool curved = a > PFX_EPSILON * PFX_EPSILON;
+    const PfxFloat vertex = curved ? -b / (2 * a) : t0;
+    const bool isVertex = curved && vertex > t0 && vertex < t1;
+    const PfxFloat t = std::min(std::max(vertex, t0), t1);
     const PfxFloat distSq = distanceSqToBox(half, seg.at(t));
-    if (distSq < bestDistSq) {
+    if ((isVertex && !bestIsVertex) || (isVertex == bestIsVertex && distSq < bestDistSq)) {
       bestDistSq = distSq;
       bestT = t;
+      bestIsVertex = isVertex;
     }
   }
   return bestT;
@@ -97,26 +106,48 @@ class BoxSweptSphere {
     const PfxFloat reach = m_radius + m_sink.getThreshold();
     if (reach <= 0 || distSq >= reach * reach) return;
     if (distSq > PFX_EPSILON * PFX_EPSILON) {
-      separated(m_seg.at(t), std::sqrt(distSq));
+      separated(t, std::sqrt(distSq));
     } else {
       overlapping();
     }
   }
 
  private:
-  void separated(const PfxVector3& q, PfxFloat dist) {
+  // The segment's point at t is the closest to the box, `dist` from it.
+  void separated(PfxFloat t, PfxFloat dist) {
+    const PfxVector3 q = m_seg.at(t);
     const PfxVector3 onBox = q.cwiseMax(-m_half).cwiseMin(m_half);
     int outsideAxis = -1;
     int numOutside = 0;
+    // The segment's direction along the axes where q is outside the box: the distance
+    // changes along the segment at the rate offset . alongOutside / dist.
+    PfxVector3 alongOutside = PfxVector3::Zero();
     for (int i = 0; i < 3; ++i) {
       if (q[i] > m_half[i] || q[i] < -m_half[i]) {
         outsideAxis = i;
         ++numOutside;
+        alongOutside[i] = m_seg.dir[i];
       }
     }
     // Over the inside of a face the whole segment may be close: report its clipped ends.
     if (numOutside == 1 && faceContacts(outsideAxis, q[outsideAxis] > 0 ? 1 : -1)) return;
-    const PfxVector3 n = (q - onBox) / dist;
+    PfxVector3 offset = q - onBox;
+    // At the closest point the distance does not fall along the segment either way it may
+    // go: inside the segment the offset is square to alongOutside, at an end it does not
+    // lean towards the segment's other end. The rounding of t breaks that by parts in ten
+    // million of the segment's length, which over an offset of 0.03 mm tilted the normal by
+    // a milliradian, 2.9e-4 m more push on a capsule (10,000 poses of seed 6); that part of
+    // the offset is taken out.
+    const PfxFloat rate = offset.dot(alongOutside);
+    const bool distanceStillFalls = (t > 0 && rate > 0) || (t < 1 && rate < 0);
+    if (distanceStillFalls && alongOutside.squaredNorm() > PFX_EPSILON * PFX_EPSILON) {
+      const PfxVector3 square = offset - alongOutside * (rate / alongOutside.squaredNorm());
+      if (square.norm() > PFX_EPSILON) {
+        offset = square;
+        dist = square.norm();
+      }
+    }
+    const PfxVector3 n = offset / dist;
     emit(n, onBox, q - n * m_radius, dist - m_radius);
   }
 

@@ -243,15 +243,18 @@ class PolyhedraContact {
 
     count = pfxRemoveDuplicatePoints(polygon, count, m_mergeDistance);
     if (count == 0 && !apart) {
-      // Round-off clipped everything away: the deepest incident vertex stands for the face.
-      PfxFloat best = std::numeric_limits<PfxFloat>::max();
-      for (PfxUInt32 k = 0; k < incident.faceSize(incFace); ++k) {
-        const PfxVector3 p = incident.faceVertex(incFace, k);
-        if (refNormal.dot(p) < best) {
-          best = refNormal.dot(p);
-          polygon[0] = p;
-        }
-      }
+      // The shapes touch, yet clipping left nothing of the incident face: the faces meet at
+      // most on the reference face's rim, and the incident face's point nearest that rim
+      // stands for them (as in pfxContactBoxBox; its deepest vertex could lie beside the
+      // reference face).
+      PfxVector3 incidentFace[PFX_CONVEX_MESH_MAX_VERTICES];
+      PfxVector3 referenceFace[PFX_CONVEX_MESH_MAX_VERTICES];
+      const PfxUInt32 incSize = std::min(incident.faceSize(incFace), PFX_CONVEX_MESH_MAX_VERTICES);
+      const PfxUInt32 refCount = std::min(refSize, PFX_CONVEX_MESH_MAX_VERTICES);
+      for (PfxUInt32 k = 0; k < incSize; ++k) incidentFace[k] = incident.faceVertex(incFace, k);
+      for (PfxUInt32 k = 0; k < refCount; ++k) referenceFace[k] = reference.faceVertex(refFace, k);
+      polygon[0] = pfxNearestPointAcross(incidentFace, incSize, referenceFace, refCount,
+                                         refNormal, m_mergeDistance);
       count = 1;
     }
     PfxFloat nearest = std::numeric_limits<PfxFloat>::max();
