@@ -675,9 +675,15 @@ TEST(DebugRender, ArrayFormsTakeThePipelinesArraysAndRefuseBadOnes) {
   PfxConstraintPair pair;
   pfxInitializePair(pair, 1, kPfxMotionTypeActive, 2, kPfxMotionTypeActive);
   pfxSetContactId(pair, 0);
-  const PfxVector4 planes[6] = {};
-  const PfxVector4 nanPlanes[6] = {
-      PfxVector4::Constant(std::numeric_limits<PfxFloat>::quiet_NaN())};
+  // Eigen leaves a vector's coefficients as it finds them: "= {}" would pass the stack's
+  // old bytes, NaN now and then, so every plane is filled.
+  PfxVector4 planes[6];
+  PfxVector4 nanPlanes[6];
+  for (int p = 0; p < 6; ++p) {
+    planes[p] = PfxVector4::Zero();  // every point inside
+    nanPlanes[p] = PfxVector4::Zero();
+  }
+  nanPlanes[2][3] = std::numeric_limits<PfxFloat>::quiet_NaN();
 
   r.clear();
   EXPECT_EQ(render.renderLocalAxis(nullptr, 2), PFX_ERR_NULL_POINTER);
