@@ -563,6 +563,29 @@ PfxTransform3 poseOf(const PfxFloat* rotation, const PfxFloat* position) {
   return t;
 }
 
+// pfx's answer on one fixed pose, measured against the reference.
+struct FixedPoseResult {
+  Contacts contacts;
+  double sepAlongPfxNormal = 0;  // the separation along the deepest candidate's normal
+  Errors errors;
+};
+
+FixedPoseResult measureFixedPose(const ReferenceShape& a, const PfxTransform3& poseA,
+                                 const ReferenceShape& b, const PfxTransform3& poseB) {
+  const Placement pa = placementOf(poseA), pb = placementOf(poseB);
+  const Reference ref = referenceBounds(a, pa, b, pb);
+  FixedPoseResult result;
+  Contacts& r = result.contacts;
+  r.n = pfxContactConvexShapes(a.shape, poseA, b.shape, poseB, kThreshold, r.c,
+                               PFX_MAX_CONTACT_CANDIDATES);
+  if (r.n > 0) {
+    result.sepAlongPfxNormal =
+        separation(a, pa, b, pb, toDouble(r.deepest().m_normal).normalized());
+  }
+  result.errors = measure(r, ref, result.sepAlongPfxNormal);
+  return result;
+}
+
 TEST_F(ContactCrossCheck, RarePosesOfLongRunsAgreeWithTheReference) {
   const RarePose poses[] = {
       // Apart by 0.04 m: the gap was reported 3.4e-5 m too large (within the bound of the
@@ -616,16 +639,10 @@ TEST_F(ContactCrossCheck, RarePosesOfLongRunsAgreeWithTheReference) {
   for (const RarePose& p : poses) {
     SCOPED_TRACE(p.what);
     const ReferenceShape a = referenceOf(p.a), b = referenceOf(p.b);
-    const PfxTransform3 poseA = poseOf(p.rotationA, p.positionA);
-    const PfxTransform3 poseB = poseOf(p.rotationB, p.positionB);
-    const Placement pa = placementOf(poseA), pb = placementOf(poseB);
-    const Reference ref = referenceBounds(a, pa, b, pb);
-    Contacts r;
-    r.n = pfxContactConvexShapes(a.shape, poseA, b.shape, poseB, kThreshold, r.c,
-                                 PFX_MAX_CONTACT_CANDIDATES);
-    ASSERT_GT(r.n, 0u);
-    const Errors e =
-        measure(r, ref, separation(a, pa, b, pb, toDouble(r.deepest().m_normal).normalized()));
+    const FixedPoseResult result = measureFixedPose(a, poseOf(p.rotationA, p.positionA), b,
+                                                    poseOf(p.rotationB, p.positionB));
+    ASSERT_GT(result.contacts.n, 0u);
+    const Errors& e = result.errors;
     EXPECT_LE(e.deeperThanAlongItsNormal, kDepthTolerance);
     EXPECT_LE(e.deeperThanPossible, kDepthTolerance);
     EXPECT_LE(e.normal, allowedNormalPush(a, b));
@@ -719,20 +736,14 @@ TEST_F(ContactCrossCheck, RarePosesOfTheGeneralRoutineAgreeWithTheReference) {
   };
   for (const GeneralRoutinePose& p : poses) {
     SCOPED_TRACE(p.what);
-    const ReferenceShape a = referenceShapeOf(p.a), b = referenceShapeOf(p.b);
-    const PfxTransform3 poseA = poseOf(p.rotationA, p.positionA);
-    const PfxTransform3 poseB = poseOf(p.rotationB, p.positionB);
-    const Placement pa = placementOf(poseA), pb = placementOf(poseB);
-    const Reference ref = referenceBounds(a, pa, b, pb);
-    Contacts r;
-    r.n = pfxContactConvexShapes(a.shape, poseA, b.shape, poseB, kThreshold, r.c,
-                                 PFX_MAX_CONTACT_CANDIDATES);
-    ASSERT_GT(r.n, 0u);
-    const double sepAlongPfxNormal =
-        separation(a, pa, b, pb, toDouble(r.deepest().m_normal).normalized());
-    const Errors e = measure(r, ref, sepAlongPfxNormal);
+    const FixedPoseResult result =
+        measureFixedPose(referenceShapeOf(p.a), poseOf(p.rotationA, p.positionA),
+                         referenceShapeOf(p.b), poseOf(p.rotationB, p.positionB));
+    ASSERT_GT(result.contacts.n, 0u);
+    const Errors& e = result.errors;
     // The distance is the separation along its own normal, neither more nor less.
-    EXPECT_NEAR(double(r.deepest().m_distance), sepAlongPfxNormal, kMicrometre);
+    EXPECT_NEAR(double(result.contacts.deepest().m_distance), result.sepAlongPfxNormal,
+                kMicrometre);
     EXPECT_LE(e.deeperThanPossible, kMicrometre);
     EXPECT_LE(e.normal, kMicrometre);
     EXPECT_LE(e.phantomOverlap, kMicrometre);
