@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pfx {
 
@@ -162,7 +163,7 @@ void pfxClosestToOriginOnTriangle(const PfxVector3& a, const PfxVector3& b, cons
 namespace {
 
 // One descent from the support point along `dir` (towards A from B), carrying the best
-// separation seen before it (`separation` along `separatingNormal`, zero for none).
+// separation seen before it (`separation` along `separatingNormal`, minus infinity for none).
 PfxGjkResult descend(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance,
                      const PfxVector3& dir, PfxFloat separation,
                      const PfxVector3& separatingNormal) {
@@ -192,12 +193,16 @@ PfxGjkResult descend(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat to
     next.a = a.support(-v);
     next.b = b.support(v);
     next.w = next.a - next.b;
-    if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
+    // The last direction counts too: where the descent converges it is the exact normal,
+    // taken from the simplex's plane, while the closest points, weighted sums of corners
+    // half a metre out on a sliver of a triangle, turned it by up to 3 mrad in float (a
+    // capsule's core 2 mm from a mesh's).
     const PfxFloat length = std::sqrt(vv);
     if (v.dot(next.w) > result.separation * length) {
       result.separation = v.dot(next.w) / length;
       result.separatingNormal = -v / length;
     }
+    if (vv - v.dot(next.w) <= kRelativeTolerance * vv) break;
     bool repeated = false;
     for (PfxUInt32 i = 0; i < size; ++i) {
       if ((simplex[i].w - next.w).squaredNorm() <= PfxFloat(1e-12) * vv) repeated = true;
@@ -262,7 +267,8 @@ PfxGjkResult descend(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat to
 PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxFloat tolerance) {
   PfxVector3 dir = a.m_position - b.m_position;
   if (dir.squaredNorm() <= PFX_EPSILON * PFX_EPSILON) dir = a.m_rotation.col(1);
-  PfxGjkResult result = descend(a, b, tolerance, dir, 0, PfxVector3::Zero());
+  PfxGjkResult result = descend(a, b, tolerance, dir, -std::numeric_limits<PfxFloat>::infinity(),
+                                PfxVector3::Zero());
   // Where one shape is ruled (a cylinder's side, a capsule's or box's edge) nearly across
   // the search direction, its support point jumps between the line's two ends, and the
   // simplex keeps corners taken along early, poor directions: its faces are chords that
@@ -270,9 +276,12 @@ PfxGjkResult pfxGjkDistance(const PfxConvexCore& a, const PfxConvexCore& b, PfxF
   // by less than float resolves (a capsule 0.05 m from a cylinder, 10,000 poses of seed
   // 7). A descent that stops with its bounds further apart than the tolerance starts again
   // from its best separating direction, with a simplex all of whose corners lie near the
-  // answer; the shorter distance and the larger separation are kept.
+  // answer; the shorter distance and the larger separation are kept. So does a descent
+  // that never saw the cores apart along any of its directions: a mesh 2.3e-5 m from a
+  // cylinder's side, whose simplex of slivers turned its closest point up to 0.9 rad away
+  // from the normal in its last steps, shows a separation within 1.2e-6 m of the true one
+  // on a fresh start from its best direction.
   for (int restart = 0; restart < kGjkMaxRestarts && result.distance > 0 &&
-                        result.separation > 0 &&
                         result.distance - result.separation > tolerance;
        ++restart) {
     PfxGjkResult again = descend(a, b, tolerance, -result.separatingNormal, result.separation,

@@ -20,7 +20,8 @@ struct PfxGjkResult {
   PfxSimplexVertex simplex[4];  // the last simplex, where EPA starts when they overlap
   PfxUInt32 simplexSize;
   // The search direction (unit, from A to B) along which the cores were seen furthest
-  // apart, and that separation: a certain lower bound of their distance.
+  // apart, and that separation: a certain lower bound of their signed distance (negative
+  // where no direction showed them apart; minus infinity when the cores overlap at once).
   PfxVector3 separatingNormal;
   PfxFloat separation;
 };
