@@ -41,7 +41,11 @@ void placeTurned(PfxWorld& world, PfxUInt32 first, const PfxQuat& turn, PfxFloat
 }
 
 // Drops the robot of `file` (under the source folder) turned by `angle` about a tilted
-// axis at dt 1/30, runs 12 s, and checks that it lands and settles within about 8 s.
+// axis at dt 1/30, runs 14 s, and checks that it lands and has settled after 12 s. A
+// ragdoll can land balanced: turned 0.4 rad, the package's ragdoll lands with its right hand
+// on an edge and tips over it from 3 to 11 s, losing height all the way (the same from that
+// state with the contact routines before GJK kept its last direction's separation); a
+// twitch, as below, never stops.
 void dropAndSettle(const char* file, PfxFloat angle) {
   SCOPED_TRACE(angle);
   PfxWorldParam param;
@@ -65,20 +69,20 @@ void dropAndSettle(const char* file, PfxFloat angle) {
   placeTurned(world, model.firstBodyId, turn, 0.05f);
 
   PfxFloat fastestLate = 0, deepestLate = 0, widestGap = 0;
-  const int steps = 12 * 30;
+  const int steps = 14 * 30;
   for (int step = 1; step <= steps; ++step) {
     ASSERT_EQ(world.step(), PFX_OK);
     const PfxFloat time = PfxFloat(step) / 30;
     widestGap = std::max(widestGap, world.getStats().maxJointGap);
     if (time > 5) deepestLate = std::max(deepestLate, world.getStats().maxPenetration);
-    if (time <= 8) continue;
+    if (time <= 12) continue;
     for (PfxUInt32 id = model.firstBodyId; id < world.getNumRigidBodies(); ++id) {
       const PfxRigidState& state = world.getRigidState(id);
       ASSERT_TRUE(state.isValid());
       fastestLate = std::max(fastestLate, PfxFloat(state.getLinearVelocity().norm()));
     }
   }
-  std::printf("%s dropped turned %.1f rad, dt 1/30: fastest link after 8 s %.2e m/s, "
+  std::printf("%s dropped turned %.1f rad, dt 1/30: fastest link after 12 s %.2e m/s, "
               "deepest overlap after 5 s %.4f m, widest joint gap %.1e m\n",
               file, angle, fastestLate, deepestLate, widestGap);
   EXPECT_LT(fastestLate, 1e-3f);
