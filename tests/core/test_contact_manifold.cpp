@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
@@ -301,4 +302,92 @@ TEST(ContactManifold, SpeculativePointsHaveNoPenetration) {
   PfxContactCandidate c = makeCandidate({0, 0, 0}, 0.05f);
   m.update(&c, 1, PfxTransform3::Identity(), PfxTransform3::Identity(), 0.0f);
   EXPECT_EQ(m.getPenetrationDepth(), 0.0f);
+}
+
+// A manifold keeps its points in room given to it (PfxWorld's pools); when the points found
+// do not fit, it is left as it was and says how many there were.
+TEST(ContactManifold, UpdateThatDoesNotFitLeavesTheManifoldAsItWas) {
+  PfxContactPoint room[1];
+  PfxContactManifold m(room, 1);
+  EXPECT_EQ(m.getCapacity(), 1u);
+  m.reset(0, 1);
+  const PfxTransform3 identity = PfxTransform3::Identity();
+  const PfxContactCandidate one = makeCandidate({0, 0, 0}, -0.01f);
+  EXPECT_EQ(m.update(&one, 1, identity, identity, 0.0004f), 1u);
+  ASSERT_EQ(m.getNumContacts(), 1u);
+  EXPECT_EQ(&m.getContactPoint(0), &room[0]);
+  m.getContactPoint(0).m_constraintRow[0].m_accumImpulse = 2;
+
+  const PfxContactCandidate three[3] = {makeCandidate({0, 0, 0}, -0.02f),
+                                        makeCandidate({1, 0, 0}, -0.02f),
+                                        makeCandidate({0, 1, 0}, -0.02f)};
+  EXPECT_EQ(m.update(three, 3, identity, identity, 0.0004f), 3u);
+  ASSERT_EQ(m.getNumContacts(), 1u);
+  EXPECT_EQ(m.getContactPoint(0).m_distance, -0.01f);
+  EXPECT_EQ(m.getContactPoint(0).m_constraintRow[0].m_accumImpulse, 2.0f);
+
+  // Given room for four, the same update fits and the old point's impulse carries over.
+  PfxContactPoint larger[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  m.moveContactPoints(larger, PFX_NUM_CONTACTS_PER_MANIFOLD);
+  EXPECT_EQ(m.getCapacity(), PFX_NUM_CONTACTS_PER_MANIFOLD);
+  EXPECT_EQ(m.update(three, 3, identity, identity, 0.0004f), 3u);
+  ASSERT_EQ(m.getNumContacts(), 3u);
+  EXPECT_EQ(&m.getContactPoint(0), &larger[0]);
+  EXPECT_EQ(m.getContactPoint(0).m_constraintRow[0].m_accumImpulse, 2.0f);
+
+  PfxContactManifold none(nullptr, 0);
+  EXPECT_EQ(none.getCapacity(), 0u);
+  EXPECT_EQ(none.update(&one, 1, identity, identity, 0.0004f), 1u);
+  EXPECT_EQ(none.getNumContacts(), 0u);
+}
+
+TEST(ContactManifold, CopyHasRoomOfItsOwn) {
+  PfxContactPoint room[1];
+  PfxContactManifold m(room, 1);
+  m.reset(2, 5);
+  const PfxTransform3 identity = PfxTransform3::Identity();
+  const PfxContactCandidate one = makeCandidate({0, 0, 0}, -0.01f);
+  m.update(&one, 1, identity, identity, 0);
+  PfxContactManifold copy = m;
+  EXPECT_NE(copy.getContactPoints(), m.getContactPoints());
+  EXPECT_EQ(copy.getCapacity(), PFX_NUM_CONTACTS_PER_MANIFOLD);
+  EXPECT_EQ(copy.getRigidBodyIdB(), 5u);
+  ASSERT_EQ(copy.getNumContacts(), 1u);
+  copy.getContactPoint(0).m_distance = 1;
+  EXPECT_EQ(m.getContactPoint(0).m_distance, -0.01f);
+  // Assigned, a manifold keeps its room when the points fit, and takes its own when not.
+  PfxContactManifold four;
+  four.reset(0, 0);
+  const PfxContactCandidate three[3] = {makeCandidate({0, 0, 0}, -0.02f),
+                                        makeCandidate({1, 0, 0}, -0.02f),
+                                        makeCandidate({0, 1, 0}, -0.02f)};
+  four.update(three, 3, identity, identity, 0);
+  m = copy;
+  EXPECT_EQ(m.getContactPoints(), room);
+  EXPECT_EQ(m.getContactPoint(0).m_distance, 1.0f);
+  m = four;
+  EXPECT_EQ(m.getCapacity(), PFX_NUM_CONTACTS_PER_MANIFOLD);
+  EXPECT_EQ(m.getNumContacts(), 3u);
+  EXPECT_EQ(room[0].m_distance, 1.0f) << "the room it had is left alone";
+}
+
+// A manifold without room (the world's shared empty one) is reset, copied and assigned
+// without handing a null pointer to memset or memcpy (UndefinedBehaviorSanitizer checks
+// this in the sanitizer build).
+TEST(ContactManifold, ManifoldWithoutRoomResetsCopiesAndMoves) {
+  PfxContactManifold none(nullptr, 0);
+  none.reset(3, 4);
+  EXPECT_EQ(none.getContactPoints(), nullptr);
+  EXPECT_EQ(none.getRigidBodyIdB(), 4u);
+  PfxContactManifold alsoNone(nullptr, 0);
+  alsoNone = none;
+  EXPECT_EQ(alsoNone.getContactPoints(), nullptr) << "no points to copy, so no room taken";
+  EXPECT_EQ(alsoNone.getRigidBodyIdA(), 3u);
+  PfxContactManifold copy = none;
+  EXPECT_EQ(copy.getNumContacts(), 0u);
+  EXPECT_EQ(copy.getCapacity(), PFX_NUM_CONTACTS_PER_MANIFOLD);
+  PfxContactManifold moved = std::move(alsoNone);
+  EXPECT_EQ(moved.getCapacity(), 0u);
+  moved.moveContactPoints(nullptr, 0);
+  EXPECT_EQ(moved.getNumContacts(), 0u);
 }

@@ -115,7 +115,8 @@ TEST(Serialize, LoadCanChooseTheThreadCountAndResultsStayTheSame) {
 
 // Pairs whose spheres do not touch, the neighbours on a floor, all name one manifold that
 // stays empty, in the world and in the world loaded from its file (which gives each pair a
-// manifold of its own, as the format wants).
+// manifold of its own, as the format wants), and a sphere's pair with the floor holds room
+// for its one point.
 TEST(Serialize, PairsWithoutPointsShareOneEmptyManifoldBeforeAndAfter) {
   PfxWorld original;
   ASSERT_EQ(original.initialize(PfxWorldParam()), PFX_OK);
@@ -135,6 +136,7 @@ TEST(Serialize, PairsWithoutPointsShareOneEmptyManifoldBeforeAndAfter) {
       if (manifold.getNumContacts() > 0) {
         ++numTouching;
         EXPECT_EQ(manifold.getRigidBodyIdA(), pfxGetObjectIdA(pair)) << which;
+        EXPECT_EQ(manifold.getCapacity(), 1u) << which << ": room for a sphere's one point";
         continue;
       }
       if (!shared) shared = &manifold;

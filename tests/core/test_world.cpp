@@ -406,3 +406,58 @@ TEST(World, ReportsItsOwnErrorFigures) {
   EXPECT_NEAR((pendulum.getRigidState(bobId).getPosition() - PfxVector3::Zero()).norm(), 1,
               1e-3f);
 }
+
+// Each touching pair holds room for the points its shapes can give: a sphere on the ground
+// one, a box four. A box that lands on a corner holds room for four from its first point,
+// kept for it since its pair was found, so that touching with more of it (one point, then
+// four) allocates nothing (test_world_threads' warm steps, where a pile lands).
+TEST(World, ManifoldsHoldRoomForThePointsTheirShapesCanGive) {
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(PfxWorldParam()), PFX_OK);
+  PfxBodyInit ground;
+  ground.mass = 0;
+  ground.position = PfxVector3(0, -1, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(20, 1, 20)), ground), PFX_OK);
+  PfxBodyInit sphere, box, tipped;
+  sphere.position = PfxVector3(-3, 0.5f, 0);
+  box.position = PfxVector3(0, 0.5f, 0);
+  tipped.position = PfxVector3(3, 1.2f, 0);
+  tipped.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(0.4f, PfxVector3(1, 0, 1).normalized()));
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.5f)), sphere), PFX_OK);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), box), PFX_OK);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.5f, 0.5f, 0.5f)), tipped), PFX_OK);
+  const auto manifoldOf = [&](PfxUInt32 id) -> const PfxContactManifold* {
+    for (PfxUInt32 i = 0; i < world.getNumContactPairs(); ++i) {
+      const PfxConstraintPair& pair = world.getContactPair(i);
+      if (pfxGetObjectIdA(pair) == id || pfxGetObjectIdB(pair) == id) {
+        return &world.getContactManifold(pair);
+      }
+    }
+    return nullptr;
+  };
+  PfxUInt32 stepsOnOnePoint = 0, stepsOnMore = 0;
+  long allocationsSinceLanding = 0;
+  bool landed = false;
+  for (int step = 0; step < 120; ++step) {
+    const long before = pfx_test::pfxAllocationCount();
+    ASSERT_EQ(world.step(), PFX_OK);
+    if (landed) allocationsSinceLanding += pfx_test::pfxAllocationCount() - before;
+    const PfxContactManifold* landing = manifoldOf(3);
+    if (!landing || landing->getNumContacts() == 0) continue;
+    landed = true;
+    EXPECT_EQ(landing->getCapacity(), PFX_NUM_CONTACTS_PER_MANIFOLD) << "step " << step;
+    (landing->getNumContacts() == 1 ? stepsOnOnePoint : stepsOnMore) += 1;
+  }
+  EXPECT_GT(stepsOnOnePoint, 0u) << "the corner lands alone first";
+  EXPECT_GT(stepsOnMore, 0u);
+  EXPECT_EQ(allocationsSinceLanding, 0);
+  ASSERT_NE(manifoldOf(1), nullptr);
+  EXPECT_EQ(manifoldOf(1)->getNumContacts(), 1u);
+  EXPECT_EQ(manifoldOf(1)->getCapacity(), 1u);
+  ASSERT_NE(manifoldOf(2), nullptr);
+  EXPECT_EQ(manifoldOf(2)->getNumContacts(), 4u);
+  EXPECT_EQ(manifoldOf(2)->getCapacity(), 4u);
+  ASSERT_NE(manifoldOf(3), nullptr);
+  EXPECT_EQ(manifoldOf(3)->getNumContacts(), 4u) << "the tipped box came to rest flat";
+  EXPECT_LT(world.getRigidState(3).getLinearVelocity().norm(), 0.01f);
+}

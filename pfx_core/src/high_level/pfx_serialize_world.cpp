@@ -174,7 +174,7 @@ void PfxSerializeAccess::restoreWorld(PfxWorld& world, PfxSerializeImage& image,
   world.m_excludedPairKeys = image.excludedPairKeys;
 
   world.m_sharedEmptyManifold = shareTrailingEmptyManifolds(image);
-  world.m_manifolds = image.manifolds;
+  world.adoptManifolds(image.manifolds);
   world.m_freeManifolds.reserve(world.m_manifolds.capacity());
   world.m_freeManifolds = image.freeManifolds;
   world.m_numPairs = static_cast<PfxUInt32>(image.pairs.size());

@@ -109,8 +109,10 @@ PfxInt32 PfxWorld::initialize(const PfxWorldParam& param) {
   m_numFoundPairs = 0;
   m_manifolds.clear();
   m_freeManifolds.clear();
+  m_onePointBlocks.clear();
+  m_fourPointBlocks.clear();
   m_sharedEmptyManifold = 0;
-  m_manifolds.emplace_back().reset(0, 0);
+  m_manifolds.emplace_back(nullptr, 0);
   m_joints.clear();
   m_jointPairs.clear();
   m_jointCouplings.clear();
@@ -672,7 +674,8 @@ PfxInt32 PfxWorld::findPairs() {
 // a later step; an eighth more saved 1,045 / 8 bytes a resting sphere, but then the
 // threaded pile, still landing after 30 steps, allocated in its next five), then half as
 // many again each time, so that a growing scene seldom moves them. The free list can hold
-// every slot, so that freeing one never allocates.
+// every slot, so that freeing one never allocates, and the one-point pool has a block for
+// every slot, so that it grows only with them.
 void PfxWorld::reserveManifolds(PfxUInt32 numNewPairs) {
   const std::size_t numFree = m_freeManifolds.size();
   const std::size_t needed = m_manifolds.size() + (numNewPairs > numFree ? numNewPairs - numFree : 0);
@@ -680,6 +683,37 @@ void PfxWorld::reserveManifolds(PfxUInt32 numNewPairs) {
   const std::size_t capacity = std::max(needed + needed / 4, m_manifolds.capacity() * 3 / 2);
   m_manifolds.reserve(capacity);
   m_freeManifolds.reserve(capacity);
+  m_onePointBlocks.reserve(static_cast<PfxUInt32>(m_manifolds.capacity()), m_manifolds.data(),
+                           static_cast<PfxUInt32>(m_manifolds.size()));
+}
+
+// Twice the blocks needed when the pool grows, as the pair buffer takes twice the pairs
+// found: the pairs that may touch at several points come and go with the pairs, and a
+// pile still falling into place gains half as many pairs again.
+void PfxWorld::reserveFourPointBlocks(PfxUInt32 numMoreBlocks) {
+  const PfxUInt32 needed = m_fourPointBlocks.getNumBlocksInUse() + numMoreBlocks;
+  if (needed <= m_fourPointBlocks.getCapacity()) return;
+  m_fourPointBlocks.reserve(2 * needed, m_manifolds.data(),
+                            static_cast<PfxUInt32>(m_manifolds.size()));
+}
+
+// A sphere meets a sphere, box, capsule or cylinder at one point (their routines give one
+// candidate for it); a body of several shapes, a convex mesh (clipped faces) or a large
+// mesh (several triangles) may give more.
+bool PfxWorld::mayTouchAtSeveralPoints(PfxUInt32 idA, PfxUInt32 idB) const {
+  const auto onlyShape = [&](PfxUInt32 id) -> PfxShapeType {
+    const PfxCollidable& collidable = m_collidables[id];
+    return collidable.getNumShapes() == 1 ? collidable.getShape(0).getType()
+                                          : kPfxShapeLargeTriMesh;
+  };
+  const PfxShapeType typeA = onlyShape(idA);
+  const PfxShapeType typeB = onlyShape(idB);
+  const auto primitive = [](PfxShapeType type) {
+    return type == kPfxShapeSphere || type == kPfxShapeBox || type == kPfxShapeCapsule ||
+           type == kPfxShapeCylinder;
+  };
+  return !((typeA == kPfxShapeSphere && primitive(typeB)) ||
+           (typeB == kPfxShapeSphere && primitive(typeA)));
 }
 
 // A manifold slot for a new pair: a freed one, or a new one at the end (reserveManifolds
@@ -691,8 +725,27 @@ PfxUInt32 PfxWorld::takeManifold() {
     return contactId;
   }
   const PfxUInt32 contactId = static_cast<PfxUInt32>(m_manifolds.size());
-  m_manifolds.emplace_back();
+  m_manifolds.emplace_back(nullptr, 0);
   return contactId;
+}
+
+// A manifold's room comes from one pool or the other by its size, and goes back to it.
+void PfxWorld::sizeManifold(PfxUInt32 contactId, PfxUInt32 numPoints) {
+  PfxContactManifold& manifold = m_manifolds[contactId];
+  const PfxContactPoint* room = manifold.getContactPoints();
+  PfxContactPointPool* from = m_onePointBlocks.holds(manifold)    ? &m_onePointBlocks
+                              : m_fourPointBlocks.holds(manifold) ? &m_fourPointBlocks
+                                                                  : nullptr;
+  PfxContactPointPool* to = numPoints == 0   ? nullptr
+                            : numPoints == 1 ? &m_onePointBlocks
+                                             : &m_fourPointBlocks;
+  if (from == to) return;
+  if (to) {
+    manifold.moveContactPoints(to->take(), to->getPointsPerBlock());
+  } else {
+    manifold.moveContactPoints(nullptr, 0);
+  }
+  if (from) from->give(room);
 }
 
 // Moving pairs between the awake and the sleeping lists needs room for both in each. The
@@ -744,10 +797,12 @@ void PfxWorld::assignSimplePairs() {
   for (PfxUInt32 i = m_numPairs; i > 0; --i) releaseManifold(pfxGetContactId(m_pairs[i - 1]));
   growTo(m_pairs, m_numFoundPairs);
   reserveManifolds(m_numFoundPairs);
+  reserveFourPointBlocks(m_numFoundPairs);
   for (PfxUInt32 i = 0; i < m_numFoundPairs; ++i) {
     m_pairs[i] = m_foundPairs[i];
     const PfxUInt32 contactId = takeManifold();
     pfxSetContactId(m_pairs[i], contactId);
+    sizeManifold(contactId, PFX_NUM_CONTACTS_PER_MANIFOLD);
     m_manifolds[contactId].reset(pfxGetObjectIdA(m_pairs[i]), pfxGetObjectIdB(m_pairs[i]));
   }
   m_numPairs = m_numFoundPairs;
@@ -783,32 +838,61 @@ PfxInt32 PfxWorld::detectCollision() {
 }
 
 // After the stable pipeline's collision detection: a pair left without points gives its
-// manifold back and names the shared empty one, and a pair that found its first points
-// takes a manifold of its own and is detected again into it (the same points, as the
-// shared manifold had none to carry over). Neighbours that do not touch, often as many as
-// the pairs that do, then cost no manifold (836 bytes each).
+// manifold back and names the shared empty one; a pair that found its first points takes a
+// manifold of its own, with room for one point if its contact holds no more
+// (mayTouchAtSeveralPoints) and for four otherwise, and is detected again into it (the same
+// points: the shared manifold had none to carry over). Neighbours that do not touch, often
+// as many as the pairs that do, then cost no manifold, and a sphere on the ground the room
+// of one point.
+//
+// A warm step allocates nothing while no more pairs touch than the manifold slots have room
+// for (reserveManifolds), as before the pools: a first point takes a slot, and with it a
+// block of the one-point pool, which has one for every slot, or of the four-point pool,
+// which keeps one for every pair that may touch at several points, touching or not (awake
+// or asleep). So a box landing on a corner and then on a face never grows a pool: its room
+// for four was kept when its pair was found. A pair that found more points than its room
+// holds (pfxDetectCollision left its manifold as it was) would take room for four and be
+// detected again, its old points kept; no contact routine gives a sphere two points today.
 PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
-  PfxUInt32 numTouchingFirst = 0;
+  PfxUInt32 numFirst = 0, numOutgrown = 0;
+  PfxUInt32 numAwaitingFour = m_numSleepingPairsAwaitingFour;
   for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
     PfxBroadphasePair& pair = m_pairs[i];
-    const bool hasPoints = pfxGetNumConstraints(pair) > 0;
-    if (pfxGetContactId(pair) == m_sharedEmptyManifold) {
-      numTouchingFirst += hasPoints ? 1 : 0;
-    } else if (!hasPoints) {
-      releaseManifold(pfxGetContactId(pair));
+    const PfxUInt32 numPoints = pfxGetNumConstraints(pair);
+    const PfxUInt32 contactId = pfxGetContactId(pair);
+    if (contactId == m_sharedEmptyManifold) {
+      numFirst += numPoints > 0 ? 1 : 0;
+      const bool several = mayTouchAtSeveralPoints(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
+      numAwaitingFour += several || numPoints > 1 ? 1 : 0;
+    } else if (numPoints == 0) {
+      releaseManifold(contactId);
       pfxSetContactId(pair, m_sharedEmptyManifold);
+      numAwaitingFour +=
+          mayTouchAtSeveralPoints(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair)) ? 1 : 0;
+    } else if (numPoints > m_manifolds[contactId].getCapacity()) {
+      ++numOutgrown;
     }
   }
-  if (numTouchingFirst == 0) return PFX_OK;
-  reserveManifolds(numTouchingFirst);
+  reserveFourPointBlocks(numAwaitingFour + numOutgrown);
+  if (numFirst + numOutgrown == 0) return PFX_OK;
+  reserveManifolds(numFirst);
   for (PfxUInt32 i = 0; i < m_numPairs; ++i) {
     PfxBroadphasePair& pair = m_pairs[i];
-    if (pfxGetContactId(pair) != m_sharedEmptyManifold || pfxGetNumConstraints(pair) == 0) {
+    const PfxUInt32 numPoints = pfxGetNumConstraints(pair);
+    PfxUInt32 contactId = pfxGetContactId(pair);
+    if (contactId == m_sharedEmptyManifold) {
+      if (numPoints == 0) continue;
+      const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+      contactId = takeManifold();
+      sizeManifold(contactId, mayTouchAtSeveralPoints(idA, idB) ? PFX_NUM_CONTACTS_PER_MANIFOLD
+                                                                : numPoints);
+      m_manifolds[contactId].reset(idA, idB);
+      pfxSetContactId(pair, contactId);
+    } else if (numPoints > m_manifolds[contactId].getCapacity()) {
+      sizeManifold(contactId, PFX_NUM_CONTACTS_PER_MANIFOLD);
+    } else {
       continue;
     }
-    const PfxUInt32 contactId = takeManifold();
-    m_manifolds[contactId].reset(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair));
-    pfxSetContactId(pair, contactId);
     param.contactPairs = &pair;
     param.numContactPairs = 1;
     param.offsetContactManifolds = m_manifolds.data();
@@ -819,7 +903,37 @@ PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
 }
 
 void PfxWorld::releaseManifold(PfxUInt32 contactId) {
-  if (contactId != m_sharedEmptyManifold) m_freeManifolds.push_back(contactId);
+  if (contactId == m_sharedEmptyManifold) return;
+  sizeManifold(contactId, 0);
+  m_freeManifolds.push_back(contactId);
+}
+
+// Room as settleManifolds gives it: for four points where the pair may touch at several,
+// for one where it touches at one, none for a manifold without points.
+void PfxWorld::adoptManifolds(const std::vector<PfxContactManifold>& manifolds) {
+  m_manifolds.clear();
+  m_onePointBlocks.clear();
+  m_fourPointBlocks.clear();
+  const auto roomFor = [&](const PfxContactManifold& manifold) -> PfxUInt32 {
+    const PfxUInt32 numPoints = manifold.getNumContacts();
+    if (numPoints == 0) return 0;
+    return mayTouchAtSeveralPoints(manifold.getRigidBodyIdA(), manifold.getRigidBodyIdB())
+               ? PFX_NUM_CONTACTS_PER_MANIFOLD
+               : numPoints;
+  };
+  PfxUInt32 numFourPoint = 0;
+  for (const PfxContactManifold& manifold : manifolds) {
+    numFourPoint += roomFor(manifold) > 1 ? 1 : 0;
+  }
+  m_manifolds.reserve(manifolds.size());
+  m_onePointBlocks.reserve(static_cast<PfxUInt32>(m_manifolds.capacity()), nullptr, 0);
+  reserveFourPointBlocks(numFourPoint);
+  for (const PfxContactManifold& manifold : manifolds) {
+    const auto contactId = static_cast<PfxUInt32>(m_manifolds.size());
+    m_manifolds.emplace_back(nullptr, 0);
+    sizeManifold(contactId, roomFor(manifold));
+    m_manifolds[contactId] = manifold;
+  }
 }
 
 // Islands over the awake pairs, the sleeping ones (so that a sleeping island stays whole),

@@ -161,8 +161,15 @@ void PfxWorld::setAsideDormantPairs() {
 void PfxWorld::countSleepingContacts() {
   m_sleepingContactPairs = m_sleepingContactPoints = 0;
   m_sleepingMaxPenetration = 0;
+  m_numSleepingPairsAwaitingFour = 0;
   for (PfxUInt32 i = 0; i < m_numSleepingPairs; ++i) {
-    const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(m_sleepingPairs[i])];
+    const PfxBroadphasePair& pair = m_sleepingPairs[i];
+    if (pfxGetContactId(pair) == m_sharedEmptyManifold) {
+      m_numSleepingPairsAwaitingFour +=
+          mayTouchAtSeveralPoints(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair)) ? 1 : 0;
+      continue;
+    }
+    const PfxContactManifold& manifold = m_manifolds[pfxGetContactId(pair)];
     if (manifold.getNumContacts() == 0) continue;
     ++m_sleepingContactPairs;
     m_sleepingContactPoints += manifold.getNumContacts();

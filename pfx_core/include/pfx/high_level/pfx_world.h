@@ -11,6 +11,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_proxy.h"
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
+#include "pfx/high_level/pfx_contact_point_pool.h"
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
@@ -429,9 +430,20 @@ class PfxWorld {
   PfxInt32 updateBroadphase();
   PfxInt32 findPairs();
   void reserveManifolds(PfxUInt32 numNewPairs);
+  // Room in the four-point pool for `numMoreBlocks` blocks beyond those in use.
+  void reserveFourPointBlocks(PfxUInt32 numMoreBlocks);
   PfxUInt32 takeManifold();
-  // Returns a pair's manifold to the free list, unless it is the shared empty one.
+  // Whether the contact of bodies idA and idB may hold more than one point: all but a
+  // sphere against one sphere, box, capsule or cylinder (a body of one shape each).
+  bool mayTouchAtSeveralPoints(PfxUInt32 idA, PfxUInt32 idB) const;
+  // Gives manifold `contactId` room for `numPoints` points from the pool of their size,
+  // moving those it holds; the room it had goes back to its pool.
+  void sizeManifold(PfxUInt32 contactId, PfxUInt32 numPoints);
+  // Returns a pair's manifold, and its points' room, to the free lists, unless it is the
+  // shared empty one.
   void releaseManifold(PfxUInt32 contactId);
+  // The manifolds read from a file, each holding room from the pools for its points.
+  void adoptManifolds(const std::vector<PfxContactManifold>& manifolds);
   PfxInt32 settleManifolds(PfxDetectCollisionParam& param);
   void composeStablePairs();
   void assignSimplePairs();
@@ -538,6 +550,16 @@ class PfxWorld {
 
   std::vector<PfxContactManifold> m_manifolds;
   std::vector<PfxUInt32> m_freeManifolds;
+  // The manifolds' points: a pair whose contact holds one point at most (a sphere on the
+  // ground) holds room for one, others room for four from their first point, and a pair
+  // without points none. The one-point pool has a block for each manifold slot, the
+  // four-point pool one for each pair that may touch at several points, touching or not:
+  // a contact that begins, or grows from one point to four, takes room kept for it.
+  PfxContactPointPool m_onePointBlocks{1};
+  PfxContactPointPool m_fourPointBlocks{PFX_NUM_CONTACTS_PER_MANIFOLD};
+  // Sleeping pairs on the shared empty manifold whose contact may hold several points
+  // (countSleepingContacts): the four-point pool keeps room for them as for awake ones.
+  PfxUInt32 m_numSleepingPairsAwaitingFour = 0;
   // The manifold that the stable pipeline's pairs without points name, all of them: it
   // stays empty and is never freed (pfxDetectCollision's sharedEmptyContactId).
   PfxUInt32 m_sharedEmptyManifold = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 #include "pfx/base_level/collision/pfx_collidable.h"
 #include "pfx/base_level/collision/pfx_large_tri_mesh.h"
@@ -47,6 +48,11 @@ bool isChosen(const PfxUInt32* chosen, PfxUInt32 numChosen, PfxUInt32 i) {
 
 void zeroContactPoint(PfxContactPoint& point) {
   std::memset(static_cast<void*>(&point), 0, sizeof(point));
+}
+
+// Copying no points touches neither pointer: either may be null (a manifold without room).
+void copyPoints(const PfxContactPoint* from, PfxUInt32 count, PfxContactPoint* to) {
+  if (count > 0) std::copy(from, from + count, to);
 }
 
 }  // namespace
@@ -110,18 +116,102 @@ PfxUInt32 pfxReduceContactCandidates(const PfxContactCandidate* candidates, PfxU
   return numChosen;
 }
 
-void PfxContactManifold::reset(PfxUInt32 rigidBodyIdA, PfxUInt32 rigidBodyIdB) {
-  // Whole-object zeroing keeps unused slots deterministic, which a bit-exact
-  // serialization of the world relies on.
-  std::memset(static_cast<void*>(this), 0, sizeof(*this));
-  m_rigidBodyIdA = rigidBodyIdA;
-  m_rigidBodyIdB = rigidBodyIdB;
+PfxContactManifold::PfxContactManifold()
+    : PfxContactManifold(new PfxContactPoint[PFX_NUM_CONTACTS_PER_MANIFOLD],
+                         PFX_NUM_CONTACTS_PER_MANIFOLD) {
+  m_ownsContactPoints = 1;
 }
 
-void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32 numCandidates,
-                                const PfxTransform3& transformA, const PfxTransform3& transformB,
-                                PfxFloat matchDistanceSq) {
+PfxContactManifold::PfxContactManifold(PfxContactPoint* points, PfxUInt32 capacity)
+    : m_contactPoints(points),
+      m_capacity(static_cast<PfxUInt8>(points ? capacity : 0)),
+      m_ownsContactPoints(0) {
+  reset(0, 0);
+}
+
+PfxContactManifold::PfxContactManifold(const PfxContactManifold& other) : PfxContactManifold() {
+  *this = other;
+}
+
+PfxContactManifold& PfxContactManifold::operator=(const PfxContactManifold& other) {
+  if (this == &other) return *this;
+  if (other.m_numContacts > m_capacity) {
+    releaseOwnPoints();
+    m_contactPoints = new PfxContactPoint[PFX_NUM_CONTACTS_PER_MANIFOLD];
+    m_capacity = PFX_NUM_CONTACTS_PER_MANIFOLD;
+    m_ownsContactPoints = 1;
+  }
+  copyFrom(other);
+  copyPoints(other.m_contactPoints, other.m_numContacts, m_contactPoints);
+  return *this;
+}
+
+PfxContactManifold::PfxContactManifold(PfxContactManifold&& other) noexcept
+    : m_contactPoints(nullptr), m_capacity(0), m_ownsContactPoints(0) {
+  *this = std::move(other);
+}
+
+PfxContactManifold& PfxContactManifold::operator=(PfxContactManifold&& other) noexcept {
+  if (this == &other) return *this;
+  releaseOwnPoints();
+  copyFrom(other);
+  m_contactPoints = other.m_contactPoints;
+  m_capacity = other.m_capacity;
+  m_ownsContactPoints = other.m_ownsContactPoints;
+  other.m_contactPoints = nullptr;
+  other.m_capacity = other.m_ownsContactPoints = 0;
+  other.m_numContacts = 0;
+  return *this;
+}
+
+PfxContactManifold::~PfxContactManifold() { releaseOwnPoints(); }
+
+void PfxContactManifold::releaseOwnPoints() {
+  if (m_ownsContactPoints) delete[] m_contactPoints;
+  m_contactPoints = nullptr;
+  m_capacity = m_ownsContactPoints = 0;
+}
+
+// Everything but the points and the room they are kept in.
+void PfxContactManifold::copyFrom(const PfxContactManifold& other) {
+  std::memcpy(m_normalCoupling, other.m_normalCoupling, sizeof(m_normalCoupling));
+  m_rigidBodyIdA = other.m_rigidBodyIdA;
+  m_rigidBodyIdB = other.m_rigidBodyIdB;
+  m_compositeFriction = other.m_compositeFriction;
+  m_compositeRestitution = other.m_compositeRestitution;
+  m_numContacts = other.m_numContacts;
+}
+
+void PfxContactManifold::moveContactPoints(PfxContactPoint* points, PfxUInt32 capacity) {
+  if (!points) capacity = 0;
+  m_numContacts = std::min(m_numContacts, capacity);
+  copyPoints(m_contactPoints, m_numContacts, points);
+  releaseOwnPoints();
+  m_contactPoints = points;
+  m_capacity = static_cast<PfxUInt8>(capacity);
+}
+
+void PfxContactManifold::reset(PfxUInt32 rigidBodyIdA, PfxUInt32 rigidBodyIdB) {
+  // Zeroing the room and the couplings keeps unused slots deterministic, which a bit-exact
+  // serialization of the world relies on.
+  // A manifold without room (the world's shared empty one) has no pointer to give memset.
+  if (m_capacity > 0) {
+    std::memset(static_cast<void*>(m_contactPoints), 0, sizeof(PfxContactPoint) * m_capacity);
+  }
+  std::memset(m_normalCoupling, 0, sizeof(m_normalCoupling));
+  m_rigidBodyIdA = rigidBodyIdA;
+  m_rigidBodyIdB = rigidBodyIdB;
+  m_compositeFriction = m_compositeRestitution = 0;
+  m_numContacts = 0;
+}
+
+PfxUInt32 PfxContactManifold::update(const PfxContactCandidate* candidates,
+                                     PfxUInt32 numCandidates, const PfxTransform3& transformA,
+                                     const PfxTransform3& transformB, PfxFloat matchDistanceSq) {
   if (!candidates) numCandidates = 0;
+  PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  const PfxUInt32 numNew = pfxReduceContactCandidates(candidates, numCandidates, chosen);
+  if (numNew > m_capacity) return numNew;
 
   // Of the old points only what matching reads and what a match carries over is kept,
   // about a sixth of a contact point.
@@ -146,8 +236,6 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
     old.shapeIdB = point.m_shapeIdB;
   }
 
-  PfxUInt32 chosen[PFX_NUM_CONTACTS_PER_MANIFOLD];
-  const PfxUInt32 numNew = pfxReduceContactCandidates(candidates, numCandidates, chosen);
   const PfxTransform3 inverseA = transformA.inverse(Eigen::Isometry);
   const PfxTransform3 inverseB = transformB.inverse(Eigen::Isometry);
   for (PfxUInt32 i = 0; i < numNew; ++i) {
@@ -167,7 +255,7 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
   }
   m_numContacts = numNew;
 
-  if (numOld == 0 || numNew == 0) return;
+  if (numOld == 0 || numNew == 0) return numNew;
 
   // Each old point goes to at most one new point, the closest pairs first, so that two new
   // points near one old point do not both receive its impulse (which would double the
@@ -209,6 +297,7 @@ void PfxContactManifold::update(const PfxContactCandidate* candidates, PfxUInt32
     }
     newPoint.m_duration = oldPoint.duration + 1;
   }
+  return numNew;
 }
 
 void PfxContactManifold::refresh(const PfxTransform3& transformA,

@@ -121,8 +121,8 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   }
   PfxContactManifold& manifold = shared ? unshared : param.offsetContactManifolds[contactId];
   if (shared) unshared.reset(idA, idB);
-  manifold.update(candidates, numCandidates, transformA, transformB, param.matchDistanceSq);
-  pfxSetNumConstraints(pair, manifold.getNumContacts());
+  pfxSetNumConstraints(pair, manifold.update(candidates, numCandidates, transformA, transformB,
+                                             param.matchDistanceSq));
 }
 
 }  // namespace
@@ -156,7 +156,8 @@ PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager
   pfxParallelFor(taskManager, param.numContactPairs, kDetectedPairsPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    PfxContactCandidate candidates[PFX_MAX_CONTACT_CANDIDATES];
-                   PfxContactManifold unshared;
+                   PfxContactPoint unsharedPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+                   PfxContactManifold unshared(unsharedPoints, PFX_NUM_CONTACTS_PER_MANIFOLD);
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      detectPair(param, param.contactPairs[i], candidates, unshared);
                    }

@@ -50,15 +50,40 @@ struct PfxContactCandidate {
   PfxFloat m_barycentric[3] = {0, 0, 0};
 };
 
+// The points live apart from the manifold: a manifold made with no arguments (or copied)
+// holds room of its own for four, as the seed's arrays of manifolds expect; PfxWorld keeps
+// the points of its manifolds in pools by size (pfx_contact_point_pool.h), one point for a
+// sphere on the ground, four for a box on a box.
 class PfxContactManifold {
  public:
+  PfxContactManifold();
+  // Points kept in `points`, room for `capacity` (at most four) that the caller owns and
+  // keeps in place while the manifold uses it; (nullptr, 0) for a manifold with no room,
+  // which holds no points.
+  PfxContactManifold(PfxContactPoint* points, PfxUInt32 capacity);
+  // A copy has room of its own for four points (or the room it had, when they fit).
+  PfxContactManifold(const PfxContactManifold& other);
+  PfxContactManifold& operator=(const PfxContactManifold& other);
+  PfxContactManifold(PfxContactManifold&& other) noexcept;
+  PfxContactManifold& operator=(PfxContactManifold&& other) noexcept;
+  ~PfxContactManifold();
+
+  // Empties the manifold for a new pair; its room stays.
   void reset(PfxUInt32 rigidBodyIdA, PfxUInt32 rigidBodyIdB);
 
   PfxUInt32 getRigidBodyIdA() const { return m_rigidBodyIdA; }
   PfxUInt32 getRigidBodyIdB() const { return m_rigidBodyIdB; }
   PfxUInt32 getNumContacts() const { return m_numContacts; }
+  // How many points the manifold has room for.
+  PfxUInt32 getCapacity() const { return m_capacity; }
   PfxContactPoint& getContactPoint(PfxUInt32 i) { return m_contactPoints[i]; }
   const PfxContactPoint& getContactPoint(PfxUInt32 i) const { return m_contactPoints[i]; }
+  // The room the points are kept in (getCapacity() points); null without room.
+  const PfxContactPoint* getContactPoints() const { return m_contactPoints; }
+  // Moves the points to `points`, room for `capacity` that the caller owns as above (those
+  // that do not fit are dropped; (nullptr, 0) leaves no room and no points). Room the
+  // manifold had of its own goes back to the heap.
+  void moveContactPoints(PfxContactPoint* points, PfxUInt32 capacity);
   PfxFloat getCompositeFriction() const { return m_compositeFriction; }
   PfxFloat getCompositeRestitution() const { return m_compositeRestitution; }
   void setCompositeFriction(PfxFloat f) { m_compositeFriction = f; }
@@ -72,9 +97,11 @@ class PfxContactManifold {
   // maximise the covered area). A new point close to a point of the previous frame on the
   // same shapes inherits its accumulated impulses and age, so warm starting carries over;
   // `matchDistanceSq` bounds how far (squared, in A's frame) such a point may have moved.
-  void update(const PfxContactCandidate* candidates, PfxUInt32 numCandidates,
-              const PfxTransform3& transformA, const PfxTransform3& transformB,
-              PfxFloat matchDistanceSq);
+  // Returns how many points it chose; when they do not fit in the manifold's room, the
+  // manifold is left as it was, for the caller to give it more room and update it again.
+  PfxUInt32 update(const PfxContactCandidate* candidates, PfxUInt32 numCandidates,
+                   const PfxTransform3& transformA, const PfxTransform3& transformB,
+                   PfxFloat matchDistanceSq);
 
   // Recomputes each point's distance from its anchors and the current poses, and drops
   // points whose bodies moved apart along the normal by more than `breakDistance` or slid
@@ -99,13 +126,18 @@ class PfxContactManifold {
   // The serializer (pfx_serialize.h) restores a manifold as it was, points and all.
   friend class PfxSerializeAccess;
 
-  PfxContactPoint m_contactPoints[PFX_NUM_CONTACTS_PER_MANIFOLD];
+  void copyFrom(const PfxContactManifold& other);
+  void releaseOwnPoints();
+
+  PfxContactPoint* m_contactPoints;
   PfxFloat m_normalCoupling[PFX_NUM_CONTACTS_PER_MANIFOLD][PFX_NUM_CONTACTS_PER_MANIFOLD];
   PfxUInt32 m_rigidBodyIdA;
   PfxUInt32 m_rigidBodyIdB;
   PfxFloat m_compositeFriction;
   PfxFloat m_compositeRestitution;
   PfxUInt32 m_numContacts;
+  PfxUInt8 m_capacity;
+  PfxUInt8 m_ownsContactPoints;  // 1 when m_contactPoints came from the heap for it alone
 };
 
 // Chooses at most four of `count` candidates: the deepest first, then the ones that make

@@ -42,7 +42,10 @@ struct PfxDetectCollisionParam {
 
 // Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints);
 // pairs run in parallel with a task manager. Pairs must name distinct manifolds, but for
-// the shared empty one.
+// the shared empty one. A manifold with room for fewer points than its pair found (see
+// PfxContactManifold::getCapacity; a manifold made with no arguments has room for four)
+// is left as it was, and the pair's number of constraints says how many were found: the
+// caller gives it more room and detects it again.
 PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param,
                             PfxTaskManager* taskManager = nullptr);
 
