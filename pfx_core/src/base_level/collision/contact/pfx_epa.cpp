@@ -370,7 +370,9 @@ bool runEpa(const PfxConvexCore& a, const PfxConvexCore& b, const PfxSimplexVert
   Polytope polytope(a, b);
   if (!polytope.start(simplex, simplexSize, tolerance)) return false;
   PfxFloat leastOverlap;
-  PfxVector3 leastOverlapNormal;
+  // Set whenever leastOverlap is finite, which is when it is read; zero keeps GCC from
+  // warning that it might not be.
+  PfxVector3 leastOverlapNormal = PfxVector3::Zero();
   const int best = polytope.expand(tolerance, converged, leastOverlap, leastOverlapNormal);
   if (best < 0) return false;
   const EpaFace& face = polytope.face(best);
