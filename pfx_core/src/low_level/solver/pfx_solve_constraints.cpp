@@ -408,13 +408,7 @@ TreeContactPairs gatherTreeContactPairs(const PfxSolveConstraintsParam& param,
     }
     const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
     if (tree.getTreeBody(idA) < 0 && tree.getTreeBody(idB) < 0) continue;
-    const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
-    const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
-    const bool treeA = receivesA != 0 && tree.getTreeBody(idA) >= 0;
-    const bool treeB = receivesB != 0 && tree.getTreeBody(idB) >= 0;
-    const bool fixedA = !pfxTakesImpulse(param.offsetSolverBodies[idA], receivesA);
-    const bool fixedB = !pfxTakesImpulse(param.offsetSolverBodies[idB], receivesB);
-    if ((treeA && fixedB) || (treeB && fixedA)) {
+    if (pfxTreeContactSides(pair, param.offsetSolverBodies, tree).throughTrees) {
       pairs[numOnFixed++] = pair;
     } else {
       *(others - ++numOthers) = pair;

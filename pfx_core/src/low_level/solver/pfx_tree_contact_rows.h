@@ -62,6 +62,30 @@ inline PfxFloat pfxTreeContactResponse(const PfxContactPoint& cp, PfxUInt32 idA,
 // its cost.
 enum class PfxTreeContactPairs { kOnTrees, kAll };
 
+// A pair's two sides as the trees see them: how each receives impulses, its tree's body
+// (-1 for none, or a side that receives nothing), and whether the pair is one a kOnTrees
+// sweep takes, sized through the trees (a body of a tree against one that does not move).
+struct PfxTreeContactSides {
+  PfxFloat receivesA, receivesB;
+  PfxInt32 treeA, treeB;
+  bool throughTrees;
+};
+
+inline PfxTreeContactSides pfxTreeContactSides(const PfxConstraintPair& pair,
+                                               const PfxSolverBody* solverBodies,
+                                               const PfxJointTreeSolver& tree) {
+  const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
+  PfxTreeContactSides sides;
+  sides.receivesA = pfxGetReceivesA(pair) ? 1 : 0;
+  sides.receivesB = pfxGetReceivesB(pair) ? 1 : 0;
+  sides.treeA = sides.receivesA != 0 ? tree.getTreeBody(idA) : -1;
+  sides.treeB = sides.receivesB != 0 ? tree.getTreeBody(idB) : -1;
+  const bool fixedA = !pfxTakesImpulse(solverBodies[idA], sides.receivesA);
+  const bool fixedB = !pfxTakesImpulse(solverBodies[idB], sides.receivesB);
+  sides.throughTrees = (sides.treeA >= 0 && fixedB) || (sides.treeB >= 0 && fixedA);
+  return sides;
+}
+
 // A sweep over every pair it is given.
 struct PfxSweepWholeWorld {
   bool takes(PfxUInt32, PfxUInt32) const { return true; }
@@ -89,13 +113,8 @@ inline void pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
     if (!pfxGetActive(pair)) continue;
     const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
     if (!region.takes(idA, idB)) continue;
-    const PfxFloat receivesA = pfxGetReceivesA(pair) ? 1 : 0;
-    const PfxFloat receivesB = pfxGetReceivesB(pair) ? 1 : 0;
-    const PfxInt32 treeA = receivesA != 0 ? tree.getTreeBody(idA) : -1;
-    const PfxInt32 treeB = receivesB != 0 ? tree.getTreeBody(idB) : -1;
-    const bool fixedA = !pfxTakesImpulse(solverBodies[idA], receivesA);
-    const bool fixedB = !pfxTakesImpulse(solverBodies[idB], receivesB);
-    const bool throughTrees = (treeA >= 0 && fixedB) || (treeB >= 0 && fixedA);
+    const auto [receivesA, receivesB, treeA, treeB, throughTrees] =
+        pfxTreeContactSides(pair, solverBodies, tree);
     if (!throughTrees && taken == PfxTreeContactPairs::kOnTrees) continue;
     PfxContactManifold& manifold = manifolds[pfxGetContactId(pair)];
     PfxSolverBody& a = solverBodies[idA];
