@@ -716,6 +716,11 @@ bool PfxWorld::mayTouchAtSeveralPoints(PfxUInt32 idA, PfxUInt32 idB) const {
            (typeB == kPfxShapeSphere && primitive(typeA)));
 }
 
+PfxUInt32 PfxWorld::roomForPoints(PfxUInt32 idA, PfxUInt32 idB, PfxUInt32 numPoints) const {
+  if (numPoints == 0) return 0;
+  return mayTouchAtSeveralPoints(idA, idB) ? PFX_NUM_CONTACTS_PER_MANIFOLD : numPoints;
+}
+
 // A manifold slot for a new pair: a freed one, or a new one at the end (reserveManifolds
 // made room for it).
 PfxUInt32 PfxWorld::takeManifold() {
@@ -884,8 +889,7 @@ PfxInt32 PfxWorld::settleManifolds(PfxDetectCollisionParam& param) {
       if (numPoints == 0) continue;
       const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
       contactId = takeManifold();
-      sizeManifold(contactId, mayTouchAtSeveralPoints(idA, idB) ? PFX_NUM_CONTACTS_PER_MANIFOLD
-                                                                : numPoints);
+      sizeManifold(contactId, roomForPoints(idA, idB, numPoints));
       m_manifolds[contactId].reset(idA, idB);
       pfxSetContactId(pair, contactId);
     } else if (numPoints > m_manifolds[contactId].getCapacity()) {
@@ -908,18 +912,14 @@ void PfxWorld::releaseManifold(PfxUInt32 contactId) {
   m_freeManifolds.push_back(contactId);
 }
 
-// Room as settleManifolds gives it: for four points where the pair may touch at several,
-// for one where it touches at one, none for a manifold without points.
+// Each manifold read takes the room settleManifolds would give it (roomForPoints).
 void PfxWorld::adoptManifolds(const std::vector<PfxContactManifold>& manifolds) {
   m_manifolds.clear();
   m_onePointBlocks.clear();
   m_fourPointBlocks.clear();
-  const auto roomFor = [&](const PfxContactManifold& manifold) -> PfxUInt32 {
-    const PfxUInt32 numPoints = manifold.getNumContacts();
-    if (numPoints == 0) return 0;
-    return mayTouchAtSeveralPoints(manifold.getRigidBodyIdA(), manifold.getRigidBodyIdB())
-               ? PFX_NUM_CONTACTS_PER_MANIFOLD
-               : numPoints;
+  const auto roomFor = [&](const PfxContactManifold& manifold) {
+    return roomForPoints(manifold.getRigidBodyIdA(), manifold.getRigidBodyIdB(),
+                         manifold.getNumContacts());
   };
   PfxUInt32 numFourPoint = 0;
   for (const PfxContactManifold& manifold : manifolds) {

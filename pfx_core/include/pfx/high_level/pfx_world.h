@@ -436,6 +436,9 @@ class PfxWorld {
   // Whether the contact of bodies idA and idB may hold more than one point: all but a
   // sphere against one sphere, box, capsule or cylinder (a body of one shape each).
   bool mayTouchAtSeveralPoints(PfxUInt32 idA, PfxUInt32 idB) const;
+  // The room a manifold of idA and idB holding `numPoints` points takes: none without
+  // points, four where they may touch at several, else as many as it holds.
+  PfxUInt32 roomForPoints(PfxUInt32 idA, PfxUInt32 idB, PfxUInt32 numPoints) const;
   // Gives manifold `contactId` room for `numPoints` points from the pool of their size,
   // moving those it holds; the room it had goes back to its pool.
   void sizeManifold(PfxUInt32 contactId, PfxUInt32 numPoints);
