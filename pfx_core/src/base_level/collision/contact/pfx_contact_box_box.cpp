@@ -187,10 +187,9 @@ class BoxBoxContact {
     PfxVector3 bufferB[PFX_MAX_CLIP_VERTICES];
     PfxVector3* polygon = bufferA;
     PfxVector3* scratch = bufferB;
-    polygon[0] = faceCentre + edgeU + edgeV;
-    polygon[1] = faceCentre - edgeU + edgeV;
-    polygon[2] = faceCentre - edgeU - edgeV;
-    polygon[3] = faceCentre + edgeU - edgeV;
+    const PfxVector3 corners[4] = {faceCentre + edgeU + edgeV, faceCentre - edgeU + edgeV,
+                                   faceCentre - edgeU - edgeV, faceCentre + edgeU - edgeV};
+    std::copy(corners, corners + 4, polygon);
     PfxUInt32 count = 4;
     for (int side = 1; side < 3 && count > 0; ++side) {
       const int axis = (k + side) % 3;
@@ -209,8 +208,6 @@ class BoxBoxContact {
       // face's point nearest that rim stands for them. The deepest incident corner did
       // before: for nearly parallel faces, a corner up to a box's length beside the
       // reference face, a contact where neither box is.
-      const PfxVector3 corners[4] = {faceCentre + edgeU + edgeV, faceCentre - edgeU + edgeV,
-                                     faceCentre - edgeU - edgeV, faceCentre + edgeU - edgeV};
       const int refU = (k + 1) % 3;
       const int refV = (k + 2) % 3;
       PfxVector3 rim[4];

@@ -218,21 +218,28 @@ class PolyhedraContact {
       }
     }
 
+    // A face has no more corners than its mesh.
+    PfxVector3 incidentFace[PFX_CONVEX_MESH_MAX_VERTICES];
+    PfxVector3 referenceFace[PFX_CONVEX_MESH_MAX_VERTICES];
+    const PfxUInt32 incSize = std::min(incident.faceSize(incFace), PFX_CONVEX_MESH_MAX_VERTICES);
+    const PfxUInt32 refSize = std::min(reference.faceSize(refFace), PFX_CONVEX_MESH_MAX_VERTICES);
+    for (PfxUInt32 k = 0; k < incSize; ++k) incidentFace[k] = incident.faceVertex(incFace, k);
+    for (PfxUInt32 k = 0; k < refSize; ++k) referenceFace[k] = reference.faceVertex(refFace, k);
+
     PfxVector3 bufferA[PFX_MAX_CLIP_VERTICES];
     PfxVector3 bufferB[PFX_MAX_CLIP_VERTICES];
     PfxVector3* polygon = bufferA;
     PfxVector3* scratch = bufferB;
-    PfxUInt32 count = std::min<PfxUInt32>(incident.faceSize(incFace), PFX_MAX_CLIP_VERTICES);
-    for (PfxUInt32 k = 0; k < count; ++k) polygon[k] = incident.faceVertex(incFace, k);
+    PfxUInt32 count = incSize;
+    std::copy(incidentFace, incidentFace + incSize, polygon);
 
-    const PfxUInt32 refSize = reference.faceSize(refFace);
     PfxVector3 refCentre = PfxVector3::Zero();
-    for (PfxUInt32 k = 0; k < refSize; ++k) refCentre += reference.faceVertex(refFace, k);
+    for (PfxUInt32 k = 0; k < refSize; ++k) refCentre += referenceFace[k];
     refCentre /= PfxFloat(std::max<PfxUInt32>(refSize, 1));
 
     for (PfxUInt32 k = 0; k < refSize && count > 0; ++k) {
-      const PfxVector3 v0 = reference.faceVertex(refFace, k);
-      const PfxVector3 v1 = reference.faceVertex(refFace, (k + 1) % refSize);
+      const PfxVector3 v0 = referenceFace[k];
+      const PfxVector3 v1 = referenceFace[(k + 1) % refSize];
       PfxVector3 sideNormal = (v1 - v0).cross(refNormal);
       if (sideNormal.squaredNorm() <= PFX_EPSILON * PFX_EPSILON) continue;
       if (sideNormal.dot(refCentre - v0) > 0) sideNormal = -sideNormal;
@@ -247,13 +254,7 @@ class PolyhedraContact {
       // most on the reference face's rim, and the incident face's point nearest that rim
       // stands for them (as in pfxContactBoxBox; its deepest vertex could lie beside the
       // reference face).
-      PfxVector3 incidentFace[PFX_CONVEX_MESH_MAX_VERTICES];
-      PfxVector3 referenceFace[PFX_CONVEX_MESH_MAX_VERTICES];
-      const PfxUInt32 incSize = std::min(incident.faceSize(incFace), PFX_CONVEX_MESH_MAX_VERTICES);
-      const PfxUInt32 refCount = std::min(refSize, PFX_CONVEX_MESH_MAX_VERTICES);
-      for (PfxUInt32 k = 0; k < incSize; ++k) incidentFace[k] = incident.faceVertex(incFace, k);
-      for (PfxUInt32 k = 0; k < refCount; ++k) referenceFace[k] = reference.faceVertex(refFace, k);
-      polygon[0] = pfxNearestPointAcross(incidentFace, incSize, referenceFace, refCount,
+      polygon[0] = pfxNearestPointAcross(incidentFace, incSize, referenceFace, refSize,
                                          refNormal, m_mergeDistance);
       count = 1;
     }
