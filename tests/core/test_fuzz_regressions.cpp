@@ -927,3 +927,48 @@ TEST(FuzzRegressions, TimeStepAboveTheBoundIsRefusedWithNothingChanged) {
   expectFileRefused(world, PfxWorldParam().timeStep, PfxFloat(1.6e17), "timeStep", nullptr,
                     PFX_ERR_OUT_OF_RANGE);
 }
+
+// fuzz_scene: a body of two boxes in one place (4 x 5.1 x 1 and 4 x 6.1 x 1 m), placed
+// through the whole height of a fixed box, turned NaN in its first step. Each of its boxes
+// met the fixed one with the same depth up and down, one pushed up, the other down; the
+// contact tree solver took the pair's four points for one face, and the face's first
+// moment across them was no push at all, a zero row it divided by. Points whose normals
+// disagree are no face now; the iterations solve them, and the body comes out.
+TEST(FuzzRegressions, CompoundThroughAWallWithOpposedContactNormalsStepsToFiniteStates) {
+  PfxWorldParam param;
+  param.gravity = PfxVector3::Zero();
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxBodyInit wallInit;
+  wallInit.mass = 0;
+  wallInit.position = PfxVector3(0, 2, PfxFloat(0.5));
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, PfxFloat(2.55), PfxFloat(0.5))), wallInit),
+            PFX_OK);
+  const PfxShape shapes[2] = {pfxMakeShape(PfxBox(2, PfxFloat(2.55), PfxFloat(0.5))),
+                              pfxMakeShape(PfxBox(2, PfxFloat(3.05), PfxFloat(0.5)))};
+  PfxBodyInit bodyInit;
+  bodyInit.mass = PfxFloat(4.5);
+  bodyInit.position = PfxVector3(PfxFloat(-1.5), PfxFloat(-1.5), PfxFloat(0.5));
+  PfxUInt32 body = 0;
+  ASSERT_EQ(pfxAddBody(world, shapes, 2, bodyInit, &body), PFX_OK);
+  bool opposed = false;
+  for (int i = 0; i < 240; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK) << "step " << i;
+    ASSERT_TRUE(world.getRigidState(body).isValid()) << "step " << i;
+    for (PfxUInt32 c = 0; c < world.getNumContactPairs(); ++c) {
+      const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(c));
+      for (PfxUInt32 p = 1; p < manifold.getNumContacts(); ++p) {
+        opposed |= manifold.getContactPoint(p).getNormal().dot(
+                       manifold.getContactPoint(0).getNormal()) < 0;
+      }
+    }
+  }
+  EXPECT_TRUE(opposed) << "the pose no longer gives the pair opposed normals";
+  // Pushed out: no point left overlapping the wall after a second.
+  for (PfxUInt32 c = 0; c < world.getNumContactPairs(); ++c) {
+    const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(c));
+    for (PfxUInt32 p = 0; p < manifold.getNumContacts(); ++p) {
+      EXPECT_GE(manifold.getContactPoint(p).m_distance, PfxFloat(-0.01));
+    }
+  }
+}

@@ -45,11 +45,26 @@ bool touches(const PfxContactPoint& cp) {
 // Whether a body takes the pair's impulses and moves with them.
 bool movesWith(const PfxSolverBody& body, bool receives) { return receives && body.m_massInv > 0; }
 
-bool hasTouchingPoint(const PfxContactManifold& manifold) {
+// Touching points whose normals lie further apart than this (cosine) do not make one face.
+// A compound's shapes can meet another body at points pushed in opposite directions (two
+// shapes that both overlap a box through its whole height); their pressures are no affine
+// field over a plane, and a face's first moment across such points can be no push at all:
+// a zero row that left the factorization dividing by zero.
+constexpr PfxFloat kFaceNormalsCos = PfxFloat(0.9);
+
+// Whether the pair's touching points make a face: there is one, and they share a normal.
+bool touchesAsAFace(const PfxContactManifold& manifold) {
+  const PfxContactPoint* first = nullptr;
   for (PfxUInt32 i = 0; i < manifold.getNumContacts(); ++i) {
-    if (touches(manifold.getContactPoint(i))) return true;
+    const PfxContactPoint& cp = manifold.getContactPoint(i);
+    if (!touches(cp)) continue;
+    if (!first) {
+      first = &cp;
+    } else if (cp.getNormal().dot(first->getNormal()) < kFaceNormalsCos) {
+      return false;
+    }
   }
-  return false;
+  return first != nullptr;
 }
 
 }  // namespace
@@ -321,7 +336,7 @@ bool PfxContactTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                    for (PfxUInt32 i = begin; i < end; ++i) {
                      const PfxConstraintPair& pair = contactPairs[i];
                      pairFlags[i] = 0;
-                     if (!pfxGetActive(pair) || !hasTouchingPoint(manifolds[pfxGetContactId(pair)]))
+                     if (!pfxGetActive(pair) || !touchesAsAFace(manifolds[pfxGetContactId(pair)]))
                        continue;
                      const PfxUInt32 a = pfxGetObjectIdA(pair), b = pfxGetObjectIdB(pair);
                      const bool moveA = movable(a, pfxGetReceivesA(pair));
