@@ -168,6 +168,7 @@ class PfxJointTreeSolver {
   PfxUInt32* m_treeRowStarts = nullptr;   // per tree, then the number of rows
   PfxUInt32* m_treeBodyStarts = nullptr;  // per tree, into m_treeBodies
   PfxUInt32* m_treeBodies = nullptr;
+  PfxUInt32* m_treesToSolve = nullptr;  // solveVelocitiesOf's list
   PfxFloat* m_rowVelocityChanges = nullptr;
   double* m_rowImpulseSums = nullptr;  // per row: the impulses applied with its changes
 };
