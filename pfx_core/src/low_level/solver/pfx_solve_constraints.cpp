@@ -351,6 +351,20 @@ void solveTreeJointRow(PfxConstraintRow& row, PfxFloat& response, const PfxJoint
   row.m_accumImpulse = impulse;
 }
 
+// Whether the iterations solve a row of an axis: its drive row, or its constraint row
+// unless the direct solve holds it (a locked axis of a joint in the forest).
+bool isIteratedRow(const PfxJointConstraint& c, bool drive, bool inTree) {
+  if (drive) return c.m_driveRowUsed != 0;
+  return c.m_rowType != kPfxJointRowNone && !(inTree && PfxJointTreeSolver::isLockedRow(c));
+}
+
+bool hasIteratedRow(const PfxJoint& joint, bool inTree) {
+  for (const PfxJointConstraint& c : joint.m_constraints) {
+    if (isIteratedRow(c, false, inTree) || isIteratedRow(c, true, inTree)) return true;
+  }
+  return false;
+}
+
 // The rows of a joint that the direct solve leaves to iteration: limits, drives, friction,
 // and every row of a joint outside the forest. (Their position errors are corrected after
 // the bodies have moved, by pfxCorrectJointPositions.)
@@ -359,12 +373,10 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
   const bool inTree = tree.contains(jointPairIndex);
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
     PfxJointConstraint& c = joint.m_constraints[axis];
-    const bool direct = inTree && PfxJointTreeSolver::isLockedRow(c);
     for (int which = 0; which < 2; ++which) {
       const bool drive = which == 1;
       PfxConstraintRow& row = drive ? c.m_driveRow : c.m_constraintRow;
-      const bool used = drive ? c.m_driveRowUsed != 0 : c.m_rowType != kPfxJointRowNone && !direct;
-      if (!used) continue;
+      if (!isIteratedRow(c, drive, inTree)) continue;
       if (inTree) {
         // Rows that move neither body have no slot.
         const PfxInt32 slot = tree.getBoundedRow(jointPairIndex, axis, drive);
@@ -419,7 +431,8 @@ TreeContactPairs gatherTreeContactPairs(const PfxSolveConstraintsParam& param,
 }
 
 // The work buffer: the joints' forest and its bounded rows, the contacts' forest, the
-// bodies' batch words, the batches of contacts and of joints, shock propagation's work
+// bodies' batch words, the batches of contacts, of joints and of the joints with rows to
+// iterate (jointBatchBytes each), shock propagation's work
 // (without joints) or the contact pairs on the trees' bodies (with them), then the scratch
 // of the contacts' direct solve, whatever is left.
 struct SolverWorkLayout {
@@ -454,7 +467,7 @@ struct SolverWorkLayout {
   // All but the contacts' scratch.
   std::size_t fixedBytes() const {
     return std::size_t(jointTreeBytes) + boundedRowBytes + contactTreeBytes + bodyBatchBytes +
-           contactBatchBytes + jointBatchBytes + shockOrTreeContactBytes;
+           contactBatchBytes + 2 * jointBatchBytes + shockOrTreeContactBytes;
   }
 };
 
@@ -579,18 +592,32 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
   PfxConstraintBatches jointBatches;
   // A row of a joint in the direct solve's forest moves its whole tree (solveTreeJointRow),
   // so every joint on a tree's bodies counts as acting on one body of that tree.
+  const auto jointActingOn = [&](PfxUInt32 id) {
+    const PfxInt32 treeBody = tree.getTreeBody(id);
+    return treeBody >= 0 ? PfxUInt32(treeBody) : id;
+  };
   jointBatches.build(cursor, layout.jointBatchBytes, bodyBatches, param.jointPairs,
                      param.numJointPairs, param.offsetSolverBodies, param.numRigidBodies,
                      [&](PfxUInt32 i) { return pfxGetActive(param.jointPairs[i]); },
-                     [&](PfxUInt32 id) {
-                       const PfxInt32 treeBody = tree.getTreeBody(id);
-                       return treeBody >= 0 ? PfxUInt32(treeBody) : id;
-                     },
-                     taskManager);
+                     jointActingOn, taskManager);
+  cursor += layout.jointBatchBytes;
+  // The iterations visit only the joints with a row to solve: a chain of ball joints in the
+  // forest has none, and going through its joints' twelve rows each to find so took a
+  // tenth of its step.
+  PfxConstraintBatches iteratedJointBatches;
+  iteratedJointBatches.build(
+      cursor, layout.jointBatchBytes, bodyBatches, param.jointPairs, param.numJointPairs,
+      param.offsetSolverBodies, param.numRigidBodies,
+      [&](PfxUInt32 i) {
+        const PfxConstraintPair& pair = param.jointPairs[i];
+        return pfxGetActive(pair) &&
+               hasIteratedRow(param.offsetJoints[pfxGetConstraintId(pair)], tree.contains(i));
+      },
+      jointActingOn, taskManager);
   cursor += layout.jointBatchBytes;
   unsigned char* const shockOrTreeContactWork = cursor;
 
-  // work(sweep, ...) over numSweeps sweeps of the contacts, or one of the joints.
+  // work(sweep, ...) over numSweeps sweeps of the contacts, or one of the joints' batches.
   auto sweepContacts = [&](PfxUInt32 numSweeps, auto&& work) {
     contactBatches.sweep(taskManager, numSweeps,
                          [&](PfxUInt32 sweep, const PfxConstraintPair& pair, PfxUInt32) {
@@ -598,8 +625,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
                                 bodiesOf(pair, param.offsetSolverBodies));
                          });
   };
-  auto sweepJoints = [&](auto&& work) {
-    jointBatches.sweep(taskManager, 1, [&](PfxUInt32, const PfxConstraintPair& pair, PfxUInt32 i) {
+  auto sweepJoints = [&](const PfxConstraintBatches& batches, auto&& work) {
+    batches.sweep(taskManager, 1, [&](PfxUInt32, const PfxConstraintPair& pair, PfxUInt32 i) {
       work(param.offsetJoints[pfxGetConstraintId(pair)], bodiesOf(pair, param.offsetSolverBodies),
            i);
     });
@@ -647,7 +674,8 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
     });
   } else {
     sweepContacts(1, [](PfxUInt32, PfxContactManifold& m, const PairBodies& p) { warmStart(m, p); });
-    sweepJoints([](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
+    sweepJoints(jointBatches,
+                [](PfxJoint& j, const PairBodies& p, PfxUInt32) { warmStartJoint(j, p); });
     if (param.numJointPairs > 0) {
       tree.prepareBoundedRows(boundedRowWork, layout.boundedRowBytes, taskManager);
       tree.markTreesMovedFromOutside(param.offsetJointCouplings, param.numJointCouplings);
@@ -681,7 +709,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       tree.markTreesMovedByContacts(treeContacts.pairs, treeContacts.numPairs,
                                     param.offsetContactManifolds);
       tree.solveVelocitiesBeforeSweep(first, taskManager);
-      sweepJoints([&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
+      sweepJoints(iteratedJointBatches, [&](PfxJoint& j, const PairBodies& p, PfxUInt32 index) {
         solveJoint(j, p, tree, index);
       });
       for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {
