@@ -524,8 +524,7 @@ TEST(NodeLoad, AnswersEveryCallRightKeepsItsMemoryAndMovesAsWithoutLoad) {
   const double runningCpu = cpuSeconds(pid) - runningCpuStart;
   const double rssEnd = rssMb(pid);
 
-  pfx::GetPhysics physics;
-  EXPECT_TRUE(ros::service::call(loaded + "get_physics", physics)) << "still answering";
+  pfx_test::call(loaded + "get_physics", pfx::GetPhysics());  // still answering
   EXPECT_EQ(tally.unanswered.load(), 0);
   EXPECT_EQ(tally.wrong.load(), 0);
   for (const std::string& problem : tally.firstProblems) ADD_FAILURE() << problem;

@@ -68,8 +68,7 @@ class Recorder {
 };
 
 bool trigger(const std::string& name) {
-  std_srvs::Trigger srv;
-  return ros::service::call(kNode + name, srv) && srv.response.success;
+  return pfx_test::call(kNode + name, std_srvs::Trigger()).response.success;
 }
 
 Eigen::Isometry3d sensorPose(const std::string& frame) {
