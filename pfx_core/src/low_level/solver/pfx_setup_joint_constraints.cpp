@@ -15,8 +15,9 @@ namespace {
 constexpr PfxFloat kUnboundedImpulse = std::numeric_limits<PfxFloat>::max();
 constexpr PfxUInt32 kJointsPerTask = 64;
 // The geometric stiffness's chunks of bodies: each looks through every joint, so a few per
-// thread.
-constexpr PfxUInt32 kMinStiffenedBodiesPerChunk = 64;
+// thread, and a small world in one: two chunks, each looking through every joint, took
+// longer on two threads than one chunk on one (the piled ragdolls).
+constexpr PfxUInt32 kMinStiffenedBodiesPerChunk = 256;
 constexpr PfxUInt32 kMaxStiffenedChunks = 16;
 
 struct JointBodies {
