@@ -964,7 +964,7 @@ TEST(FuzzRegressions, CompoundThroughAWallWithOpposedContactNormalsStepsToFinite
     }
   }
   EXPECT_TRUE(opposed) << "the pose no longer gives the pair opposed normals";
-  // Pushed out: no point left overlapping the wall after a second.
+  // Pushed out: no point left overlapping the wall after the 4 s.
   for (PfxUInt32 c = 0; c < world.getNumContactPairs(); ++c) {
     const PfxContactManifold& manifold = world.getContactManifold(world.getContactPair(c));
     for (PfxUInt32 p = 0; p < manifold.getNumContacts(); ++p) {
