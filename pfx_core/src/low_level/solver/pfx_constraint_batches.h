@@ -50,9 +50,10 @@ class PfxConstraintBatches {
   // numSweeps - 1 in turn; the pairs of a batch run in parallel with a task manager. The
   // pairs are copies laid out batch after batch, so that a sweep reads them in one stream.
   // Built for one thread, or with batches too narrow for the threads to share
-  // (kMinChunksPerThreadInABatch), the pairs stay in pair order instead, which gives the same bits
-  // (see above) and visits the bodies in the order the broad phase found their pairs: on
-  // 4,000 bodies, batch order reaches a new body, far from the last, at nearly every pair.
+  // (kMinChunksPerThreadInABatch), the pairs stay in pair order instead, which gives the
+  // same bits (see above) and visits the bodies in the order the broad phase found their
+  // pairs: on 4,000 bodies, batch order reaches a new body, far from the last, at nearly
+  // every pair.
   template <typename Work>
   void sweep(PfxTaskManager* taskManager, PfxUInt32 numSweeps, const Work& work) const;
 
