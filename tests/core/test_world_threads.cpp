@@ -1,8 +1,10 @@
 // PfxWorld on several threads: a pile of 500 bodies of every convex shape with two ragdolls
 // on top (sleep on, as by default) gives the same bits with 1, 2 and 4 threads and run after
-// run, and a warm step on two threads allocates nothing.
+// run, and a warm step on two threads allocates nothing. A world of many islands, solved a
+// group of islands at a time on several threads, gives the bits of the whole on one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -156,7 +158,94 @@ Outcome simulate(PfxUInt32 numThreads, int steps) {
   return outcome;
 }
 
+// Islands of every kind on one floor, apart: ragdolls (with joints, or none), two stacks on
+// a keyframe platform sliding under both (one body that two islands read), a stack and a
+// ragdoll that fall asleep, and balls that fall through it all.
+struct IslandsWorld {
+  bool joints = true;
+  bool shockPropagation = false;
+};
+
+void buildIslands(PfxWorld& world, PfxUInt32 numThreads, const IslandsWorld& kind) {
+  PfxWorldParam param;
+  param.numThreads = numThreads;
+  param.subStep = 2;
+  param.enableShockPropagation = kind.shockPropagation;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  addFixedBox(world, PfxVector3(12, 0.25f, 12), PfxVector3(0, -0.25f, 0));
+  PfxBodyInit platform;
+  platform.mass = 10;
+  platform.motionType = kPfxMotionTypeKeyframe;
+  platform.position = PfxVector3(0, 0.1f, 6);
+  platform.linearVelocity = PfxVector3(0.2f, 0, 0);
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(2, 0.1f, 0.5f)), platform), PFX_OK);
+  auto stack = [&](PfxFloat x, PfxFloat y, PfxFloat z, int height) {
+    for (int i = 0; i < height; ++i) {
+      PfxBodyInit box;
+      box.position = PfxVector3(x, y + 0.2f * i + 0.1f, z);
+      ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.15f, 0.1f, 0.15f)), box), PFX_OK);
+    }
+  };
+  stack(-1, 0.2f, 6, 5);
+  stack(1, 0.2f, 6, 5);
+  stack(-6, 0, -6, 4);
+  for (int i = 0; i < 6; ++i) {
+    const PfxVector3 at(4.0f * (i % 3) - 4, 1.2f + 0.3f * i, 3.0f * (i / 3) - 2);
+    if (kind.joints) {
+      PfxRagdoll ragdoll;
+      ASSERT_EQ(pfxAddRagdoll(world, at, PfxQuat(Eigen::AngleAxis<PfxFloat>(0.5f * i, PfxVector3::UnitY())),
+                              &ragdoll),
+                PFX_OK);
+    } else {
+      stack(at.x(), at.y(), at.z(), 3);
+    }
+  }
+  for (int i = 0; i < 12; ++i) {
+    PfxBodyInit ball;
+    ball.position = PfxVector3(0.9f * i - 5, 2 + 0.25f * i, 0.5f * (i % 4) - 6);
+    ball.linearVelocity = PfxVector3(0, 0, 2);
+    ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(0.12f)), ball), PFX_OK);
+  }
+}
+
+struct IslandsOutcome {
+  std::vector<unsigned char> states;
+  PfxUInt32 mostGroups = 0;
+  PfxUInt32 mostSleepingBodies = 0;
+};
+
+IslandsOutcome simulateIslands(PfxUInt32 numThreads, const IslandsWorld& kind, int steps) {
+  IslandsOutcome outcome;
+  PfxWorld world;
+  buildIslands(world, numThreads, kind);
+  for (int i = 0; i < steps; ++i) {
+    EXPECT_EQ(world.step(), PFX_OK);
+    outcome.mostGroups = std::max(outcome.mostGroups, world.getStats().numIslandGroups);
+    outcome.mostSleepingBodies =
+        std::max(outcome.mostSleepingBodies, world.getStats().numSleepingBodies);
+  }
+  outcome.states = snapshot(world);
+  return outcome;
+}
+
 }  // namespace
+
+TEST(WorldThreads, IslandGroupsGiveTheBitsOfTheWholeWorld) {
+  const int steps = kSteps;
+  for (const IslandsWorld kind : {IslandsWorld{true, false}, IslandsWorld{true, true},
+                                  IslandsWorld{false, true}}) {
+    SCOPED_TRACE(testing::Message() << "joints " << kind.joints << ", shock propagation "
+                                    << kind.shockPropagation);
+    const IslandsOutcome one = simulateIslands(1, kind, steps);
+    EXPECT_EQ(one.mostGroups, 0u);  // one thread solves the world as a whole
+    EXPECT_GT(one.mostSleepingBodies, 0u);
+    for (PfxUInt32 threads : kThreadCounts) {
+      const IslandsOutcome many = simulateIslands(threads, kind, steps);
+      EXPECT_GE(many.mostGroups, 2u) << threads << " threads";
+      EXPECT_TRUE(one.states == many.states) << threads << " threads";
+    }
+  }
+}
 
 TEST(WorldThreads, SameBitsWithOneTwoAndFourThreadsAndRunAfterRun) {
   const Outcome one = simulate(1, kSteps);

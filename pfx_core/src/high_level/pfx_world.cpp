@@ -18,6 +18,7 @@
 #include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
+#include "high_level/pfx_island_groups.h"
 #include "high_level/pfx_world_stage_timer.h"
 
 namespace pfx {
@@ -1035,6 +1036,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
       return err;
     }
   }
+  if (m_solveInGroups) return solveIslandGroups(timeStep);
   {
     StageTimer timer(m_stats, kPfxStageSolveConstraints);
     PfxSolveConstraintsParam param;
@@ -1198,6 +1200,7 @@ PfxInt32 PfxWorld::step() {
     wakeTouchedIslands();
   }
   reserveSolverWork(m_numPairs);
+  m_solveInGroups = buildIslandGroups();
   const PfxFloat subTimeStep = m_param.timeStep / PfxFloat(m_param.subStep);
   for (PfxUInt32 i = 0; i < m_param.subStep; ++i) {
     if (const PfxInt32 err = subStep(subTimeStep); err != PFX_OK) return err;

@@ -28,6 +28,8 @@
 
 namespace pfx {
 
+class PfxIslandGroups;
+
 enum PfxPipelineType : PfxUInt8 {
   // No data kept between frames: fastest, but stacks are not stable (seed 1_simple).
   kPfxPipelineSimple = 0,
@@ -161,6 +163,11 @@ struct PfxWorldStats {
   PfxUInt32 numAwakeBodies = 0;
   PfxUInt32 numSleepingBodies = 0;
   PfxUInt32 numSleepingPairs = 0;
+  // The groups of islands the step solved one a task (0: the world as a whole). With two
+  // threads or more, a world of several islands is solved, integrated and corrected a group
+  // of islands at a time, with the same bits; the three stages' seconds are then summed
+  // over the groups, which run at the same time.
+  PfxUInt32 numIslandGroups = 0;
   // Particles, after the step: in all groups, the groups awake and asleep, the contacts the
   // step solved (with bodies and among particles), and the deepest overlap of a particle
   // with a body at the end of the step (m, >= 0).
@@ -453,6 +460,9 @@ class PfxWorld {
   void reservePairs();
   PfxInt32 detectCollision();
   PfxInt32 subStep(PfxFloat timeStep);
+  // Whether this step solves the islands a group at a time (pfx_world_groups.cpp).
+  bool buildIslandGroups();
+  PfxInt32 solveIslandGroups(PfxFloat timeStep);
   PfxInt32 validateJoint(const PfxJoint& joint) const;
   PfxJointCoupling measuredCoupling(const PfxJointCoupling& coupling) const;
   template <typename Param>
@@ -597,6 +607,9 @@ class PfxWorld {
   // through them a batch at a time: at first a batch of small trees, then room for the
   // largest tree a step has had.
   PfxUInt32 m_contactTreeNodes = 256;
+  // The step's groups of islands, when it solves them a group at a time.
+  std::unique_ptr<PfxIslandGroups> m_islandGroups;
+  bool m_solveInGroups = false;
 
   // The proxies that rays find bodies by, then their sort scratch (two blocks of
   // m_rayProxyStride), and the hierarchy over them. Stale after anything that moves or

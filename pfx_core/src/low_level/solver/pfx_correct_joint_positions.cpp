@@ -377,7 +377,8 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
   work.region.flags = carver.take<PfxUInt8>(param.numRigidBodies);
   work.touchingPairs = carver.take<PfxConstraintPair>(param.numContactPairs);
   work.numTouchingPairs = gatherTouchingPairs(param, work.touchingPairs);
-  const PfxUInt32 passes = work.numTouchingPairs > 0 ? kNewtonPasses + 1 : kNewtonPasses;
+  const PfxUInt32 passes =
+      work.numTouchingPairs > 0 || param.contactPassAnyway ? kNewtonPasses + 1 : kNewtonPasses;
   for (PfxUInt32 pass = 0; pass < passes; ++pass) {
     const bool last = pass + 1 == passes;
     if ((err = correctOnce(param, work, last, taskManager)) != PFX_OK) return err;

@@ -38,6 +38,11 @@ struct PfxCorrectJointPositionsParam {
   PfxUInt32 numContactPairs = 0;
   PfxContactManifold* offsetContactManifolds = nullptr;
   PfxUInt32 numContactManifolds = 0;
+  // The contacts' pass (the third, see pfxCorrectJointPositions) runs when this call's
+  // contact pairs hold points, and also when this is set: a world solved a group of islands
+  // at a time (pfx_island_groups.h) sets it for every group when any pair of the world has
+  // points, so that each group does what the world as one call would.
+  bool contactPassAnyway = false;
 };
 
 // numContactPairs: the most contact pairs a call passes (none by default).
