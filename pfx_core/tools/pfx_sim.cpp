@@ -50,6 +50,9 @@ const char* const kUsage =
     "  --dt DT            time step in seconds (default 1/240)\n"
     "  --substeps N       solver sub-steps per step (default 1)\n"
     "  --iterations N     solver iterations per sub-step (default 10)\n"
+    "  --threads N        step on N threads (default 1; 0: every core the process may\n"
+    "                     use); the figures are the same bits whatever N, a saved world's\n"
+    "                     too\n"
     "  --ground           a ground plane at z = 0\n"
     "  --octomap FILE     static geometry from an OctoMap (.bt or .ot)\n"
     "  --fixed-base       bolt the robot's root link to the world (a root without mass\n"
@@ -97,6 +100,8 @@ struct Options {
   double dt = 1.0 / 240.0;
   long substeps = 1;
   long iterations = 10;
+  long threads = 1;
+  bool threadsGiven = false;  // also for a scene file or a saved world
   bool ground = false;
   std::string octomap;
   bool fixedBase = false;
@@ -189,6 +194,14 @@ int parseArguments(int argc, char** argv, Options& options) {
                                : options.every) = number;
       if (arg == "--substeps") options.substepsGiven = true;
       if (arg == "--iterations") options.iterationsGiven = true;
+    } else if (arg == "--threads") {
+      if (!value(text)) return usageError("--threads needs a value");
+      if (!parseLong(text, options.threads) || options.threads < 0 ||
+          options.threads > long(PFX_MAX_THREADS)) {
+        return usageError("--threads must be a whole number from 0 to " +
+                          std::to_string(PFX_MAX_THREADS) + ": " + text);
+      }
+      options.threadsGiven = true;
     } else if (arg == "--octomap" || arg == "--png" || arg == "--world" || arg == "--load" ||
                arg == "--save" || arg == "--result") {
       if (!value(text)) return usageError(arg + " needs a file name");
@@ -258,6 +271,7 @@ PfxWorldParam overriddenParam(PfxWorldParam param, const Options& options) {
   if (options.substepsGiven) param.subStep = PfxUInt32(options.substeps);
   if (options.iterationsGiven) param.iteration = PfxUInt32(options.iterations);
   if (options.sleepGiven) param.enableSleep = options.sleep;
+  if (options.threadsGiven) param.numThreads = PfxUInt32(options.threads);
   param.measureConservation = true;  // the TSV reports the energy and momentum changes
   return param;
 }
@@ -268,12 +282,13 @@ PfxInt32 loadScene(PfxWorld& world, const Options& options, PfxSceneModel& scene
                    std::string& message) {
   PfxSceneLoadParam load;
   if (const PfxInt32 err = pfxLoadSceneFile(world, options.world, load, scene, &message);
-      err != PFX_OK || !options.physicsGiven()) {
+      err != PFX_OK || !(options.physicsGiven() || options.threadsGiven)) {
     return err;
   }
   const PfxWorldParam param = overriddenParam(scene.worldParam, options);
   if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
-    message = std::string("--dt, --substeps or --iterations rejected: ") + pfxErrorString(err);
+    message = std::string("--dt, --substeps, --iterations or --threads rejected: ") +
+              pfxErrorString(err);
     return err;
   }
   scene = PfxSceneModel();
@@ -438,7 +453,11 @@ int main(int argc, char** argv) {
           "a saved world runs with its own parameters: no --dt, --substeps, "
           "--iterations or --sleep with it");
     }
-    if (const PfxInt32 err = pfxLoadWorld(world, savedWorld.c_str(), savedMeshes, &message);
+    PfxLoadWorldOptions loadOptions;
+    loadOptions.keepSavedNumThreads = !options.threadsGiven;
+    loadOptions.numThreads = PfxUInt32(options.threads);
+    if (const PfxInt32 err =
+            pfxLoadWorld(world, savedWorld.c_str(), savedMeshes, &message, loadOptions);
         err != PFX_OK) {
       std::fprintf(stderr, "pfx_sim: %s: %s\n", savedWorld.c_str(),
                    message.empty() ? pfxErrorString(err) : message.c_str());
@@ -452,6 +471,7 @@ int main(int argc, char** argv) {
     param.iteration = PfxUInt32(options.iterations);
     param.measureConservation = true;
     param.enableSleep = options.sleep;
+    param.numThreads = PfxUInt32(options.threads);
     if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
       std::fprintf(stderr, "pfx_sim: world parameters rejected: %s\n", pfxErrorString(err));
       return 1;

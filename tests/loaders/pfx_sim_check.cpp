@@ -176,7 +176,8 @@ TEST(PfxSim, HelpAndBadArgumentsAndFiles) {
   EXPECT_NE(run.out.find("--drop-height"), std::string::npos);
 
   for (const char* bad : {"", "--dt -1", "--dt abc", "--seconds", "--substeps 0",
-                          "--iterations 2.5", "--png-size 10x10", "--bogus", "extra.urdf"}) {
+                          "--iterations 2.5", "--threads -1", "--threads 257", "--threads",
+                          "--png-size 10x10", "--bogus", "extra.urdf"}) {
     run = runSim((std::string(bad).empty() ? std::string() : "\"" + arm + "\" ") + bad, "bad");
     EXPECT_EQ(run.status, 2) << bad;
     EXPECT_NE(run.err.find("pfx_sim: "), std::string::npos) << bad;
@@ -307,4 +308,52 @@ TEST(PfxSim, SceneFilesAloneAndBesideARobot) {
   ASSERT_EQ(rows.size(), 126u);
   EXPECT_GT(std::stol(rows.back()[4]), 0);
   EXPECT_LT(std::stod(rows.back()[5]), 0.02) << "deepest overlap";
+}
+
+// A robot beside a scene of 48 crates and balls dropped apart, many islands on one floor,
+// prints on 2 and 3 threads, step for step, the figures of one thread; so does a saved world
+// continued on 2.
+TEST(PfxSim, ThreadsGiveTheFiguresOfOneThread) {
+  const std::string scene = scratch("islands.xml");
+  {
+    std::ofstream xml(scene);
+    xml << "<pfx_scene version=\"1\" name=\"islands\">\n";
+    for (int i = 0; i < 48; ++i) {
+      xml << "<body name=\"b" << i << "\" mass=\"1\" position=\"" << 0.8 * (i % 8) - 2.8 << " "
+          << 0.8 * (i / 8) + 1 << " " << 0.3 + 0.05 * (i % 5) << "\">"
+          << (i % 3 ? "<box size=\"0.3 0.3 0.3\"/>" : "<sphere radius=\"0.15\"/>") << "</body>\n";
+    }
+    xml << "</pfx_scene>\n";
+  }
+  const std::string run = "\"" + std::string(PFX_SOURCE_DIR) +
+                          "/tests/loaders/data/pfx_sim_arm.urdf\" --world \"" + scene +
+                          "\" --ground --seconds 1 --dt 0.004";
+  const std::string saved = scratch("threads.pfxw");
+  std::remove(saved.c_str());
+  const SimRun one = runSim(run + " --save \"" + saved + "\"", "threads_1");
+  ASSERT_EQ(one.status, 0) << one.err;
+  const auto oneRows = tsvRows(one.out);
+  ASSERT_EQ(oneRows.size(), 251u);
+  EXPECT_GT(std::stol(oneRows.back()[4]), 48) << "bodies rest on the ground";
+  for (const char* threads : {"2", "3"}) {
+    const SimRun many = runSim(run + " --threads " + threads, std::string("threads_") + threads);
+    ASSERT_EQ(many.status, 0) << many.err;
+    const auto manyRows = tsvRows(many.out);
+    ASSERT_EQ(manyRows.size(), oneRows.size());
+    for (std::size_t i = 1; i < oneRows.size(); ++i) {
+      ASSERT_EQ(simulatedFigures(manyRows[i]), simulatedFigures(oneRows[i]))
+          << threads << " threads, step " << i;
+    }
+  }
+  const SimRun rest = runSim("--load \"" + saved + "\" --seconds 0.2", "threads_rest_1");
+  const SimRun restOnTwo =
+      runSim("--load \"" + saved + "\" --seconds 0.2 --threads 2", "threads_rest_2");
+  ASSERT_EQ(rest.status, 0) << rest.err;
+  ASSERT_EQ(restOnTwo.status, 0) << restOnTwo.err;
+  const auto restRows = tsvRows(rest.out), restOnTwoRows = tsvRows(restOnTwo.out);
+  ASSERT_EQ(restRows.size(), 51u);
+  ASSERT_EQ(restOnTwoRows.size(), restRows.size());
+  for (std::size_t i = 1; i < restRows.size(); ++i) {
+    EXPECT_EQ(simulatedFigures(restOnTwoRows[i]), simulatedFigures(restRows[i])) << i;
+  }
 }
