@@ -65,11 +65,12 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   nh.param<std::string>("fixed_frame", p.fixedFrame, "world");
   nh.param("paused", p.paused, false);
   double groundSize, dt, initialHeight = 0;
-  int subSteps, iterations;
+  int subSteps, iterations, threads;
   nh.param("ground_size", groundSize, 20.0);
   nh.param("dt", dt, 0.004);
   nh.param("substeps", subSteps, 1);
   nh.param("iterations", iterations, 10);
+  nh.param("threads", threads, 1);
   const bool heightGiven = readInitialHeight(nh, initialHeight);
   nh.param("real_time_factor", p.realTimeFactor, 1.0);
   nh.param("publish_rate", p.publishRate, 100.0);
@@ -95,6 +96,9 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   if (iterations < 1 || PfxUInt32(iterations) > PFX_MAX_ITERATIONS) {
     invalid = iterationsRange.c_str();
   }
+  const std::string threadsRange = "~threads must be a whole number from 0 (every core) to " +
+                                   std::to_string(PFX_MAX_THREADS);
+  if (threads < 0 || PfxUInt32(threads) > PFX_MAX_THREADS) invalid = threadsRange.c_str();
   if (!positiveFinite(groundSize)) invalid = "~ground_size must be a positive number of metres";
   if (!std::isfinite(initialHeight)) {
     invalid = "~initial_height must be a finite number of metres, or auto";
@@ -126,6 +130,7 @@ bool PfxNode::readParam(PfxNodeParam& p) const {
   p.simulation.timeStep = PfxFloat(dt);
   p.simulation.subSteps = PfxUInt32(subSteps);
   p.simulation.iterations = PfxUInt32(iterations);
+  p.simulation.threads = PfxUInt32(threads);
   p.simulation.initialHeight = PfxFloat(initialHeight);
   p.simulation.placeAboveGround = !heightGiven;
   p.simulation.agents.commandTimeout = commandTimeout;

@@ -120,6 +120,7 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   param.timeStep = config.timeStep;
   param.subStep = config.subSteps;
   param.iteration = config.iterations;
+  param.numThreads = config.threads;
   // Robots have few bodies: the two extra passes cost little, and the diagnostics report
   // the energy and momentum each step changed.
   param.measureConservation = true;
@@ -544,7 +545,11 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
   auto saved = std::make_unique<PfxWorld>();
   std::string why;
-  if (const PfxInt32 err = pfxLoadWorld(*saved, path.c_str(), scene->savedMeshes, &why);
+  PfxLoadWorldOptions threads;
+  threads.keepSavedNumThreads = false;
+  threads.numThreads = m_config.threads;
+  if (const PfxInt32 err =
+          pfxLoadWorld(*saved, path.c_str(), scene->savedMeshes, &why, threads);
       err != PFX_OK) {
     if (message) *message = path + ": " + why;
     return err;

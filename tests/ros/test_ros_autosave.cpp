@@ -255,6 +255,23 @@ TEST(Startup, ATimeStepOutsideTheWorldsRangeIsRefusedByName) {
   }
 }
 
+// So is a thread count out of the task manager's range (PFX_MAX_THREADS).
+TEST(Startup, AThreadCountOutsideTheRangeIsRefusedByName) {
+  const int counts[] = {-1, 257};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string ns = "/bad_threads" + std::to_string(i);
+    setAutosaveParams(ns, 0, "", false, true);
+    ros::param::set(privateParam(ns, "threads"), counts[i]);
+    int status = 0;
+    const std::string output = runRefusedNode(ns, status);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124)
+        << "~threads " << counts[i] << " exits by itself, refusing: " << output;
+    EXPECT_NE(output.find("~threads must be a whole number from 0 (every core) to 256"),
+              std::string::npos)
+        << "~threads " << counts[i] << ": " << output;
+  }
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_ros_autosave");

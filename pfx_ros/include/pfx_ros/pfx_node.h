@@ -30,9 +30,10 @@ namespace pfx {
 struct PfxNodeParam {
   PfxNodeSimulationConfig simulation;  // robot_description (not private), ~urdf_path,
                                        // ~octomap_file, ~world_file, ~ground_plane, ~ground_size,
-                                       // ~dt, ~substeps, ~iterations, ~fixed_base, ~initial_height,
-                                       // ~allow_missing_meshes, ~agent_cmd_vel_timeout,
-                                       // ~agent_max_turn_rate, ~agent_waypoint_tolerance
+                                       // ~dt, ~substeps, ~iterations, ~threads, ~fixed_base,
+                                       // ~initial_height, ~allow_missing_meshes,
+                                       // ~agent_cmd_vel_timeout, ~agent_max_turn_rate,
+                                       // ~agent_waypoint_tolerance
   std::string fixedFrame = "world";  // ~fixed_frame
   // ~agent_frame_prefix: agents' frames are <prefix>/<name>, or <name> when empty. The
   // agents themselves (~agents) are read by PfxNodeAgents (pfx_node_agents.h), the cables and

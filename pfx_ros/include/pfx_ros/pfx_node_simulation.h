@@ -47,6 +47,9 @@ struct PfxNodeSimulationConfig {
   PfxFloat timeStep = PfxFloat(0.004);
   PfxUInt32 subSteps = 1;
   PfxUInt32 iterations = 10;
+  // Threads the world steps on (0: every core the process may use); the states are the same
+  // bits whatever the count.
+  PfxUInt32 threads = 1;
   PfxVector3 gravity = PfxVector3(0, 0, PfxFloat(-9.80665));
   bool fixedBase = false;
   PfxFloat initialHeight = 0;  // z of the root link's frame at the start (m)
