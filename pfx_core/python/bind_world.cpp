@@ -131,6 +131,8 @@ void bindStats(py::module_& m) {
       .def_readonly("num_awake_bodies", &PfxWorldStats::numAwakeBodies, "Moving bodies awake.")
       .def_readonly("num_sleeping_bodies", &PfxWorldStats::numSleepingBodies, "Bodies asleep.")
       .def_readonly("num_sleeping_pairs", &PfxWorldStats::numSleepingPairs, "Pairs set aside.")
+      .def_readonly("num_island_groups", &PfxWorldStats::numIslandGroups,
+                    "Groups of islands solved one a task (0: the world as a whole).")
       .def_readonly("num_particles", &PfxWorldStats::numParticles, "Particles in all groups.");
 }
 

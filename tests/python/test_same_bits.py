@@ -47,3 +47,26 @@ def test_saved_world_continues_with_the_same_bits():
     loaded.step(60)
     assert loaded.simulated_time == world.simulated_time
     assert state_lines(loaded) == state_lines(world)
+
+
+def test_islands_on_two_threads_give_the_bits_of_one():
+    """The arm and 40 loose boxes dropped apart on one floor: on two threads the world
+    solves its islands a group at a time (stats.num_island_groups), to the bits of one."""
+    def run(threads):
+        arm, _ = build_arm()
+        world = pfx.World.from_bytes(arm.to_bytes(), num_threads=threads)
+        box = pfx.Shape.box((0.1, 0.1, 0.1))
+        for i in range(40):
+            world.add_body(box, pfx.BodyInit(position=(0.6 * (i % 8) - 2.1, 0.6 * (i // 8) + 1,
+                                                      0.2 + 0.03 * (i % 5))))
+        groups = 0
+        for _ in range(120):
+            world.step()
+            groups = max(groups, world.stats.num_island_groups)
+        return state_lines(world), groups
+
+    one, groups_on_one = run(1)
+    two, groups_on_two = run(2)
+    assert groups_on_one == 0
+    assert groups_on_two >= 2
+    assert two == one

@@ -120,9 +120,30 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
         m_groups[g].firstJoint = first;
         m_groups[g].numJoints = count;
       });
+  bucketPairs(
+      world.numCouplings, numGroups,
+      [&](PfxUInt32 i) {
+        const PfxJointCoupling& coupling = world.couplings[i];
+        const PfxJoint& leader = world.joints[coupling.m_leaderJointId];
+        const PfxJoint& follower = world.joints[coupling.m_followerJointId];
+        const PfxUInt32 g = groupOf(leader.m_rigidBodyIdA, leader.m_rigidBodyIdB, false);
+        split = split || g != groupOf(follower.m_rigidBodyIdA, follower.m_rigidBodyIdB, false);
+        return g;
+      },
+      m_couplingIndices, starts,
+      [&](PfxUInt32 g, PfxUInt32 first, PfxUInt32 count) {
+        m_groups[g].firstCoupling = first;
+        m_groups[g].numCouplings = count;
+      });
   if (split) {
     m_groups.clear();
     return false;
+  }
+  m_localJointOf.resize(world.numJoints);
+  for (const Group& group : m_groups) {
+    for (PfxUInt32 k = 0; k < group.numJoints; ++k) {
+      m_localJointOf[m_jointIndices[group.firstJoint + k]] = k;
+    }
   }
 
   // The bodies of other groups and of none that a group's pairs name, after its own, by id;
@@ -165,6 +186,8 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
   m_solverBodies.resize(m_bodyIds.size());
   m_contactPairs.resize(m_contactIndices.size());
   m_jointPairs.resize(m_jointIndices.size());
+  m_joints.resize(m_jointIndices.size());
+  m_couplings.resize(m_couplingIndices.size());
   m_results.resize(numGroups);
   m_workContactTreeNodes = 0;
   return true;
@@ -223,6 +246,30 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
   for (PfxUInt32 k = 0; k < group.numJoints; ++k) {
     jointPairs[k] = renumber(world.jointPairs[m_jointIndices[group.firstJoint + k]]);
   }
+  // With couplings, the group's joints and couplings as copies numbered as the group is.
+  PfxJoint* joints = world.joints;
+  PfxUInt32 numJoints = world.numJoints;
+  PfxJointCoupling* const couplings = m_couplings.data() + group.firstCoupling;
+  if (group.numCouplings > 0) {
+    joints = m_joints.data() + group.firstJoint;
+    numJoints = group.numJoints;
+    for (PfxUInt32 k = 0; k < group.numJoints; ++k) {
+      joints[k] = world.joints[m_jointIndices[group.firstJoint + k]];
+      joints[k].m_rigidBodyIdA = localId(group, groupIndex, joints[k].m_rigidBodyIdA);
+      joints[k].m_rigidBodyIdB = localId(group, groupIndex, joints[k].m_rigidBodyIdB);
+      pfxSetConstraintId(jointPairs[k], k);
+    }
+    for (PfxUInt32 k = 0; k < group.numCouplings; ++k) {
+      PfxJointCoupling& coupling = couplings[k];
+      coupling = world.couplings[m_couplingIndices[group.firstCoupling + k]];
+      coupling.m_leaderJointId = m_localJointOf[coupling.m_leaderJointId];
+      coupling.m_followerJointId = m_localJointOf[coupling.m_followerJointId];
+      for (PfxUInt32 b = 0; b < coupling.m_numBodies; ++b) {
+        coupling.m_bodies[b].m_rigidBodyId =
+            localId(group, groupIndex, coupling.m_bodies[b].m_rigidBodyId);
+      }
+    }
+  }
   PfxTaskManager* const stageTasks = group.threaded ? taskManager : nullptr;
   void* const work = m_work.data() + group.workOffset;
   const auto workBytes = static_cast<PfxUInt32>(group.workBytes);
@@ -237,8 +284,10 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
   solve.numContactManifolds = world.numManifolds;
   solve.jointPairs = jointPairs;
   solve.numJointPairs = group.numJoints;
-  solve.offsetJoints = world.joints;
-  solve.numJoints = world.numJoints;
+  solve.offsetJoints = joints;
+  solve.numJoints = numJoints;
+  solve.offsetJointCouplings = couplings;
+  solve.numJointCouplings = group.numCouplings;
   solve.offsetRigidStates = states;
   solve.offsetSolverBodies = solverBodies;
   solve.numRigidBodies = group.numBodies;
@@ -266,8 +315,10 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
     correct.workBytes = workBytes;
     correct.jointPairs = jointPairs;
     correct.numJointPairs = group.numJoints;
-    correct.offsetJoints = world.joints;
-    correct.numJoints = world.numJoints;
+    correct.offsetJoints = joints;
+    correct.numJoints = numJoints;
+    correct.offsetJointCouplings = couplings;
+    correct.numJointCouplings = group.numCouplings;
     correct.contactPairs = contactPairs;
     correct.numContactPairs = group.numContacts;
     correct.offsetContactManifolds = world.manifolds;
@@ -286,6 +337,26 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
   }
   for (PfxUInt32 i = 0; i < group.numOwnBodies; ++i) {
     world.states[m_bodyIds[group.firstBody + i]] = states[i];
+  }
+  if (group.numCouplings > 0) {
+    const PfxUInt32* const bodyIds = m_bodyIds.data() + group.firstBody;
+    for (PfxUInt32 k = 0; k < group.numJoints; ++k) {
+      PfxJoint& joint = world.joints[m_jointIndices[group.firstJoint + k]];
+      const PfxUInt32 idA = joint.m_rigidBodyIdA, idB = joint.m_rigidBodyIdB;
+      joint = joints[k];
+      joint.m_rigidBodyIdA = idA;
+      joint.m_rigidBodyIdB = idB;
+    }
+    for (PfxUInt32 k = 0; k < group.numCouplings; ++k) {
+      PfxJointCoupling& coupling = world.couplings[m_couplingIndices[group.firstCoupling + k]];
+      const PfxUInt32 leader = coupling.m_leaderJointId, follower = coupling.m_followerJointId;
+      coupling = couplings[k];
+      coupling.m_leaderJointId = leader;
+      coupling.m_followerJointId = follower;
+      for (PfxUInt32 b = 0; b < coupling.m_numBodies; ++b) {
+        coupling.m_bodies[b].m_rigidBodyId = bodyIds[coupling.m_bodies[b].m_rigidBodyId];
+      }
+    }
   }
   return PFX_OK;
 }

@@ -10,7 +10,7 @@
 // what the stages decide for the whole call is decided for the whole world and passed on
 // (a group without joints in a world with them takes no shock propagation, as the joint
 // solve takes none; a group without contacts takes the contacts' correction pass when the
-// world has contacts). A body that impulses do not move (the ground, a keyframe body) is
+// world has contacts). A coupling's two joints lie in one island, so in one group. A body that impulses do not move (the ground, a keyframe body) is
 // copied into every group that touches it, read there and written back by its own group
 // alone; integrating a copy gives what its own group's integration gives.
 #pragma once
@@ -20,6 +20,7 @@
 #include "pfx/base_level/broadphase/pfx_broadphase_pair.h"
 #include "pfx/base_level/collision/pfx_contact_manifold.h"
 #include "pfx/base_level/joint/pfx_joint.h"
+#include "pfx/base_level/joint/pfx_joint_coupling.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_body.h"
 #include "pfx/base_level/rigidbody/pfx_rigid_state.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
@@ -43,6 +44,8 @@ struct PfxIslandGroupsWorld {
   const PfxConstraintPair* jointPairs = nullptr;
   PfxJoint* joints = nullptr;
   PfxUInt32 numJoints = 0;
+  PfxJointCoupling* couplings = nullptr;
+  PfxUInt32 numCouplings = 0;
   PfxFloat timeStep = 0;
   PfxUInt32 iteration = 0;
   PfxFloat restitutionThreshold = 0;
@@ -74,6 +77,9 @@ class PfxIslandGroups {
     PfxUInt32 firstBody, numOwnBodies, numBodies;  // into m_bodyIds; own bodies first
     PfxUInt32 firstContact, numContacts;           // into m_contactIndices
     PfxUInt32 firstJoint, numJoints;               // into m_jointIndices
+    // Into m_couplingIndices. A group with couplings works on copies of its joints too:
+    // a coupling names its joints by id and its bodies by theirs, both renumbered.
+    PfxUInt32 firstCoupling, numCouplings;
     std::size_t workOffset, workBytes;             // into m_work
     bool threaded;                                 // large enough for the task manager
   };
@@ -97,11 +103,15 @@ class PfxIslandGroups {
   std::vector<PfxUInt32> m_bodyIds;        // the groups' bodies, by world id; the foreign sorted
   std::vector<PfxUInt32> m_contactIndices;  // into the world's contact pairs, in their order
   std::vector<PfxUInt32> m_jointIndices;    // into the world's joint pairs, in their order
+  std::vector<PfxUInt32> m_couplingIndices;  // into the world's couplings, in their order
+  std::vector<PfxUInt32> m_localJointOf;     // per world joint in a group with couplings
   std::vector<PfxRigidState> m_states;      // per group body, in the groups' order
   std::vector<PfxRigidBody> m_bodies;
   std::vector<PfxSolverBody> m_solverBodies;
   std::vector<PfxConstraintPair> m_contactPairs;  // per group contact, renumbered
   std::vector<PfxConstraintPair> m_jointPairs;    // per group joint, renumbered
+  std::vector<PfxJoint> m_joints;                 // per group joint, with couplings
+  std::vector<PfxJointCoupling> m_couplings;      // per group coupling, renumbered
   std::vector<PfxUInt32> m_starts;  // scratch of build()
   std::vector<PfxUInt32> m_ownIds;  // scratch of build()
   std::vector<Result> m_results;     // per group

@@ -19,12 +19,11 @@ constexpr PfxUInt32 kMinGroupWeight = 32;
 }  // namespace
 
 bool PfxWorld::buildIslandGroups() {
-  // Couplings link joints of two trees by the ids of their bodies, which a group numbers
-  // afresh: such a world solves as a whole. So does one on one thread, which a group at a
-  // time would only give the cost of copying its bodies.
+  // On one thread the world solves as a whole: a group at a time would only add the cost of
+  // copying its bodies.
   m_stats.numIslandGroups = 0;
   const PfxUInt32 numThreads = m_taskManager.getNumThreads();
-  if (numThreads < 2 || getNumJointCouplings() > 0 || !m_island) return false;
+  if (numThreads < 2 || !m_island) return false;
   if (!m_islandGroups) m_islandGroups = std::make_unique<PfxIslandGroups>();
   PfxIslandGroupsWorld world;
   world.states = m_states.data();
@@ -36,6 +35,8 @@ bool PfxWorld::buildIslandGroups() {
   world.manifolds = m_manifolds.data();
   world.joints = m_joints.data();
   world.numJoints = getNumJoints();
+  world.couplings = m_jointCouplings.data();
+  world.numCouplings = getNumJointCouplings();
   const PfxUInt32 weight = getNumRigidBodies() + m_numPairs + getNumJoints();
   if (!m_islandGroups->build(*m_island, world,
                              std::max(kMinGroupWeight, weight / (numThreads * kGroupsPerThread)))) {
@@ -58,6 +59,8 @@ PfxInt32 PfxWorld::solveIslandGroups(PfxFloat timeStep) {
   world.jointPairs = m_jointPairs.data();
   world.joints = m_joints.data();
   world.numJoints = getNumJoints();
+  world.couplings = m_jointCouplings.data();
+  world.numCouplings = getNumJointCouplings();
   world.timeStep = timeStep;
   world.iteration = m_param.iteration;
   world.restitutionThreshold = m_param.restitutionThreshold;
