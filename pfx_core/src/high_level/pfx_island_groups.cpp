@@ -23,20 +23,21 @@ bool touching(const PfxConstraintPair& pair, const PfxContactManifold* manifolds
   return pfxGetActive(pair) && manifolds[pfxGetContactId(pair)].getNumContacts() > 0;
 }
 
-// Sorts the pairs of `pairs` that `groupOf` gives a group into `indices`, group after group,
-// in their order within each; `first` and `count` of each group are set.
+// Lists the items 0 to numItems - 1 that groupOf(i) gives a group in `indices`, group after
+// group, in their order within each, and tells set(group, first, count) where each group's
+// lie. groupOf is called twice per item.
 template <typename GroupOf, typename Set>
-void bucketPairs(PfxUInt32 numPairs, PfxUInt32 numGroups, const GroupOf& groupOf,
+void bucketItems(PfxUInt32 numItems, PfxUInt32 numGroups, const GroupOf& groupOf,
                  std::vector<PfxUInt32>& indices, std::vector<PfxUInt32>& starts, const Set& set) {
   starts.assign(numGroups + 1, 0);
-  for (PfxUInt32 i = 0; i < numPairs; ++i) {
+  for (PfxUInt32 i = 0; i < numItems; ++i) {
     const PfxUInt32 g = groupOf(i);
     if (g != kNoGroup) ++starts[g + 1];
   }
   for (PfxUInt32 g = 0; g < numGroups; ++g) starts[g + 1] += starts[g];
   indices.resize(starts[numGroups]);
   for (PfxUInt32 g = 0; g < numGroups; ++g) set(g, starts[g], starts[g + 1] - starts[g]);
-  for (PfxUInt32 i = 0; i < numPairs; ++i) {
+  for (PfxUInt32 i = 0; i < numItems; ++i) {
     const PfxUInt32 g = groupOf(i);
     if (g != kNoGroup) indices[starts[g]++] = i;
   }
@@ -80,13 +81,12 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
   }
   const PfxUInt32 numGroups = static_cast<PfxUInt32>(m_groups.size());
 
-  // Each contact with points and each joint goes to the group of its bodies that impulses
-  // move; one between bodies in no island (two fixed bodies) to the first, as the world
-  // would still visit it.
-  // Islands hold such pairs whole; one across two groups (which the islands' rules never
-  // make) would leave each group a copy of a body the other moves: the world then solves as
-  // a whole.
-  // (An inactive joint may span two: the solver passes it by.)
+  // Each contact with points, joint and coupling goes to the group of its bodies that
+  // impulses move; one between bodies in no island (two fixed bodies) to the first, as the
+  // world would still visit it. Islands hold contacts, active joints and couplings whole; one
+  // across two groups (which the islands' rules never make) would leave each group a copy of
+  // a body the other moves, and the world then solves as a whole. An inactive joint may span
+  // two: the solver passes it by.
   bool split = false;
   auto groupOf = [&](PfxUInt32 idA, PfxUInt32 idB, bool acts) {
     const PfxUInt32 a = m_groupOfBody[idA];
@@ -96,7 +96,7 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
   };
   m_contactsInWorld = false;
   std::vector<PfxUInt32>& starts = m_starts;
-  bucketPairs(
+  bucketItems(
       world.numContactPairs, numGroups,
       [&](PfxUInt32 i) {
         const PfxConstraintPair& pair = world.contactPairs[i];
@@ -109,7 +109,7 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
         m_groups[g].firstContact = first;
         m_groups[g].numContacts = count;
       });
-  bucketPairs(
+  bucketItems(
       world.numJoints, numGroups,
       [&](PfxUInt32 i) {
         const PfxJoint& joint = world.joints[i];
@@ -120,7 +120,7 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
         m_groups[g].firstJoint = first;
         m_groups[g].numJoints = count;
       });
-  bucketPairs(
+  bucketItems(
       world.numCouplings, numGroups,
       [&](PfxUInt32 i) {
         const PfxJointCoupling& coupling = world.couplings[i];
