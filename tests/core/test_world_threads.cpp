@@ -158,9 +158,10 @@ Outcome simulate(PfxUInt32 numThreads, int steps) {
   return outcome;
 }
 
-// Islands of every kind on one floor, apart: ragdolls (with joints, or none), two stacks on
-// a keyframe platform sliding under both (one body that two islands read), a stack and a
-// ragdoll that fall asleep, and balls that fall through it all.
+// Islands of every kind on one floor, apart: ragdolls (with joints, half of them with their
+// elbows coupled, or none), two stacks on a keyframe platform sliding under both (one body
+// that two islands read), a stack and a ragdoll that fall asleep, and balls that fall
+// through it all.
 struct IslandsWorld {
   bool joints = true;
   bool shockPropagation = false;
@@ -196,6 +197,15 @@ void buildIslands(PfxWorld& world, PfxUInt32 numThreads, const IslandsWorld& kin
       ASSERT_EQ(pfxAddRagdoll(world, at, PfxQuat(Eigen::AngleAxis<PfxFloat>(0.5f * i, PfxVector3::UnitY())),
                               &ragdoll),
                 PFX_OK);
+      if (i % 2 == 0) {
+        // Elbows that bend together: a coupling, which a group renumbers with its joints.
+        PfxJointCoupling elbows;
+        elbows.reset();
+        elbows.m_leaderJointId = ragdoll.joints[4];
+        elbows.m_followerJointId = ragdoll.joints[7];
+        elbows.m_leaderAxis = elbows.m_followerAxis = kPfxJointAxisTwist;
+        ASSERT_EQ(world.addJointCoupling(elbows), PFX_OK);
+      }
     } else {
       stack(at.x(), at.y(), at.z(), 3);
     }
