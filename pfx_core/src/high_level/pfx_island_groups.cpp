@@ -24,11 +24,13 @@ bool touching(const PfxConstraintPair& pair, const PfxContactManifold* manifolds
 }
 
 // Lists the items 0 to numItems - 1 that groupOf(i) gives a group in `indices`, group after
-// group, in their order within each, and tells set(group, first, count) where each group's
-// lie. groupOf is called twice per item.
-template <typename GroupOf, typename Set>
-void bucketItems(PfxUInt32 numItems, PfxUInt32 numGroups, const GroupOf& groupOf,
-                 std::vector<PfxUInt32>& indices, std::vector<PfxUInt32>& starts, const Set& set) {
+// group, in their order within each, and sets each group's `first` and `count` to where its
+// items lie. groupOf is called twice per item.
+template <typename Group, typename GroupOf>
+void bucketItems(PfxUInt32 numItems, std::vector<Group>& groups, const GroupOf& groupOf,
+                 std::vector<PfxUInt32>& indices, std::vector<PfxUInt32>& starts,
+                 PfxUInt32 Group::*first, PfxUInt32 Group::*count) {
+  const auto numGroups = static_cast<PfxUInt32>(groups.size());
   starts.assign(numGroups + 1, 0);
   for (PfxUInt32 i = 0; i < numItems; ++i) {
     const PfxUInt32 g = groupOf(i);
@@ -36,7 +38,10 @@ void bucketItems(PfxUInt32 numItems, PfxUInt32 numGroups, const GroupOf& groupOf
   }
   for (PfxUInt32 g = 0; g < numGroups; ++g) starts[g + 1] += starts[g];
   indices.resize(starts[numGroups]);
-  for (PfxUInt32 g = 0; g < numGroups; ++g) set(g, starts[g], starts[g + 1] - starts[g]);
+  for (PfxUInt32 g = 0; g < numGroups; ++g) {
+    groups[g].*first = starts[g];
+    groups[g].*count = starts[g + 1] - starts[g];
+  }
   for (PfxUInt32 i = 0; i < numItems; ++i) {
     const PfxUInt32 g = groupOf(i);
     if (g != kNoGroup) indices[starts[g]++] = i;
@@ -97,31 +102,23 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
   m_contactsInWorld = false;
   std::vector<PfxUInt32>& starts = m_starts;
   bucketItems(
-      world.numContactPairs, numGroups,
+      world.numContactPairs, m_groups,
       [&](PfxUInt32 i) {
         const PfxConstraintPair& pair = world.contactPairs[i];
         if (!touching(pair, world.manifolds)) return kNoGroup;
         m_contactsInWorld = true;
         return groupOf(pfxGetObjectIdA(pair), pfxGetObjectIdB(pair), true);
       },
-      m_contactIndices, starts,
-      [&](PfxUInt32 g, PfxUInt32 first, PfxUInt32 count) {
-        m_groups[g].firstContact = first;
-        m_groups[g].numContacts = count;
-      });
+      m_contactIndices, starts, &Group::firstContact, &Group::numContacts);
   bucketItems(
-      world.numJoints, numGroups,
+      world.numJoints, m_groups,
       [&](PfxUInt32 i) {
         const PfxJoint& joint = world.joints[i];
         return groupOf(joint.m_rigidBodyIdA, joint.m_rigidBodyIdB, joint.m_active != 0);
       },
-      m_jointIndices, starts,
-      [&](PfxUInt32 g, PfxUInt32 first, PfxUInt32 count) {
-        m_groups[g].firstJoint = first;
-        m_groups[g].numJoints = count;
-      });
+      m_jointIndices, starts, &Group::firstJoint, &Group::numJoints);
   bucketItems(
-      world.numCouplings, numGroups,
+      world.numCouplings, m_groups,
       [&](PfxUInt32 i) {
         const PfxJointCoupling& coupling = world.couplings[i];
         const PfxJoint& leader = world.joints[coupling.m_leaderJointId];
@@ -130,11 +127,7 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
         split = split || g != groupOf(follower.m_rigidBodyIdA, follower.m_rigidBodyIdB, false);
         return g;
       },
-      m_couplingIndices, starts,
-      [&](PfxUInt32 g, PfxUInt32 first, PfxUInt32 count) {
-        m_groups[g].firstCoupling = first;
-        m_groups[g].numCouplings = count;
-      });
+      m_couplingIndices, starts, &Group::firstCoupling, &Group::numCouplings);
   if (split) {
     m_groups.clear();
     return false;

@@ -18,35 +18,7 @@ constexpr PfxUInt32 kMinGroupWeight = 32;
 
 }  // namespace
 
-bool PfxWorld::buildIslandGroups() {
-  // On one thread the world solves as a whole: a group at a time would only add the cost of
-  // copying its bodies.
-  m_stats.numIslandGroups = 0;
-  const PfxUInt32 numThreads = m_taskManager.getNumThreads();
-  if (numThreads < 2 || !m_island) return false;
-  if (!m_islandGroups) m_islandGroups = std::make_unique<PfxIslandGroups>();
-  PfxIslandGroupsWorld world;
-  world.states = m_states.data();
-  world.bodies = m_bodies.data();
-  world.solverBodies = m_solverBodies.data();
-  world.numRigidBodies = getNumRigidBodies();
-  world.contactPairs = m_pairs.data();
-  world.numContactPairs = m_numPairs;
-  world.manifolds = m_manifolds.data();
-  world.joints = m_joints.data();
-  world.numJoints = getNumJoints();
-  world.couplings = m_jointCouplings.data();
-  world.numCouplings = getNumJointCouplings();
-  const PfxUInt32 weight = getNumRigidBodies() + m_numPairs + getNumJoints();
-  if (!m_islandGroups->build(*m_island, world,
-                             std::max(kMinGroupWeight, weight / (numThreads * kGroupsPerThread)))) {
-    return false;
-  }
-  m_stats.numIslandGroups = m_islandGroups->numGroups();
-  return true;
-}
-
-PfxInt32 PfxWorld::solveIslandGroups(PfxFloat timeStep) {
+PfxIslandGroupsWorld PfxWorld::islandGroupsWorld() {
   PfxIslandGroupsWorld world;
   world.states = m_states.data();
   world.bodies = m_bodies.data();
@@ -61,6 +33,28 @@ PfxInt32 PfxWorld::solveIslandGroups(PfxFloat timeStep) {
   world.numJoints = getNumJoints();
   world.couplings = m_jointCouplings.data();
   world.numCouplings = getNumJointCouplings();
+  return world;
+}
+
+bool PfxWorld::buildIslandGroups() {
+  // On one thread the world solves as a whole: a group at a time would only add the cost of
+  // copying its bodies.
+  m_stats.numIslandGroups = 0;
+  const PfxUInt32 numThreads = m_taskManager.getNumThreads();
+  if (numThreads < 2 || !m_island) return false;
+  if (!m_islandGroups) m_islandGroups = std::make_unique<PfxIslandGroups>();
+  const PfxIslandGroupsWorld world = islandGroupsWorld();
+  const PfxUInt32 weight = getNumRigidBodies() + m_numPairs + getNumJoints();
+  if (!m_islandGroups->build(*m_island, world,
+                             std::max(kMinGroupWeight, weight / (numThreads * kGroupsPerThread)))) {
+    return false;
+  }
+  m_stats.numIslandGroups = m_islandGroups->numGroups();
+  return true;
+}
+
+PfxInt32 PfxWorld::solveIslandGroups(PfxFloat timeStep) {
+  PfxIslandGroupsWorld world = islandGroupsWorld();
   world.timeStep = timeStep;
   world.iteration = m_param.iteration;
   world.restitutionThreshold = m_param.restitutionThreshold;

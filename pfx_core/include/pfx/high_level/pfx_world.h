@@ -29,6 +29,7 @@
 namespace pfx {
 
 class PfxIslandGroups;
+struct PfxIslandGroupsWorld;
 
 enum PfxPipelineType : PfxUInt8 {
   // No data kept between frames: fastest, but stacks are not stable (seed 1_simple).
@@ -462,6 +463,8 @@ class PfxWorld {
   PfxInt32 subStep(PfxFloat timeStep);
   // Whether this step solves the islands a group at a time (pfx_world_groups.cpp).
   bool buildIslandGroups();
+  // The world's arrays as the groups read them; the step's settings left at their defaults.
+  PfxIslandGroupsWorld islandGroupsWorld();
   PfxInt32 solveIslandGroups(PfxFloat timeStep);
   PfxInt32 validateJoint(const PfxJoint& joint) const;
   PfxJointCoupling measuredCoupling(const PfxJointCoupling& coupling) const;
