@@ -237,39 +237,34 @@ TEST(Autosave, BadValuesAndFilesAreRefusedAtStartup) {
   EXPECT_EQ(bytesOf(damaged), bytes) << "a refused file is left as it was";
 }
 
-// The time step's bound is the world's (PFX_MAX_TIME_STEP); the node names the parameter.
-TEST(Startup, ATimeStepOutsideTheWorldsRangeIsRefusedByName) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double steps[] = {1000.0, 0.0, nan};
-  for (std::size_t i = 0; i < 3; ++i) {
-    const std::string ns = "/bad_dt" + std::to_string(i);
+// Starts a node with ~`name` set to each of `values` in turn, and expects it to exit by
+// itself, saying `reason`.
+template <typename Value>
+void expectRefusedByName(const std::string& name, const std::vector<Value>& values,
+                         const std::string& reason) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::string ns = "/bad_" + name + std::to_string(i);
     setAutosaveParams(ns, 0, "", false, true);
-    ros::param::set(privateParam(ns, "dt"), steps[i]);
+    ros::param::set(privateParam(ns, name), values[i]);
     int status = 0;
     const std::string output = runRefusedNode(ns, status);
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124)
-        << "~dt " << steps[i] << " exits by itself, refusing: " << output;
-    EXPECT_NE(output.find("~dt must be a positive number of seconds, at most 100"),
-              std::string::npos)
-        << "~dt " << steps[i] << ": " << output;
+        << "~" << name << " " << values[i] << " exits by itself, refusing: " << output;
+    EXPECT_NE(output.find(reason), std::string::npos)
+        << "~" << name << " " << values[i] << ": " << output;
   }
+}
+
+// The time step's bound is the world's (PFX_MAX_TIME_STEP); the node names the parameter.
+TEST(Startup, ATimeStepOutsideTheWorldsRangeIsRefusedByName) {
+  expectRefusedByName<double>("dt", {1000.0, 0.0, std::numeric_limits<double>::quiet_NaN()},
+                              "~dt must be a positive number of seconds, at most 100");
 }
 
 // So is a thread count out of the task manager's range (PFX_MAX_THREADS).
 TEST(Startup, AThreadCountOutsideTheRangeIsRefusedByName) {
-  const int counts[] = {-1, 257};
-  for (std::size_t i = 0; i < 2; ++i) {
-    const std::string ns = "/bad_threads" + std::to_string(i);
-    setAutosaveParams(ns, 0, "", false, true);
-    ros::param::set(privateParam(ns, "threads"), counts[i]);
-    int status = 0;
-    const std::string output = runRefusedNode(ns, status);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124)
-        << "~threads " << counts[i] << " exits by itself, refusing: " << output;
-    EXPECT_NE(output.find("~threads must be a whole number from 0 (every core) to 256"),
-              std::string::npos)
-        << "~threads " << counts[i] << ": " << output;
-  }
+  expectRefusedByName<int>("threads", {-1, 257},
+                           "~threads must be a whole number from 0 (every core) to 256");
 }
 
 int main(int argc, char** argv) {
