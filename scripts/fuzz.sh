@@ -15,7 +15,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=build-fuzz
-targets=(fuzz_urdf fuzz_mesh fuzz_octomap fuzz_world_file fuzz_scene fuzz_sdf fuzz_world_api)
+targets=(fuzz_urdf fuzz_mesh fuzz_octomap fuzz_world_file fuzz_scene fuzz_sdf fuzz_world_api
+         fuzz_world_threads)
 # Stack traces with function names and lines, where Debian's llvm-symbolizer is installed.
 if [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ]; then
   export ASAN_SYMBOLIZER_PATH=/usr/lib/llvm-14/bin/llvm-symbolizer
@@ -43,10 +44,13 @@ run_target() {
   shift 2
   local name=${target#fuzz_}
   local log=$build/logs/$target.log
+  local seeds=("tests/fuzz/corpus/$name")
+  # The same calls on two threads start from the one-thread target's seeds too.
+  if [ "$name" = world_threads ]; then seeds+=(tests/fuzz/corpus/world_api); fi
   mkdir -p "$build/corpus/$name" "$build/artifacts" "$build/logs"
   if "$build/bin/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$build/artifacts/$target-" "$@" \
-      "$build/corpus/$name" "tests/fuzz/corpus/$name" >"$log" 2>&1; then
+      "$build/corpus/$name" "${seeds[@]}" >"$log" 2>&1; then
     local runs rate
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")

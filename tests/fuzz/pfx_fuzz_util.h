@@ -88,27 +88,31 @@ inline std::string savedBytes(const pfx::PfxWorld& world) {
   return bytes;
 }
 
-// pfxLoadWorld from bytes in memory, on one thread whatever the file asks for (a file
+// pfxLoadWorld from bytes in memory, on numThreads whatever the file asks for (a file
 // asking for 64 threads would only be slow).
 inline pfx::PfxInt32 loadBytes(pfx::PfxWorld& world, const void* bytes, std::size_t size,
-                               pfx::PfxSerializedMeshes& meshes, std::string& error) {
+                               pfx::PfxSerializedMeshes& meshes, std::string& error,
+                               pfx::PfxUInt32 numThreads = 1) {
   if (size == 0) return pfx::PFX_ERR_OUT_OF_BUFFER;  // fmemopen refuses an empty buffer
   FILE* file = fmemopen(const_cast<void*>(bytes), size, "rb");
   if (!file) fail("fmemopen");
   pfx::PfxLoadWorldOptions options;
   options.keepSavedNumThreads = false;
+  options.numThreads = numThreads;
   const pfx::PfxInt32 err = pfx::pfxLoadWorld(world, file, meshes, &error, options);
   std::fclose(file);
   return err;
 }
 
-// A world saved, loaded into another and saved again gives the same bytes.
+// A world saved, loaded into another and saved again gives the same bytes (the thread
+// count, which a file also holds, included).
 inline void checkSaveLoadRoundTrip(const pfx::PfxWorld& world) {
   const std::string first = savedBytes(world);
   pfx::PfxWorld loaded;
   pfx::PfxSerializedMeshes meshes;
   std::string error;
-  if (loadBytes(loaded, first.data(), first.size(), meshes, error) != pfx::PFX_OK) {
+  if (loadBytes(loaded, first.data(), first.size(), meshes, error,
+                world.getParam().numThreads) != pfx::PFX_OK) {
     fail("a saved world cannot be loaded:", error);
   }
   if (savedBytes(loaded) != first) fail("a loaded world saves other bytes");
