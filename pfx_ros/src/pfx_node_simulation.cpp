@@ -545,11 +545,11 @@ PfxInt32 PfxNodeSimulation::loadWorld(const std::string& path, std::string* mess
   if (const PfxInt32 err = buildScene(m_config, scene, message); err != PFX_OK) return err;
   auto saved = std::make_unique<PfxWorld>();
   std::string why;
-  PfxLoadWorldOptions threads;
-  threads.keepSavedNumThreads = false;
-  threads.numThreads = m_config.threads;
+  PfxLoadWorldOptions options;
+  options.keepSavedNumThreads = false;
+  options.numThreads = m_config.threads;
   if (const PfxInt32 err =
-          pfxLoadWorld(*saved, path.c_str(), scene->savedMeshes, &why, threads);
+          pfxLoadWorld(*saved, path.c_str(), scene->savedMeshes, &why, options);
       err != PFX_OK) {
     if (message) *message = path + ": " + why;
     return err;

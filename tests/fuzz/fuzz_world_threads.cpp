@@ -15,8 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::vector<CallRecord>& one = records[0];
   const std::vector<CallRecord>& two = records[1];
   for (std::size_t call = 0; call < one.size() && call < two.size(); ++call) {
-    if (one[call].op != two[call].op || one[call].err != two[call].err ||
-        one[call].bytes != two[call].bytes) {
+    if (!(one[call] == two[call])) {
       pfx_fuzz::fail("two threads gave another result than one, at call",
                      std::to_string(call) + " (" + pfx_fuzz::Driver::opName(one[call].op) + ")");
     }

@@ -193,15 +193,6 @@ struct Snapshot {
     }
   }
 
-  void appendTo(std::vector<PfxUInt8>& out) const {
-    out.insert(out.end(), stateBytes.begin(), stateBytes.end());
-    out.insert(out.end(), bodyBytes.begin(), bodyBytes.end());
-    out.insert(out.end(), jointBytes.begin(), jointBytes.end());
-    out.insert(out.end(), present.begin(), present.end());
-    append(out, counts);
-    append(out, time);
-  }
-
   bool operator==(const Snapshot& o) const {
     return stateBytes == o.stateBytes && bodyBytes == o.bodyBytes && jointBytes == o.jointBytes &&
            present == o.present && std::memcmp(counts, o.counts, sizeof(counts)) == 0 &&
@@ -209,11 +200,16 @@ struct Snapshot {
   }
 };
 
-// What one call did: its result, and its ray hits and the world after it in bytes.
+// What one call did: its result, its ray hits in bytes, and the world after it.
 struct CallRecord {
-  PfxUInt8 op = 0;
-  PfxInt32 err = PFX_OK;
-  std::vector<PfxUInt8> bytes;
+  PfxUInt8 op;
+  PfxInt32 err;
+  std::vector<PfxUInt8> hits;
+  Snapshot world;
+
+  bool operator==(const CallRecord& o) const {
+    return op == o.op && err == o.err && hits == o.hits && world == o.world;
+  }
 };
 
 class Driver {
@@ -253,10 +249,10 @@ class Driver {
       } else if (!(Snapshot(m_world) == before)) {
         fail("a refused call changed the world:", opName(op));
       }
+      // A refused call has just been found to leave the world as `before`.
       if (m_record) {
-        CallRecord made{op, err, m_hits};
-        Snapshot(m_world).appendTo(made.bytes);
-        m_record->push_back(std::move(made));
+        m_record->push_back(
+            CallRecord{op, err, m_hits, err == PFX_OK ? Snapshot(m_world) : before});
       }
     }
   }

@@ -132,8 +132,10 @@ bool PfxIslandGroups::build(const PfxIsland& island, const PfxIslandGroupsWorld&
     m_groups.clear();
     return false;
   }
-  m_localJointOf.resize(world.numJoints);
+  // Couplings name their joints by world id; only a world with couplings needs the map.
+  if (world.numCouplings > 0) m_localJointOf.resize(world.numJoints);
   for (const Group& group : m_groups) {
+    if (group.numCouplings == 0) continue;
     for (PfxUInt32 k = 0; k < group.numJoints; ++k) {
       m_localJointOf[m_jointIndices[group.firstJoint + k]] = k;
     }

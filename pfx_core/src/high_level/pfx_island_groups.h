@@ -10,9 +10,10 @@
 // what the stages decide for the whole call is decided for the whole world and passed on
 // (a group without joints in a world with them takes no shock propagation, as the joint
 // solve takes none; a group without contacts takes the contacts' correction pass when the
-// world has contacts). A coupling's two joints lie in one island, so in one group. A body that impulses do not move (the ground, a keyframe body) is
-// copied into every group that touches it, read there and written back by its own group
-// alone; integrating a copy gives what its own group's integration gives.
+// world has contacts). A coupling's two joints lie in one island, so in one group. A body
+// that impulses do not move (the ground, a keyframe body) is copied into every group that
+// touches it, read there and written back by its own group alone; integrating a copy gives
+// what its own group's integration gives.
 #pragma once
 
 #include <vector>
@@ -104,7 +105,7 @@ class PfxIslandGroups {
   std::vector<PfxUInt32> m_contactIndices;  // into the world's contact pairs, in their order
   std::vector<PfxUInt32> m_jointIndices;    // into the world's joint pairs, in their order
   std::vector<PfxUInt32> m_couplingIndices;  // into the world's couplings, in their order
-  std::vector<PfxUInt32> m_localJointOf;     // per world joint in a group with couplings
+  std::vector<PfxUInt32> m_localJointOf;     // per world joint of a group with couplings
   std::vector<PfxRigidState> m_states;      // per group body, in the groups' order
   std::vector<PfxRigidBody> m_bodies;
   std::vector<PfxSolverBody> m_solverBodies;
