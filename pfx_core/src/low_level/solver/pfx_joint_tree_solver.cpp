@@ -102,14 +102,16 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       numNodes)) +  // response slots
       PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
                               sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs)) +
-      PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // trees moved from outside
+      2 * PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // per tree: moved
+                                                                            // from outside, factored
   return static_cast<PfxUInt32>(bytes);
 }
 
 bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
                                const PfxConstraintPair* jointPairs, PfxUInt32 numJointPairs,
                                PfxJoint* joints, PfxSolverBody* solverBodies,
-                               PfxUInt32 numRigidBodies, PfxTaskManager* taskManager) {
+                               PfxUInt32 numRigidBodies, PfxTaskManager* taskManager,
+                               Factoring factoring) {
   m_numNodes = 0;
   m_numTrees = 0;
   m_bodyNode = nullptr;
@@ -133,10 +135,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   m_bodyResponses = carver.take<PfxTreeBlock>(maxBodiesInTrees(numRigidBodies, numJointPairs));
   m_numBodyResponses = 0;
   m_treeMovedFromOutside = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
+  m_treeFactored = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
   if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_bodyTreeBody ||
-      !m_responseSlot ||
-      !m_treeMovedFromOutside ||
+      !m_responseSlot || !m_treeMovedFromOutside || !m_treeFactored ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
@@ -255,15 +257,35 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   }
 
   m_treeStarts[m_numTrees] = m_numNodes;
-  // Each tree's blocks, then its factorization: trees share no node, and a tree's nodes
-  // are set up in order, since a body node reads the rows its parent joint node was given,
-  // so tree after tree on any thread gives the same bits as one pass over the forest.
-  auto setUpNode = [&](std::size_t n) {
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) {
+    // A tree's first node is a body or a joint whose first child is a body.
+    std::size_t firstBody = m_treeStarts[t];
+    while (m_nodes[firstBody].body < 0) ++firstBody;
+    for (std::size_t n = firstBody; n < m_treeStarts[t + 1]; ++n) {
+      if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[firstBody].body;
+    }
+    m_treeFactored[t] = 0;
+  }
+  if (factoring == Factoring::kNow) {
+    pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask,
+                   [&](PfxUInt32 first, PfxUInt32 last) {
+                     for (PfxUInt32 t = first; t < last; ++t) factorTree(t);
+                   });
+  }
+  return true;
+}
+
+// Trees share no node, and a tree's nodes are set up in order, since a body node reads the
+// rows its parent joint node was given, so tree after tree on any thread, and in any order,
+// gives the same bits as one pass over the forest.
+void PfxJointTreeSolver::factorTree(PfxUInt32 tree) {
+  for (std::size_t n = m_treeStarts[tree]; n < m_treeStarts[tree + 1]; ++n) {
     Node& node = m_nodes[n];
     if (node.body >= 0) {
-      node.diagonalInverse = pfxTreeBodyMass(solverBodies[node.body]);
+      node.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
     } else {
-      PfxJoint& joint = joints[pfxGetConstraintId(jointPairs[node.jointPair])];
+      const PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
+      node.numRows = 0;
       for (PfxUInt8 axis = 0; axis < 6; ++axis) {
         const PfxJointConstraint& c = joint.m_constraints[axis];
         if (!isLockedRow(c) || c.m_constraintRow.m_jacDiagInv <= 0) continue;
@@ -275,14 +297,14 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
             -kJointTreeRelativeCompliance / double(c.m_constraintRow.m_jacDiagInv);
       }
     }
-    if (node.parent < 0) return;
+    if (node.parent < 0) continue;
     // H(node, parent) couples a joint's rows with one of its bodies' velocities: rows x
     // velocities for a joint node, the transpose for a body node. Nodes come parents
     // first, so a joint parent already has its rows.
     const Node& parent = m_nodes[node.parent];
     const Node& jointNode = node.body >= 0 ? parent : node;
     const PfxInt32 body = node.body >= 0 ? node.body : parent.body;
-    const PfxConstraintPair& pair = jointPairs[jointNode.jointPair];
+    const PfxConstraintPair& pair = m_jointPairs[jointNode.jointPair];
     const bool isA = PfxUInt32(body) == pfxGetObjectIdA(pair);
     for (PfxUInt8 row = 0; row < jointNode.numRows; ++row) {
       const PfxJointRowJacobian& j = jointNode.jacobians[row];
@@ -295,20 +317,9 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
         toAngular = double(angular[k]);
       }
     }
-  };
-  pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask, [&](PfxUInt32 first, PfxUInt32 last) {
-    for (PfxUInt32 t = first; t < last; ++t) {
-      for (std::size_t n = m_treeStarts[t]; n < m_treeStarts[t + 1]; ++n) setUpNode(n);
-      // A tree's first node is a body or a joint whose first child is a body.
-      std::size_t firstBody = m_treeStarts[t];
-      while (m_nodes[firstBody].body < 0) ++firstBody;
-      for (std::size_t n = firstBody; n < m_treeStarts[t + 1]; ++n) {
-        if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[firstBody].body;
-      }
-      pfxFactorSizedBlockTree(m_nodes, m_treeStarts[t], m_treeStarts[t + 1]);
-    }
-  });
-  return true;
+  }
+  pfxFactorSizedBlockTree(m_nodes, m_treeStarts[tree], m_treeStarts[tree + 1]);
+  m_treeFactored[tree] = 1;
 }
 
 void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
@@ -613,6 +624,7 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
   const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
   PfxInt32& slot = m_responseSlot[bodyNode];
   if (slot < 0) {
+    factorIfNeeded(m_nodes[bodyNode].tree);
     // A unit impulse on the body moves the values of its path to the root only, and the
     // body's answer depends on them alone: the tree solve restricted to that path, in the
     // same order, gives the same numbers at a fraction of the cost (a foot of a ragdoll is
@@ -656,6 +668,7 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
 void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
   if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
   const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
+  factorIfNeeded(node.tree);
   solveTree(push, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
 }
 

@@ -25,11 +25,17 @@ class PfxJointTreeSolver {
  public:
   static PfxUInt32 getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs);
 
+  // When build() factors the trees: all at once, or each on its first solve (solveTreeOf,
+  // getImpulseResponse), for a solve that may leave most trees alone (the position
+  // correction once most joints hold).
+  enum class Factoring { kNow, kOnFirstSolve };
+
   // Picks the joints that form a forest, orders and factors the system (the trees in
   // parallel with a task manager). False when the work buffer is too small.
   bool build(void* workBuff, PfxUInt32 workBytes, const PfxConstraintPair* jointPairs,
              PfxUInt32 numJointPairs, PfxJoint* joints, PfxSolverBody* solverBodies,
-             PfxUInt32 numRigidBodies, PfxTaskManager* taskManager = nullptr);
+             PfxUInt32 numRigidBodies, PfxTaskManager* taskManager = nullptr,
+             Factoring factoring = Factoring::kNow);
 
   // Whether the locked axes of the i-th joint pair are solved here (and not iteratively).
   bool contains(PfxUInt32 jointPairIndex) const {
@@ -128,6 +134,11 @@ class PfxJointTreeSolver {
     return m_treeRowStarts[tree] != m_treeRowStarts[tree + 1];
   }
   void markTreeOfBody(PfxUInt32 rigidBodyId);
+  // Sets up the blocks of the tree's nodes from the rows and the bodies, and factors them.
+  void factorTree(PfxUInt32 tree);
+  void factorIfNeeded(PfxUInt32 tree) {
+    if (!m_treeFactored[tree]) factorTree(tree);
+  }
   // With `skipHeld`, a tree whose locked axes already hold but for rounding
   // (kHeldLockedRowVelocity) is left as it is; the solves that end the velocity solve and
   // those of the position correction take that rounding out as well.
@@ -149,6 +160,7 @@ class PfxJointTreeSolver {
   PfxUInt32* m_treeStarts = nullptr;  // first node of each tree, then m_numNodes
   PfxUInt32 m_numTrees = 0;
   PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
+  PfxUInt8* m_treeFactored = nullptr;          // per tree
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxInt32* m_bodyTreeBody = nullptr;  // getTreeBody() of each body
   // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1.
