@@ -84,6 +84,8 @@ void bindWorldParam(py::module_& m) {
                      "After the iterations, stop bodies sinking into those under them (off by default).")
       .def_readwrite("measure_conservation", &PfxWorldParam::measureConservation,
                      "Report energy and momentum changes in the statistics.")
+      .def_readwrite("measure_stages", &PfxWorldParam::measureStages,
+                     "Time each stage of the step into the statistics' stage_seconds.")
       .def_readwrite("out_of_world_behavior", &PfxWorldParam::outOfWorldBehavior,
                      "What happens to a body leaving the bounds: OUT_OF_WORLD_* flags.")
       .def_readwrite("enable_sleep", &PfxWorldParam::enableSleep, "Let islands at rest sleep.")

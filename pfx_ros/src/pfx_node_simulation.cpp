@@ -122,8 +122,9 @@ PfxInt32 PfxNodeSimulation::buildScene(const PfxNodeSimulationConfig& config,
   param.iteration = config.iterations;
   param.numThreads = config.threads;
   // Robots have few bodies: the two extra passes cost little, and the diagnostics report
-  // the energy and momentum each step changed.
+  // the energy and momentum each step changed, and where the step's time goes.
   param.measureConservation = true;
+  param.measureStages = true;
   if (const PfxInt32 err = world.initialize(param); err != PFX_OK) {
     if (message) {
       *message = std::string("world parameters rejected (dt, substeps, iterations): ") +

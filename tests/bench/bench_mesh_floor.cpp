@@ -67,6 +67,7 @@ bool runVariant(bool onMesh, const Terrain& terrain, std::vector<ResultRow>& row
   param.timeStep = PfxFloat(1) / kStepsPerSecond;
   param.iteration = 10;
   param.enableSleep = false;
+  param.measureStages = true;  // the collision detection's share of the step
   PfxWorld world;
   if (world.initialize(param) != PFX_OK) return false;
   PfxBodyInit ground;

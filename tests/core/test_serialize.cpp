@@ -503,6 +503,7 @@ TEST(Serialize, EveryStepParameterRoundTrips) {
   param.restitutionThreshold = PfxFloat(0.5);
   param.enableShockPropagation = true;
   param.measureConservation = true;
+  param.measureStages = true;
   param.outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_REMOVE_PROXY;
   param.enableSleep = false;
   param.sleepLinearVelocity = PfxFloat(0.1);
@@ -538,6 +539,7 @@ TEST(Serialize, EveryStepParameterRoundTrips) {
   EXPECT_EQ(back.restitutionThreshold, param.restitutionThreshold);
   EXPECT_TRUE(back.enableShockPropagation);
   EXPECT_TRUE(back.measureConservation);
+  EXPECT_TRUE(back.measureStages);
   EXPECT_EQ(back.outOfWorldBehavior, param.outOfWorldBehavior);
   EXPECT_FALSE(back.enableSleep);
   EXPECT_EQ(back.sleepLinearVelocity, param.sleepLinearVelocity);
@@ -606,6 +608,45 @@ TEST(Serialize, Version1FilesLoadWithTheDefaultsForWhatTheyLack) {
     ASSERT_EQ(loadWorld(again, meshes, resaved, &error), PFX_OK) << error;
     EXPECT_TRUE(sameStates(loaded, again));
   }
+}
+
+// A version-2 file is a version-3 file without the last byte of its parameters
+// (measureStages): it loads with that parameter's default and the rest as saved.
+TEST(Serialize, Version2FilesLoadWithoutTheStageTimes) {
+  PfxWorldParam param;
+  param.enableShockPropagation = true;
+  param.measureStages = true;
+  PfxWorld original;
+  ASSERT_EQ(original.initialize(param), PFX_OK);
+  addBody(original, pfxMakeShape(PfxBox(5, 0.5f, 5)), PfxVector3(0, -0.5f, 0), 0);
+  addBody(original, pfxMakeShape(PfxSphere(0.5f)), PfxVector3(0, 2, 0), 1);
+  for (int step = 0; step < 10; ++step) ASSERT_EQ(original.step(), PFX_OK);
+  const Bytes version3 = saveWorld(original);
+  const std::size_t parameters = sectionPayload(version3, "PARM");
+  const auto u64At = [&](std::size_t at) {
+    PfxUInt64 v = 0;
+    for (int i = 0; i < 8; ++i) v |= PfxUInt64(version3[at + i]) << (8 * i);
+    return v;
+  };
+  const PfxUInt64 parameterBytes = u64At(parameters - 8);
+  ASSERT_EQ(version3[parameters + parameterBytes - 1], 1);  // measureStages, last
+  Bytes version2(version3.begin(), version3.begin() + parameters + parameterBytes - 1);
+  version2.insert(version2.end(), version3.begin() + parameters + parameterBytes, version3.end());
+  putU32(version2, 8, 2);
+  for (const auto& [at, value] :
+       {std::pair<std::size_t, PfxUInt64>{16, u64At(16) - 1}, {parameters - 8, parameterBytes - 1}}) {
+    for (int i = 0; i < 8; ++i) version2[at + i] = PfxUInt8(value >> (8 * i));
+  }
+  resealChecksum(version2);
+
+  PfxWorld loaded;
+  PfxSerializedMeshes meshes;
+  std::string error;
+  ASSERT_EQ(loadWorld(loaded, meshes, version2, &error), PFX_OK) << error;
+  EXPECT_FALSE(loaded.getParam().measureStages);
+  EXPECT_TRUE(loaded.getParam().enableShockPropagation);
+  EXPECT_TRUE(sameStates(original, loaded));
+  EXPECT_EQ(getU32(saveWorld(loaded), 8), PFX_SERIALIZE_VERSION);
 }
 
 // A file of a version this build does not know yet is refused, naming the version, and the

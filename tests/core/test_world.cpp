@@ -19,9 +19,10 @@ const PfxFloat kNaN = std::numeric_limits<PfxFloat>::quiet_NaN();
 const PfxFloat kInf = std::numeric_limits<PfxFloat>::infinity();
 
 // A ground, a small pyramid, a few spheres, capsules and cylinders: every stage has work.
-void buildScene(PfxWorld& world, PfxPipelineType pipeline) {
+void buildScene(PfxWorld& world, PfxPipelineType pipeline, bool measureStages = false) {
   PfxWorldParam param;
   param.pipeline = pipeline;
+  param.measureStages = measureStages;
   ASSERT_EQ(world.initialize(param), PFX_OK);
   PfxBodyInit ground;
   ground.mass = 0;
@@ -332,7 +333,7 @@ TEST(World, SameWorldSameStepsGiveIdenticalBits) {
 
 TEST(World, ReportsStageTimesAndSkipsRefreshInSimplePipeline) {
   PfxWorld world;
-  buildScene(world, kPfxPipelineSimple);
+  buildScene(world, kPfxPipelineSimple, true);
   for (int i = 0; i < 60; ++i) ASSERT_EQ(world.step(), PFX_OK);
   const PfxWorldStats& stats = world.getStats();
   EXPECT_EQ(stats.stageSeconds[kPfxStageRefreshContacts], 0.0);
@@ -343,12 +344,28 @@ TEST(World, ReportsStageTimesAndSkipsRefreshInSimplePipeline) {
   EXPECT_GE(stats.maxPenetration, 0);
 }
 
+// Unless the world measures its stages, their times stay zero and only the step is timed
+// (the island groups of two threads: test_world_threads).
+TEST(World, TimesItsStagesOnlyWhenAsked) {
+  PfxWorld world;
+  buildScene(world, kPfxPipelineStable);
+  for (int i = 0; i < 30; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    const PfxWorldStats& stats = world.getStats();
+    for (int s = 0; s < kPfxStageCount; ++s) {
+      EXPECT_EQ(stats.stageSeconds[s], 0.0) << pfxStageName(PfxStage(s));
+    }
+    EXPECT_GT(stats.stepSeconds, 0.0);
+  }
+}
+
 // A scene of spheres only skips the joint stages (zero time); the step reports the joints'
 // gap and, when asked, how much energy and momentum it changed.
 TEST(World, ReportsItsOwnErrorFigures) {
   PfxWorldParam param;
   param.gravity.setZero();
   param.measureConservation = true;
+  param.measureStages = true;
   PfxWorld world;
   ASSERT_EQ(world.initialize(param), PFX_OK);
   PfxBodyInit a;
@@ -382,7 +399,9 @@ TEST(World, ReportsItsOwnErrorFigures) {
 
   // With a pendulum the joint stages run and the gap is reported.
   PfxWorld pendulum;
-  ASSERT_EQ(pendulum.initialize(PfxWorldParam()), PFX_OK);
+  PfxWorldParam timed;
+  timed.measureStages = true;
+  ASSERT_EQ(pendulum.initialize(timed), PFX_OK);
   PfxBodyInit pivot;
   pivot.mass = 0;
   PfxUInt32 pivotId = 0, bobId = 0;

@@ -165,6 +165,7 @@ Outcome simulate(PfxUInt32 numThreads, int steps) {
 struct IslandsWorld {
   bool joints = true;
   bool shockPropagation = false;
+  bool measureStages = false;
 };
 
 void buildIslands(PfxWorld& world, PfxUInt32 numThreads, const IslandsWorld& kind) {
@@ -172,6 +173,7 @@ void buildIslands(PfxWorld& world, PfxUInt32 numThreads, const IslandsWorld& kin
   param.numThreads = numThreads;
   param.subStep = 2;
   param.enableShockPropagation = kind.shockPropagation;
+  param.measureStages = kind.measureStages;
   ASSERT_EQ(world.initialize(param), PFX_OK);
   addFixedBox(world, PfxVector3(12, 0.25f, 12), PfxVector3(0, -0.25f, 0));
   PfxBodyInit platform;
@@ -254,6 +256,35 @@ TEST(WorldThreads, IslandGroupsGiveTheBitsOfTheWholeWorld) {
       EXPECT_GE(many.mostGroups, 2u) << threads << " threads";
       EXPECT_TRUE(one.states == many.states) << threads << " threads";
     }
+  }
+}
+
+// The groups time their stages into the world's statistics when the world measures its
+// stages, and leave them at zero when it does not.
+TEST(WorldThreads, IslandGroupsTimeTheirStagesOnlyWhenAsked) {
+  for (const bool measures : {false, true}) {
+    SCOPED_TRACE(measures ? "measured" : "not measured");
+    IslandsWorld kind;
+    kind.measureStages = measures;
+    PfxWorld world;
+    buildIslands(world, 2, kind);
+    int groupedSteps = 0;
+    for (int i = 0; i < 20; ++i) {
+      ASSERT_EQ(world.step(), PFX_OK);
+      const PfxWorldStats& stats = world.getStats();
+      EXPECT_GT(stats.stepSeconds, 0.0);
+      if (stats.numIslandGroups < 2) continue;
+      ++groupedSteps;
+      for (const PfxStage stage : {kPfxStageSolveConstraints, kPfxStageUpdateRigidStates,
+                                   kPfxStageCorrectJointPositions, kPfxStageDetectCollision}) {
+        if (measures) {
+          EXPECT_GT(stats.stageSeconds[stage], 0.0) << pfxStageName(stage);
+        } else {
+          EXPECT_EQ(stats.stageSeconds[stage], 0.0) << pfxStageName(stage);
+        }
+      }
+    }
+    EXPECT_GT(groupedSteps, 0);
   }
 }
 

@@ -35,6 +35,11 @@ def test_stats_report_the_step():
     stats = world.stats
     assert stats.step_seconds > 0
     assert set(stats.stage_seconds) >= {"find_pairs", "solve_constraints"}
+    assert set(stats.stage_seconds.values()) == {0.0}  # stages are timed when asked
+    timed = pfx.World(pfx.WorldParam(measure_stages=True))
+    timed.add_body(pfx.Shape.sphere(0.5), pfx.BodyInit(position=(0, 0, 1)))
+    timed.step()
+    assert timed.stats.stage_seconds["update_rigid_states"] > 0
     assert world.simulated_time == pytest.approx(1 / 240)
 
 

@@ -13,11 +13,25 @@ namespace {
 
 constexpr PfxUInt32 kNoGroup = 0xffffffffu;
 
-using Clock = std::chrono::steady_clock;
+// Times a group's stages one after the other, when the world measures its stages.
+class StageClock {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit StageClock(bool measures) : m_measures(measures) {
+    if (m_measures) m_start = Clock::now();
+  }
+  // Adds the time since the last stage ended to `seconds`.
+  void endStage(double& seconds) {
+    if (!m_measures) return;
+    const Clock::time_point now = Clock::now();
+    seconds += std::chrono::duration<double>(now - m_start).count();
+    m_start = now;
+  }
 
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+ private:
+  bool m_measures;
+  Clock::time_point m_start;
+};
 
 bool touching(const PfxConstraintPair& pair, const PfxContactManifold* manifolds) {
   return pfxGetActive(pair) && manifolds[pfxGetContactId(pair)].getNumContacts() > 0;
@@ -269,7 +283,7 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
   void* const work = m_work.data() + group.workOffset;
   const auto workBytes = static_cast<PfxUInt32>(group.workBytes);
 
-  Clock::time_point start = Clock::now();
+  StageClock clock(world.measureStages);
   PfxSolveConstraintsParam solve;
   solve.workBuff = work;
   solve.workBytes = workBytes;
@@ -292,19 +306,17 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
   solve.gravity = world.shockGravity;
   solve.outContactTreeNodes = &result.contactTreeNodes;
   if (const PfxInt32 err = pfxSolveConstraints(solve, stageTasks); err != PFX_OK) return err;
-  result.seconds[0] += secondsSince(start);
+  clock.endStage(result.seconds[0]);
 
-  start = Clock::now();
   PfxUpdateRigidStatesParam integrate;
   integrate.states = states;
   integrate.bodies = bodies;
   integrate.numRigidBodies = group.numBodies;
   integrate.timeStep = world.timeStep;
   if (const PfxInt32 err = pfxUpdateRigidStates(integrate, stageTasks); err != PFX_OK) return err;
-  result.seconds[1] += secondsSince(start);
+  clock.endStage(result.seconds[1]);
 
   if (group.numJoints > 0) {
-    start = Clock::now();
     PfxCorrectJointPositionsParam correct;
     correct.workBuff = work;
     correct.workBytes = workBytes;
@@ -328,7 +340,7 @@ PfxInt32 PfxIslandGroups::solveGroup(PfxUInt32 groupIndex, const PfxIslandGroups
     if (const PfxInt32 err = pfxCorrectJointPositions(correct, stageTasks); err != PFX_OK) {
       return err;
     }
-    result.seconds[2] += secondsSince(start);
+    clock.endStage(result.seconds[2]);
   }
   for (PfxUInt32 i = 0; i < group.numOwnBodies; ++i) {
     world.states[m_bodyIds[group.firstBody + i]] = states[i];

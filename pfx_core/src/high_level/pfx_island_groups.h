@@ -51,6 +51,7 @@ struct PfxIslandGroupsWorld {
   PfxUInt32 iteration = 0;
   PfxFloat restitutionThreshold = 0;
   PfxVector3 shockGravity = PfxVector3::Zero();  // zero: no shock propagation
+  bool measureStages = false;                    // time the groups' stages into the stats
 };
 
 class PfxIslandGroups {

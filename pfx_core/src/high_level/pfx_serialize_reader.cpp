@@ -90,6 +90,7 @@ bool Parser::param() {
   p.numThreads = r.u32("numThreads");
   m_image.simulatedTime = r.f64("simulatedTime");
   if (m_version >= 2) p.enableShockPropagation = r.u8("enableShockPropagation") != 0;
+  if (m_version >= 3) p.measureStages = r.u8("measureStages") != 0;
   if (!r.ok()) return false;
   if (p.timeStep > PFX_MAX_TIME_STEP) {
     std::ostringstream text;

@@ -133,6 +133,8 @@ void Encoder::param() {
   w.f64(*m_buffer.simulatedTime);
   // Version 2.
   w.u8(p.enableShockPropagation ? 1 : 0);
+  // Version 3.
+  w.u8(p.measureStages ? 1 : 0);
 }
 
 void Encoder::convexMeshes() {

@@ -818,7 +818,7 @@ void PfxWorld::assignSimplePairs() {
 PfxInt32 PfxWorld::detectCollision() {
   const bool stable = m_param.pipeline == kPfxPipelineStable;
   if (stable) {
-    StageTimer timer(m_stats, kPfxStageRefreshContacts);
+    StageTimer timer(m_stats, kPfxStageRefreshContacts, m_param.measureStages);
     PfxRefreshContactsParam param;
     bindContacts(param);
     param.offsetRigidStates = m_states.data();
@@ -828,7 +828,7 @@ PfxInt32 PfxWorld::detectCollision() {
       return err;
     }
   }
-  StageTimer timer(m_stats, kPfxStageDetectCollision);
+  StageTimer timer(m_stats, kPfxStageDetectCollision, m_param.measureStages);
   PfxDetectCollisionParam param;
   bindContacts(param);
   param.offsetRigidStates = m_states.data();
@@ -970,7 +970,7 @@ PfxInt32 PfxWorld::generateIslands() {
 PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   const PfxUInt32 numBodies = getNumRigidBodies();
   {
-    StageTimer timer(m_stats, kPfxStageApplyExternalForce);
+    StageTimer timer(m_stats, kPfxStageApplyExternalForce, m_param.measureStages);
     PfxApplyExternalForceParam param;
     param.states = m_states.data();
     param.bodies = m_bodies.data();
@@ -992,7 +992,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     if (const PfxInt32 err = pfxApplyJointEfforts(effortParam); err != PFX_OK) return err;
   }
   {
-    StageTimer timer(m_stats, kPfxStageSetupSolverBodies);
+    StageTimer timer(m_stats, kPfxStageSetupSolverBodies, m_param.measureStages);
     PfxSetupSolverBodiesParam param;
     param.states = m_states.data();
     param.bodies = m_bodies.data();
@@ -1003,7 +1003,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     }
   }
   {
-    StageTimer timer(m_stats, kPfxStageSetupContactConstraints);
+    StageTimer timer(m_stats, kPfxStageSetupContactConstraints, m_param.measureStages);
     PfxSetupContactConstraintsParam param;
     bindContacts(param);
     param.offsetRigidStates = m_states.data();
@@ -1019,7 +1019,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     }
   }
   if (!m_joints.empty()) {
-    StageTimer timer(m_stats, kPfxStageSetupJointConstraints);
+    StageTimer timer(m_stats, kPfxStageSetupJointConstraints, m_param.measureStages);
     for (PfxUInt32 i = 0; i < getNumJoints(); ++i) {
       const PfxJoint& joint = m_joints[i];
       pfxUpdateJointPairs(m_jointPairs[i], i, joint, m_states[joint.m_rigidBodyIdA],
@@ -1038,7 +1038,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
   }
   if (m_solveInGroups) return solveIslandGroups(timeStep);
   {
-    StageTimer timer(m_stats, kPfxStageSolveConstraints);
+    StageTimer timer(m_stats, kPfxStageSolveConstraints, m_param.measureStages);
     PfxSolveConstraintsParam param;
     param.workBuff = m_solverWork.data();
     param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
@@ -1067,7 +1067,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     if (err != PFX_OK) return err;
   }
   {
-    StageTimer timer(m_stats, kPfxStageUpdateRigidStates);
+    StageTimer timer(m_stats, kPfxStageUpdateRigidStates, m_param.measureStages);
     PfxUpdateRigidStatesParam param;
     param.states = m_states.data();
     param.bodies = m_bodies.data();
@@ -1078,7 +1078,7 @@ PfxInt32 PfxWorld::subStep(PfxFloat timeStep) {
     }
   }
   if (m_joints.empty()) return PFX_OK;
-  StageTimer timer(m_stats, kPfxStageCorrectJointPositions);
+  StageTimer timer(m_stats, kPfxStageCorrectJointPositions, m_param.measureStages);
   PfxCorrectJointPositionsParam param;
   param.workBuff = m_solverWork.data();
   param.workBytes = static_cast<PfxUInt32>(m_solverWork.size() * sizeof(PfxSortData16));
@@ -1174,19 +1174,19 @@ PfxInt32 PfxWorld::step() {
   m_rayProxiesStale = true;
   for (double& seconds : m_stats.stageSeconds) seconds = 0;
   {
-    StageTimer timer(m_stats, kPfxStageDetectParticleContacts);
+    StageTimer timer(m_stats, kPfxStageDetectParticleContacts, m_param.measureStages);
     if (const PfxInt32 err = detectParticleContacts(); err != PFX_OK) return err;
   }
   {
-    StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies);
+    StageTimer timer(m_stats, kPfxStageUpdateBroadphaseProxies, m_param.measureStages);
     if (const PfxInt32 err = updateBroadphase(); err != PFX_OK) return err;
   }
   {
-    StageTimer timer(m_stats, kPfxStageFindPairs);
+    StageTimer timer(m_stats, kPfxStageFindPairs, m_param.measureStages);
     if (const PfxInt32 err = findPairs(); err != PFX_OK) return err;
   }
   {
-    StageTimer timer(m_stats, kPfxStageDecomposePairs);
+    StageTimer timer(m_stats, kPfxStageDecomposePairs, m_param.measureStages);
     if (m_param.pipeline == kPfxPipelineStable) {
       composeStablePairs();
     } else {
@@ -1195,7 +1195,7 @@ PfxInt32 PfxWorld::step() {
   }
   if (const PfxInt32 err = detectCollision(); err != PFX_OK) return err;
   {
-    StageTimer timer(m_stats, kPfxStageGenerateIsland);
+    StageTimer timer(m_stats, kPfxStageGenerateIsland, m_param.measureStages);
     if (const PfxInt32 err = generateIslands(); err != PFX_OK) return err;
     wakeTouchedIslands();
   }
@@ -1212,7 +1212,7 @@ PfxInt32 PfxWorld::step() {
   std::fill(m_torques.begin(), m_torques.end(), PfxVector3::Zero());
   m_simulatedTime += m_param.timeStep;
   {
-    StageTimer timer(m_stats, kPfxStageGenerateIsland);
+    StageTimer timer(m_stats, kPfxStageGenerateIsland, m_param.measureStages);
     updateSleep();
   }
   updateParticleSleep();

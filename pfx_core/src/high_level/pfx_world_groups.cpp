@@ -58,6 +58,7 @@ PfxInt32 PfxWorld::solveIslandGroups(PfxFloat timeStep) {
   world.timeStep = timeStep;
   world.iteration = m_param.iteration;
   world.restitutionThreshold = m_param.restitutionThreshold;
+  world.measureStages = m_param.measureStages;
   // A world with joints takes no shock propagation (pfxSolveConstraints), and neither do
   // its groups without joints.
   if (m_param.enableShockPropagation && getNumJoints() == 0) world.shockGravity = m_param.gravity;

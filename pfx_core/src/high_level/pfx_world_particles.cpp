@@ -394,7 +394,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     maxIteration = std::max(maxIteration, g.iteration);
     const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
     {
-      PfxStageTimer timer(m_stats, kPfxStageIntegrateParticles);
+      PfxStageTimer timer(m_stats, kPfxStageIntegrateParticles, m_param.measureStages);
       PfxIntegrateParticlesParam param;
       param.particles = g.particles.data();
       param.numParticles = numParticles;
@@ -407,7 +407,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       }
     }
     if (g.numContacts > 0) {
-      PfxStageTimer timer(m_stats, kPfxStageDetectParticleContacts);
+      PfxStageTimer timer(m_stats, kPfxStageDetectParticleContacts, m_param.measureStages);
       PfxRefreshParticleContactsParam param;
       param.particles = g.particles.data();
       param.numParticles = numParticles;
@@ -421,7 +421,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       }
     }
     if (!g.batched) {
-      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints, m_param.measureStages);
       if (const PfxInt32 err = batchConstraints(g); err != PFX_OK) return err;
     }
   }
@@ -450,7 +450,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       PfxParticleGroup* group = m_particleGroups[id].get();
       if (!group || group->asleep || round >= iterationsOf(id)) continue;
       PfxParticleGroup& g = *group;
-      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints, m_param.measureStages);
       pointBatchesAtBuffers(g);
       PfxSolveParticleConstraintsParam param;
       param.particles = g.particles.data();
@@ -484,7 +484,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
       PfxParticleGroup& a = *m_particleGroups[pair.groupA];
       PfxParticleGroup& b = *m_particleGroups[pair.groupB];
       if (a.asleep || round >= std::max(a.iteration, b.iteration)) continue;
-      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints);
+      PfxStageTimer timer(m_stats, kPfxStageSolveParticleConstraints, m_param.measureStages);
       PfxSolveParticleGroupContactsParam param =
           groupContactsParam(a, b, pair.contacts.data(), pair.numContacts);
       param.continueSubStep = round > 0;
@@ -496,7 +496,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     PfxParticleGroup& g = *group;
     const PfxUInt32 numParticles = static_cast<PfxUInt32>(g.particles.size());
     {
-      PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
+      PfxStageTimer timer(m_stats, kPfxStageUpdateParticles, m_param.measureStages);
       PfxUpdateParticlesParam param;
       param.particles = g.particles.data();
       param.numParticles = numParticles;
@@ -514,7 +514,7 @@ PfxInt32 PfxWorld::particleSubStep(PfxFloat timeStep) {
     PfxParticleGroup& a = *m_particleGroups[pair.groupA];
     PfxParticleGroup& b = *m_particleGroups[pair.groupB];
     if (a.asleep) continue;
-    PfxStageTimer timer(m_stats, kPfxStageUpdateParticles);
+    PfxStageTimer timer(m_stats, kPfxStageUpdateParticles, m_param.measureStages);
     const PfxSolveParticleGroupContactsParam param =
         groupContactsParam(a, b, pair.contacts.data(), pair.numContacts);
     if (const PfxInt32 err = pfxUpdateParticleGroupContacts(param); err != PFX_OK) return err;

@@ -1,4 +1,5 @@
-// Times one stage of PfxWorld's step into its statistics.
+// Times one stage of PfxWorld's step into its statistics, when the world measures its
+// stages (PfxWorldParam::measureStages).
 #pragma once
 
 #include <chrono>
@@ -10,9 +11,12 @@ namespace pfx {
 class PfxStageTimer {
  public:
   using Clock = std::chrono::steady_clock;
-  PfxStageTimer(PfxWorldStats& stats, PfxStage stage)
-      : m_stats(stats), m_stage(stage), m_start(Clock::now()) {}
+  PfxStageTimer(PfxWorldStats& stats, PfxStage stage, bool measures)
+      : m_stats(stats), m_stage(stage), m_measures(measures) {
+    if (m_measures) m_start = Clock::now();
+  }
   ~PfxStageTimer() {
+    if (!m_measures) return;
     m_stats.stageSeconds[m_stage] += std::chrono::duration<double>(Clock::now() - m_start).count();
   }
   PfxStageTimer(const PfxStageTimer&) = delete;
@@ -21,6 +25,7 @@ class PfxStageTimer {
  private:
   PfxWorldStats& m_stats;
   PfxStage m_stage;
+  bool m_measures;
   Clock::time_point m_start;
 };
 

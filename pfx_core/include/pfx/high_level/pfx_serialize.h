@@ -30,7 +30,7 @@ namespace pfx {
 // Version of the format this build writes. It reads every version from the first to this
 // one, taking the defaults of PfxWorldParam for what an older file lacks, and refuses a
 // newer one, whose fields it could not know.
-constexpr PfxUInt32 PFX_SERIALIZE_VERSION = 2;
+constexpr PfxUInt32 PFX_SERIALIZE_VERSION = 3;
 constexpr PfxUInt32 PFX_SERIALIZE_OLDEST_VERSION = 1;
 
 // How many of each instance a buffer holds (the initialization callback sets it), and on

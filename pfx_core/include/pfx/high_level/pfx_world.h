@@ -78,6 +78,10 @@ struct PfxWorldParam {
   // Measure the total energy and momentum before and after each step (two passes over the
   // bodies) and report their change in PfxWorldStats.
   bool measureConservation = false;
+  // Time each stage of the step into PfxWorldStats::stageSeconds (stepSeconds is timed
+  // always). Off by default: the stages' 28 clock reads a step were a third of the step of
+  // a world of one body (the spinner of pfx_bench), and 3 % of a robot arm's.
+  bool measureStages = false;
   PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
   // Sleep (seed 3_sleep): an island (pfx_island_generation.h) whose active, one-way and
   // keyframe bodies have all moved slower than both velocities for sleepTime falls asleep
@@ -132,8 +136,9 @@ enum PfxStage : PfxUInt8 {
 const char* pfxStageName(PfxStage stage);
 
 struct PfxWorldStats {
-  double stageSeconds[kPfxStageCount] = {};  // wall time of each stage in the last step,
-                                             // summed over its sub-steps
+  // With PfxWorldParam::measureStages: the wall time of each stage in the last step, summed
+  // over its sub-steps; zero without.
+  double stageSeconds[kPfxStageCount] = {};
   double stepSeconds = 0;
   // Broadphase pairs the step worked on: a pair whose bodies all sleep (or are fixed) costs
   // nothing and is counted in numSleepingPairs instead.
