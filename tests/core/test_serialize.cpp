@@ -633,10 +633,11 @@ TEST(Serialize, Version2FilesLoadWithoutTheStageTimes) {
   Bytes version2(version3.begin(), version3.begin() + parameters + parameterBytes - 1);
   version2.insert(version2.end(), version3.begin() + parameters + parameterBytes, version3.end());
   putU32(version2, 8, 2);
-  for (const auto& [at, value] :
-       {std::pair<std::size_t, PfxUInt64>{16, u64At(16) - 1}, {parameters - 8, parameterBytes - 1}}) {
+  const auto putU64 = [&](std::size_t at, PfxUInt64 value) {
     for (int i = 0; i < 8; ++i) version2[at + i] = PfxUInt8(value >> (8 * i));
-  }
+  };
+  putU64(16, u64At(16) - 1);  // the body's length
+  putU64(parameters - 8, parameterBytes - 1);
   resealChecksum(version2);
 
   PfxWorld loaded;
