@@ -457,6 +457,7 @@ PfxJointRowJacobian PfxJointTreeSolver::boundedRowJacobian(const BoundedRow& row
 
 void PfxJointTreeSolver::solveTreeForRowImpulses(PfxUInt32 tree, PfxUInt32 firstRow,
                                                  PfxUInt32 lastRow, const double* impulses) {
+  factorIfNeeded(tree);
   const std::size_t begin = m_treeStarts[tree], end = m_treeStarts[tree + 1];
   for (std::size_t n = begin; n < end; ++n) m_nodes[n].value.setZero();
   auto load = [&](PfxInt32 bodyNode, const PfxVector3& linear, const PfxVector3& angular,
@@ -668,7 +669,6 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
 void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
   if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
   const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
-  factorIfNeeded(node.tree);
   solveTree(push, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
 }
 
@@ -682,6 +682,7 @@ void PfxJointTreeSolver::solve(bool push, PfxTaskManager* taskManager) {
 void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end,
                                    bool skipHeld) {
   if (begin == end) return;
+  factorIfNeeded(m_nodes[begin].tree);
   PfxVector3 PfxSolverBody::*linear =
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =

@@ -25,9 +25,9 @@ class PfxJointTreeSolver {
  public:
   static PfxUInt32 getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 numJointPairs);
 
-  // When build() factors the trees: all at once, or each on its first solve (solveTreeOf,
-  // getImpulseResponse), for a solve that may leave most trees alone (the position
-  // correction once most joints hold).
+  // When build() factors the trees: all at once, or each on its first solve of any kind,
+  // for a solve that may leave most trees alone (the position correction once most joints
+  // hold).
   enum class Factoring { kNow, kOnFirstSolve };
 
   // Picks the joints that form a forest, orders and factors the system (the trees in
