@@ -79,8 +79,9 @@ struct PfxWorldParam {
   // bodies) and report their change in PfxWorldStats.
   bool measureConservation = false;
   // Time each stage of the step into PfxWorldStats::stageSeconds (stepSeconds is timed
-  // always). Off by default: the stages' 28 clock reads a step were a third of the step of
-  // a world of one body (the spinner of pfx_bench), and 3 % of a robot arm's.
+  // always). Off by default: two clock reads a stage, 26 a step without joints and 30 with,
+  // were a third of the step of a world of one body (the spinner of pfx_bench), and 3 % of
+  // a robot arm's.
   bool measureStages = false;
   PfxUInt32 outOfWorldBehavior = PFX_OUT_OF_WORLD_BEHAVIOR_FIX_MOTION;
   // Sleep (seed 3_sleep): an island (pfx_island_generation.h) whose active, one-way and
