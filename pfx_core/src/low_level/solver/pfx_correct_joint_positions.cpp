@@ -93,10 +93,10 @@ constexpr PfxFloat kNegligibleApproach = PfxFloat(1e-4);
 // The largest move a pass may ask of a joint (m, or rad) and still be left undone: 0.3 µm,
 // about the spacing of floats a few metres from the origin (0.24 µm from 2 to 4 m), where
 // such a pass could not make the positions any more exact. It is scaled by the precision's
-// epsilon, as kHeldLockedRowVelocity is. After the first pass, no joint of the 64 arms of
-// `pfx_bench --scene robots` asked for more than 1 µm in two steps of three, nor any joint
-// of the arm of `--scene urdf` in any step; the later passes factored every tree and
-// iterated for the rounding.
+// epsilon, as kHeldLockedRowVelocity is. After the first pass, no joint of the robots of
+// `pfx_bench --scene robots` (1 to 64 arms) asked for more than 1 µm in two steps of three,
+// nor any joint of the arm of `--scene urdf` in any step; the later passes factored every
+// tree and iterated for the rounding.
 constexpr double kNegligibleCorrection =
     3e-7 * (double(std::numeric_limits<PfxFloat>::epsilon()) /
             double(std::numeric_limits<float>::epsilon()));
