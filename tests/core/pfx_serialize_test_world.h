@@ -61,39 +61,6 @@ inline PfxInt32 loadWorld(PfxWorld& world, PfxSerializedMeshes& meshes, const By
   return pfxLoadWorld(world, file.get(), meshes, error, options);
 }
 
-// The file format's checksum (README.md, "Serialization"): FNV-1a over the bytes after the
-// 32-byte header, eight at a time as little-endian words and the last few one by one,
-// stored at offset 24. Tests that alter a file on purpose set it again, so that the checks
-// behind it are reached.
-inline void resealChecksum(Bytes& bytes) {
-  PfxUInt64 hash = 0xcbf29ce484222325ull;
-  std::size_t i = 32;
-  for (; i + 8 <= bytes.size(); i += 8) {
-    PfxUInt64 word = 0;
-    for (int b = 0; b < 8; ++b) word |= PfxUInt64(bytes[i + b]) << (8 * b);
-    hash ^= word;
-    hash *= 0x100000001b3ull;
-  }
-  for (; i < bytes.size(); ++i) {
-    hash ^= bytes[i];
-    hash *= 0x100000001b3ull;
-  }
-  for (int b = 0; b < 8; ++b) bytes[24 + b] = PfxUInt8(hash >> (8 * b));
-}
-
-// Offset of the payload of the section tagged `tag` (after its tag and length).
-inline std::size_t sectionPayload(const Bytes& bytes, const char* tag) {
-  std::size_t at = 32;
-  while (at + 12 <= bytes.size()) {
-    PfxUInt64 length = 0;
-    for (int i = 0; i < 8; ++i) length |= PfxUInt64(bytes[at + 4 + i]) << (8 * i);
-    if (std::equal(tag, tag + 4, bytes.begin() + at)) return at + 12;
-    at += 12 + length;
-  }
-  ADD_FAILURE() << "no section " << tag;
-  return 0;
-}
-
 inline void putU32(Bytes& bytes, std::size_t at, PfxUInt32 v) {
   for (int i = 0; i < 4; ++i) bytes[at + i] = PfxUInt8(v >> (8 * i));
 }
@@ -102,6 +69,46 @@ inline PfxUInt32 getU32(const Bytes& bytes, std::size_t at) {
   PfxUInt32 v = 0;
   for (int i = 0; i < 4; ++i) v |= PfxUInt32(bytes[at + i]) << (8 * i);
   return v;
+}
+
+inline void putU64(Bytes& bytes, std::size_t at, PfxUInt64 v) {
+  for (int i = 0; i < 8; ++i) bytes[at + i] = PfxUInt8(v >> (8 * i));
+}
+
+inline PfxUInt64 getU64(const Bytes& bytes, std::size_t at) {
+  PfxUInt64 v = 0;
+  for (int i = 0; i < 8; ++i) v |= PfxUInt64(bytes[at + i]) << (8 * i);
+  return v;
+}
+
+// The file format's checksum (README.md, "Serialization"): FNV-1a over the bytes after the
+// 32-byte header, eight at a time as little-endian words and the last few one by one,
+// stored at offset 24. Tests that alter a file on purpose set it again, so that the checks
+// behind it are reached.
+inline void resealChecksum(Bytes& bytes) {
+  PfxUInt64 hash = 0xcbf29ce484222325ull;
+  std::size_t i = 32;
+  for (; i + 8 <= bytes.size(); i += 8) {
+    hash ^= getU64(bytes, i);
+    hash *= 0x100000001b3ull;
+  }
+  for (; i < bytes.size(); ++i) {
+    hash ^= bytes[i];
+    hash *= 0x100000001b3ull;
+  }
+  putU64(bytes, 24, hash);
+}
+
+// Offset of the payload of the section tagged `tag` (after its tag and length).
+inline std::size_t sectionPayload(const Bytes& bytes, const char* tag) {
+  std::size_t at = 32;
+  while (at + 12 <= bytes.size()) {
+    const PfxUInt64 length = getU64(bytes, at + 4);
+    if (std::equal(tag, tag + 4, bytes.begin() + at)) return at + 12;
+    at += 12 + length;
+  }
+  ADD_FAILURE() << "no section " << tag;
+  return 0;
 }
 
 // What a world holds, body by body, for bit-for-bit comparisons.

@@ -623,21 +623,13 @@ TEST(Serialize, Version2FilesLoadWithoutTheStageTimes) {
   for (int step = 0; step < 10; ++step) ASSERT_EQ(original.step(), PFX_OK);
   const Bytes version3 = saveWorld(original);
   const std::size_t parameters = sectionPayload(version3, "PARM");
-  const auto u64At = [&](std::size_t at) {
-    PfxUInt64 v = 0;
-    for (int i = 0; i < 8; ++i) v |= PfxUInt64(version3[at + i]) << (8 * i);
-    return v;
-  };
-  const PfxUInt64 parameterBytes = u64At(parameters - 8);
+  const PfxUInt64 parameterBytes = getU64(version3, parameters - 8);
   ASSERT_EQ(version3[parameters + parameterBytes - 1], 1);  // measureStages, last
   Bytes version2(version3.begin(), version3.begin() + parameters + parameterBytes - 1);
   version2.insert(version2.end(), version3.begin() + parameters + parameterBytes, version3.end());
   putU32(version2, 8, 2);
-  const auto putU64 = [&](std::size_t at, PfxUInt64 value) {
-    for (int i = 0; i < 8; ++i) version2[at + i] = PfxUInt8(value >> (8 * i));
-  };
-  putU64(16, u64At(16) - 1);  // the body's length
-  putU64(parameters - 8, parameterBytes - 1);
+  putU64(version2, 16, getU64(version3, 16) - 1);  // the body's length
+  putU64(version2, parameters - 8, parameterBytes - 1);
   resealChecksum(version2);
 
   PfxWorld loaded;
@@ -674,8 +666,7 @@ double readRealAt(const Bytes& bytes, std::size_t at, std::size_t realBytes) {
     std::memcpy(&f, &bits, 4);
     return f;
   }
-  PfxUInt64 bits = 0;
-  for (int i = 0; i < 8; ++i) bits |= PfxUInt64(bytes[at + i]) << (8 * i);
+  const PfxUInt64 bits = getU64(bytes, at);
   double d;
   std::memcpy(&d, &bits, 8);
   return d;
