@@ -972,3 +972,67 @@ TEST(FuzzRegressions, CompoundThroughAWallWithOpposedContactNormalsStepsToFinite
     }
   }
 }
+
+// fuzz_world_api: a capsule 2e7 m long (the longest shape accepted), welded to a fixed
+// sphere, turned its angular velocity NaN in its first step. Its moments of 8e13 kg m^2 gave
+// a world inverse inertia whose determinant (2e-42) was denormal, and the joints' geometric
+// stiffness, which inverts that matrix back into an inertia, divided by it. The inverse is
+// scaled first now (pfxInverseDefinite), and the weld holds the capsule where it was.
+TEST(FuzzRegressions, LongestCapsuleWeldedToAFixedBodyStepsToFiniteStates) {
+  PfxWorldParam param;
+  param.subStep = 2;
+  param.pipeline = kPfxPipelineStable;
+  PfxWorld world;
+  ASSERT_EQ(world.initialize(param), PFX_OK);
+  PfxBodyInit fixedInit;
+  fixedInit.mass = 0;
+  fixedInit.position = PfxVector3(0, 2, 0);
+  PfxUInt32 fixedId = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxSphere(PfxFloat(0.2))), fixedInit, &fixedId),
+            PFX_OK);
+  PfxBodyInit capsuleInit;
+  capsuleInit.mass = 2;
+  capsuleInit.position = PfxVector3(1, 2, 0);
+  PfxUInt32 capsuleId = 0;
+  ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxCapsule(PfxFloat(0.4), kPfxMaxShapeReach)),
+                       capsuleInit, &capsuleId),
+            PFX_OK);
+  ASSERT_GT(world.getRigidBody(capsuleId).getInertia().diagonal().minCoeff(), PfxFloat(1e13));
+  PfxFixedJointInitParam weld;
+  weld.anchorPoint = PfxVector3(0, 1, 0);
+  PfxJoint joint;
+  ASSERT_EQ(pfxInitializeFixedJoint(joint, world.getRigidState(fixedId),
+                                    world.getRigidState(capsuleId), weld),
+            PFX_OK);
+  joint.m_rigidBodyIdA = fixedId;
+  joint.m_rigidBodyIdB = capsuleId;
+  ASSERT_EQ(world.addJoint(joint), PFX_OK);
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_EQ(world.step(), PFX_OK);
+    ASSERT_TRUE(world.getRigidState(capsuleId).isValid()) << "step " << i;
+  }
+  const PfxRigidState& capsule = world.getRigidState(capsuleId);
+  EXPECT_LT((capsule.getPosition() - capsuleInit.position).norm(), PfxFloat(1e-4));
+  EXPECT_LT(capsule.getAngularVelocity().norm(), PfxFloat(1e-6));
+}
+
+// The scaled inverse gives the plain inverse's bits where that one stays in float's range,
+// and a finite inverse at both ends of the moments accepted (1e-18 and 1e18 kg m^2), where
+// the plain one overflows or divides by a denormal.
+TEST(FuzzRegressions, InverseOfDefiniteMatrixStaysFiniteOverTheMomentsAccepted) {
+  const PfxMatrix3 turn = PfxQuat(PfxFloat(0.9), PfxFloat(0.3), PfxFloat(-0.2), PfxFloat(0.25))
+                              .normalized()
+                              .toRotationMatrix();
+  const PfxMatrix3 moments = PfxVector3(PfxFloat(0.7), PfxFloat(1.3), PfxFloat(1.9)).asDiagonal();
+  const PfxMatrix3 inertia = pfxRotateInertia(turn, moments);
+  EXPECT_EQ(pfxInverseDefinite(inertia), inertia.inverse());
+  for (const PfxFloat scale : {kPfxMinMoment, kPfxMaxMoment}) {
+    const PfxMatrix3 scaled = inertia * scale;
+    const PfxMatrix3 inverse = pfxInverseDefinite(scaled);
+    ASSERT_TRUE(inverse.allFinite()) << "moments scaled by " << scale;
+    EXPECT_TRUE((inverse * scaled).isApprox(PfxMatrix3::Identity(), PfxFloat(1e-4)))
+        << "moments scaled by " << scale;
+    EXPECT_TRUE(pfxInverseDefinite(inverse).isApprox(scaled, PfxFloat(1e-4)))
+        << "moments scaled by " << scale;
+  }
+}

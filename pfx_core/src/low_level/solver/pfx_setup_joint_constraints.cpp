@@ -235,11 +235,11 @@ constexpr PfxFloat kMaxStiffnessBoost = PfxFloat(1e6);
 void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& arm,
                            PfxFloat timeStep) {
   if (body.m_massInv == 0) return;
-  const PfxMatrix3 inertia = body.m_inertiaInv.inverse();
+  const PfxMatrix3 inertia = pfxInverseDefinite(body.m_inertiaInv);
   const PfxFloat boost = std::min(timeStep * impulse * arm.norm(),
                                   kMaxStiffnessBoost * inertia.diagonal().maxCoeff());
   if (!(boost > 0)) return;
-  body.m_inertiaInv = (inertia + boost * PfxMatrix3::Identity()).inverse();
+  body.m_inertiaInv = pfxInverseDefinite(inertia + boost * PfxMatrix3::Identity());
 }
 
 }  // namespace

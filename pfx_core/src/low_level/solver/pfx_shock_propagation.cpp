@@ -217,7 +217,7 @@ void PfxShockPropagation::holdUpperBody(const Contact* begin, const Contact* end
   // Its turn against the carriers, taken away within the moment the load can hold at the
   // support's furthest point (tipping) and the friction's moment there (twisting).
   // A body with a locked turn (no inverse inertia to invert) is held by its slide alone.
-  if (!countedAll || upper.m_inertiaInv.determinant() <= 0 ||
+  if (!countedAll || !(upper.m_inertiaInv.trace() > 0) ||
       !centreOverSupport(arms, numArms, m_up)) {
     return;
   }
@@ -231,7 +231,7 @@ void PfxShockPropagation::holdUpperBody(const Contact* begin, const Contact* end
   }
   const PfxVector3 turn =
       upperState.getAngularVelocity() + upper.m_deltaAngularVelocity - carrierTurn;
-  const PfxVector3 momentum = -(upper.m_inertiaInv.inverse() * turn);
+  const PfxVector3 momentum = -(pfxInverseDefinite(upper.m_inertiaInv) * turn);
   const PfxFloat twist = m_up.dot(momentum);
   PfxVector3 tipping = momentum - m_up * twist;
   const PfxFloat tippingLimit = reach * load, twistLimit = reach * frictionLimit;

@@ -64,6 +64,18 @@ inline void pfxGetPlaneSpace(const PfxVector3& n, PfxVector3& t1, PfxVector3& t2
   t2 = PfxVector3(b, sign + n[1] * n[1] * a, -n[1]);
 }
 
+// The inverse of a symmetric positive definite matrix (an inertia or an inverse inertia)
+// whose entries may lie anywhere in float's range. The plain 3x3 inverse divides by the
+// determinant, a product of three entries, which leaves that range long before they do: a
+// moment of 8e13 kg m^2 (moments up to 1e18 are accepted) has an inverse whose determinant,
+// 2e-42, is denormal, and its reciprocal infinite. Scaled by a power of two to a largest
+// diagonal entry near one, the determinant stays within the range the moment ratio allows,
+// and the result has the plain inverse's bits wherever that one stayed in range.
+inline PfxMatrix3 pfxInverseDefinite(const PfxMatrix3& m) {
+  const PfxFloat scale = std::ldexp(PfxFloat(1), -std::ilogb(m.diagonal().maxCoeff()));
+  return (m * scale).inverse() * scale;
+}
+
 // Inertia tensor expressed in another frame: R I R^T.
 inline PfxMatrix3 pfxRotateInertia(const PfxMatrix3& rotation, const PfxMatrix3& inertia) {
   return rotation * inertia * rotation.transpose();
