@@ -15,6 +15,7 @@ void setupSolverBody(const PfxRigidState& state, const PfxRigidBody& body,
   solverBody.m_pushLinearVelocity.setZero();
   solverBody.m_pushAngularVelocity.setZero();
   solverBody.m_motionType = state.getMotionType();
+  solverBody.m_stiffnessInertia = 0;
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake()) {
     solverBody.m_massInv = body.getMassInv();
     solverBody.m_inertiaInv =

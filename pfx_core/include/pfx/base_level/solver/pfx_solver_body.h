@@ -18,6 +18,9 @@ struct PfxSolverBody {
   PfxMatrix3 m_inertiaInv;  // world frame
   PfxFloat m_massInv;
   PfxUInt32 m_motionType;
+  // The inertia the joints' geometric stiffness added about every axis (kg m^2), already in
+  // m_inertiaInv; zero until pfxSetupJointConstraints adds it.
+  PfxFloat m_stiffnessInertia;
 };
 
 // Whether an impulse changes the body's velocities (`receives` is 0 or 1, as the pair
