@@ -231,23 +231,23 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mod
 // A body's joints add their stiffness up, and its inverse inertia is formed once from the
 // sum (stiffenInertia): R I R^T + s 1 = R (I + s 1) R^T, one 3 x 3 inverse in the body's
 // frame, where it took two a joint end in the world's, 3.7 % of the robots' step.
+void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& arm,
+                           PfxFloat timeStep) {
+  if (body.m_massInv == 0) return;
+  const PfxFloat boost = timeStep * impulse * arm.norm();
+  if (boost > 0) body.m_stiffnessInertia += boost;
+}
+
 // The extra inertia is held to a million times the body's own: a joint holding a heavy robot
 // by a light link adds a few hundred times, and one whose impulse came from a body flung at
 // 1e15 m/s made the inertia so large that the joint tree solver's factors overflowed to NaN.
+// Held once for the sum, it is what holding each joint's share in turn gave.
 constexpr PfxFloat kMaxStiffnessBoost = PfxFloat(1e6);
-void addGeometricStiffness(PfxSolverBody& body, const PfxRigidBody& rigidBody, PfxFloat impulse,
-                           const PfxVector3& arm, PfxFloat timeStep) {
-  if (body.m_massInv == 0) return;
-  const PfxFloat boost = timeStep * impulse * arm.norm();
-  if (!(boost > 0)) return;
-  body.m_stiffnessInertia =
-      std::min(body.m_stiffnessInertia + boost,
-               kMaxStiffnessBoost * rigidBody.getInertia().diagonal().maxCoeff());
-}
-
 void stiffenInertia(PfxSolverBody& body, const PfxRigidBody& rigidBody,
                     const PfxRigidState& state) {
   if (!(body.m_stiffnessInertia > 0)) return;
+  body.m_stiffnessInertia = std::min(
+      body.m_stiffnessInertia, kMaxStiffnessBoost * rigidBody.getInertia().diagonal().maxCoeff());
   const PfxMatrix3 stiffened =
       rigidBody.getInertia() + body.m_stiffnessInertia * PfxMatrix3::Identity();
   body.m_inertiaInv =
@@ -337,14 +337,12 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
       const PfxFloat impulse = linearImpulse.norm();
       if (stiffensA) {
-        addGeometricStiffness(param.offsetSolverBodies[idA], param.offsetRigidBodies[idA],
-                              impulse,
+        addGeometricStiffness(param.offsetSolverBodies[idA], impulse,
                               param.offsetRigidStates[idA].getOrientation() * joint.m_anchorA,
                               param.timeStep);
       }
       if (stiffensB) {
-        addGeometricStiffness(param.offsetSolverBodies[idB], param.offsetRigidBodies[idB],
-                              impulse,
+        addGeometricStiffness(param.offsetSolverBodies[idB], impulse,
                               param.offsetRigidStates[idB].getOrientation() * joint.m_anchorB,
                               param.timeStep);
       }
