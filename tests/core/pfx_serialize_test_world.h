@@ -61,25 +61,23 @@ inline PfxInt32 loadWorld(PfxWorld& world, PfxSerializedMeshes& meshes, const By
   return pfxLoadWorld(world, file.get(), meshes, error, options);
 }
 
-inline void putU32(Bytes& bytes, std::size_t at, PfxUInt32 v) {
-  for (int i = 0; i < 4; ++i) bytes[at + i] = PfxUInt8(v >> (8 * i));
+// The file's words, little-endian as the format stores them.
+template <typename Word>
+void putWord(Bytes& bytes, std::size_t at, Word v) {
+  for (std::size_t i = 0; i < sizeof(Word); ++i) bytes[at + i] = PfxUInt8(v >> (8 * i));
 }
 
-inline PfxUInt32 getU32(const Bytes& bytes, std::size_t at) {
-  PfxUInt32 v = 0;
-  for (int i = 0; i < 4; ++i) v |= PfxUInt32(bytes[at + i]) << (8 * i);
+template <typename Word>
+Word getWord(const Bytes& bytes, std::size_t at) {
+  Word v = 0;
+  for (std::size_t i = 0; i < sizeof(Word); ++i) v |= Word(bytes[at + i]) << (8 * i);
   return v;
 }
 
-inline void putU64(Bytes& bytes, std::size_t at, PfxUInt64 v) {
-  for (int i = 0; i < 8; ++i) bytes[at + i] = PfxUInt8(v >> (8 * i));
-}
-
-inline PfxUInt64 getU64(const Bytes& bytes, std::size_t at) {
-  PfxUInt64 v = 0;
-  for (int i = 0; i < 8; ++i) v |= PfxUInt64(bytes[at + i]) << (8 * i);
-  return v;
-}
+inline constexpr auto putU32 = putWord<PfxUInt32>;
+inline constexpr auto getU32 = getWord<PfxUInt32>;
+inline constexpr auto putU64 = putWord<PfxUInt64>;
+inline constexpr auto getU64 = getWord<PfxUInt64>;
 
 // The file format's checksum (README.md, "Serialization"): FNV-1a over the bytes after the
 // 32-byte header, eight at a time as little-endian words and the last few one by one,
