@@ -2,6 +2,7 @@
 // error code and leave every buffer as it was.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -83,6 +84,42 @@ void expectSameDirectionBoundsAndImpulse(const PfxConstraintRow& a, const PfxCon
   EXPECT_EQ(a.m_lowerLimit, b.m_lowerLimit);
   EXPECT_EQ(a.m_upperLimit, b.m_upperLimit);
   EXPECT_EQ(a.m_accumImpulse, b.m_accumImpulse);
+}
+
+// Every field a setup writes, bit for bit (bytes of whole structs would compare padding).
+void expectSameSolverBody(const PfxSolverBody& a, const PfxSolverBody& b) {
+  EXPECT_EQ(bytes(a.m_deltaLinearVelocity), bytes(b.m_deltaLinearVelocity));
+  EXPECT_EQ(bytes(a.m_deltaAngularVelocity), bytes(b.m_deltaAngularVelocity));
+  EXPECT_EQ(bytes(a.m_pushLinearVelocity), bytes(b.m_pushLinearVelocity));
+  EXPECT_EQ(bytes(a.m_pushAngularVelocity), bytes(b.m_pushAngularVelocity));
+  EXPECT_EQ(bytes(a.m_inertiaInv), bytes(b.m_inertiaInv));
+  EXPECT_EQ(bytes(a.m_massInv), bytes(b.m_massInv));
+  EXPECT_EQ(a.m_motionType, b.m_motionType);
+  EXPECT_EQ(bytes(a.m_stiffnessInertia), bytes(b.m_stiffnessInertia));
+}
+
+void expectSameRow(const PfxConstraintRow& a, const PfxConstraintRow& b) {
+  expectSameDirectionBoundsAndImpulse(a, b);
+  EXPECT_EQ(bytes(a.m_rhs), bytes(b.m_rhs));
+  EXPECT_EQ(bytes(a.m_jacDiagInv), bytes(b.m_jacDiagInv));
+}
+
+void expectSameJointRows(const PfxJoint& a, const PfxJoint& b) {
+  EXPECT_EQ(bytes(a.m_armA), bytes(b.m_armA));
+  EXPECT_EQ(bytes(a.m_armB), bytes(b.m_armB));
+  for (int axis = 0; axis < 6; ++axis) {
+    SCOPED_TRACE(testing::Message() << "axis " << axis);
+    const PfxJointConstraint& ca = a.m_constraints[axis];
+    const PfxJointConstraint& cb = b.m_constraints[axis];
+    EXPECT_EQ(bytes(a.m_axes[axis]), bytes(b.m_axes[axis]));
+    EXPECT_EQ(ca.m_rowType, cb.m_rowType);
+    EXPECT_EQ(bytes(ca.m_position), bytes(cb.m_position));
+    EXPECT_EQ(bytes(ca.m_pushRhs), bytes(cb.m_pushRhs));
+    EXPECT_EQ(bytes(ca.m_pushImpulse), bytes(cb.m_pushImpulse));
+    expectSameRow(ca.m_constraintRow, cb.m_constraintRow);
+    EXPECT_EQ(ca.m_driveRowUsed, cb.m_driveRowUsed);
+    expectSameRow(ca.m_driveRow, cb.m_driveRow);
+  }
 }
 
 }  // namespace
@@ -388,4 +425,102 @@ TEST(SolverStages, JointSetupForThePositionCorrectionSetsWhatItReads) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(bytes(fullBodies[i].m_inertiaInv), bytes(correctedBodies[i].m_inertiaInv));
   }
+}
+
+// A setup of the bodies flagged (bodiesToSetUp) leaves every solver body and joint as a
+// full setup at the same poses would, bit for bit, when only the flagged bodies moved since
+// the last full one: the position correction's later passes rely on it. Two hinge chains,
+// each from a fixed body with a heavy link under load (its geometric stiffness); the second
+// link of the first chain moves, the second chain does not.
+TEST(SolverStages, SetupOfTheBodiesToSetUpMatchesAFullSetup) {
+  constexpr int kBodies = 6;
+  PfxRigidState states[kBodies];
+  PfxRigidBody bodies[kBodies];
+  for (int i = 0; i < kBodies; ++i) {
+    states[i].reset();
+    states[i].setPosition(PfxVector3((i % 3) * 1.0f, (i / 3) * 2.0f, 0));
+    states[i].setRigidBodyId(i);
+    bodies[i].reset();
+    bodies[i].setMass(i % 3 == 2 ? 50.0f : 1.0f);
+    bodies[i].setInertia(PfxVector3(0.2f, 0.3f, 0.4f).asDiagonal());
+  }
+  states[0].setMotionType(kPfxMotionTypeFixed);
+  states[3].setMotionType(kPfxMotionTypeFixed);
+  PfxJoint joints[4];
+  const int ends[4][2] = {{0, 1}, {1, 2}, {3, 4}, {4, 5}};
+  for (int j = 0; j < 4; ++j) {
+    PfxHingeJointInitParam hinge;
+    hinge.anchorPoint = states[ends[j][0]].getPosition() + PfxVector3(0.5f, 0, 0);
+    hinge.lowerAngle = -0.2f;
+    hinge.upperAngle = 0.2f;
+    ASSERT_EQ(pfxInitializeHingeJoint(joints[j], states[ends[j][0]], states[ends[j][1]], hinge),
+              PFX_OK);
+  }
+  PfxConstraintPair pairs[4];
+  for (PfxUInt32 j = 0; j < 4; ++j) {
+    pfxUpdateJointPairs(pairs[j], j, joints[j], states[joints[j].m_rigidBodyIdA],
+                        states[joints[j].m_rigidBodyIdB]);
+  }
+  PfxSolverBody solverBodies[kBodies];
+  PfxSetupSolverBodiesParam solverParam;
+  solverParam.states = states;
+  solverParam.bodies = bodies;
+  solverParam.solverBodies = solverBodies;
+  solverParam.numRigidBodies = kBodies;
+  PfxSetupJointConstraintsParam setup;
+  setup.jointPairs = pairs;
+  setup.numJointPairs = 4;
+  setup.numJoints = 4;
+  setup.offsetJoints = joints;
+  setup.offsetRigidStates = states;
+  setup.offsetRigidBodies = bodies;
+  setup.offsetSolverBodies = solverBodies;
+  setup.numRigidBodies = kBodies;
+  setup.timeStep = 1.0f / 60;
+  // A velocity setup gives the rows their directions, a solve their impulses (which the
+  // geometric stiffness reads), then the position correction's first pass sets up all.
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+  for (PfxJoint& joint : joints) {
+    for (PfxJointConstraint& c : joint.m_constraints) c.m_constraintRow.m_accumImpulse = 3;
+  }
+  setup.forPositionCorrection = true;
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+
+  // What a pass leaves: push impulses on the rows, velocity changes on the bodies; then
+  // body 2 moved (turned past the hinge's limit and shifted off its anchor).
+  for (PfxJoint& joint : joints) {
+    for (PfxJointConstraint& c : joint.m_constraints) c.m_pushImpulse = 0.25f;
+  }
+  solverBodies[2].m_pushLinearVelocity = PfxVector3(0.1f, 0, 0);
+  solverBodies[4].m_deltaAngularVelocity = PfxVector3(0, 0.2f, 0);
+  states[2].setPosition(states[2].getPosition() + PfxVector3(0.01f, 0.02f, 0));
+  states[2].setOrientation(PfxQuat(Eigen::AngleAxis<PfxFloat>(0.3f, PfxVector3::UnitZ())));
+  const PfxUInt8 moved[kBodies] = {0, 0, 1, 0, 0, 0};
+
+  PfxJoint fullJoints[4] = {joints[0], joints[1], joints[2], joints[3]};
+  PfxSolverBody fullBodies[kBodies];
+  std::copy(solverBodies, solverBodies + kBodies, fullBodies);
+  solverParam.bodiesToSetUp = setup.bodiesToSetUp = moved;
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+  solverParam.bodiesToSetUp = setup.bodiesToSetUp = nullptr;
+  solverParam.solverBodies = setup.offsetSolverBodies = fullBodies;
+  setup.offsetJoints = fullJoints;
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+
+  for (int i = 0; i < kBodies; ++i) {
+    SCOPED_TRACE(testing::Message() << "body " << i);
+    expectSameSolverBody(solverBodies[i], fullBodies[i]);
+  }
+  for (int j = 0; j < 4; ++j) {
+    SCOPED_TRACE(testing::Message() << "joint " << j);
+    expectSameJointRows(joints[j], fullJoints[j]);
+  }
+  // The heavy link took stiffness from its joint, and the moved one changed its rows.
+  EXPECT_GT(fullBodies[2].m_stiffnessInertia, 0);
+  EXPECT_GT(fullBodies[5].m_stiffnessInertia, 0);
+  EXPECT_NE(joints[1].m_constraints[kPfxJointAxisTwist].m_pushRhs, 0);
 }

@@ -98,9 +98,10 @@ inline void pfxSolveRow(PfxConstraintRow& row, PfxSolverBody& a, const PfxVector
 }
 
 // Moves a body by its push velocities over the step: the split impulses' position
-// correction, which leaves the body's velocity alone.
-inline void pfxApplyPush(PfxRigidState& state, const PfxSolverBody& body, PfxFloat timeStep) {
-  if (body.m_pushLinearVelocity.isZero(0) && body.m_pushAngularVelocity.isZero(0)) return;
+// correction, which leaves the body's velocity alone. False when they are zero and the body
+// stays where it was.
+inline bool pfxApplyPush(PfxRigidState& state, const PfxSolverBody& body, PfxFloat timeStep) {
+  if (body.m_pushLinearVelocity.isZero(0) && body.m_pushAngularVelocity.isZero(0)) return false;
   state.setPosition(state.getPosition() + body.m_pushLinearVelocity * timeStep);
   const PfxVector3 turn = body.m_pushAngularVelocity * timeStep;
   const PfxFloat angle = turn.norm();
@@ -108,6 +109,7 @@ inline void pfxApplyPush(PfxRigidState& state, const PfxSolverBody& body, PfxFlo
     const PfxQuat spin(Eigen::AngleAxis<PfxFloat>(angle, turn / angle));
     state.setOrientation((spin * state.getOrientation()).normalized());
   }
+  return true;
 }
 
 }  // namespace pfx

@@ -322,7 +322,9 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
   pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 firstChunk, PfxUInt32 lastChunk) {
     const PfxUInt32 begin = pfxChunkBegin(param.numRigidBodies, numChunks, firstChunk);
     const PfxUInt32 end = pfxChunkBegin(param.numRigidBodies, numChunks, lastChunk);
-    auto inChunk = [&](PfxUInt32 id) { return id >= begin && id < end; };
+    auto inChunk = [&](PfxUInt32 id) {
+      return id >= begin && id < end && (!param.bodiesToSetUp || param.bodiesToSetUp[id] != 0);
+    };
     for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
       const PfxConstraintPair& pair = param.jointPairs[i];
       if (!pfxGetActive(pair)) continue;
@@ -348,6 +350,7 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
     }
     for (PfxUInt32 id = begin; id < end; ++id) {
+      if (!inChunk(id)) continue;
       stiffenInertia(param.offsetSolverBodies[id], param.offsetRigidBodies[id],
                      param.offsetRigidStates[id]);
     }
@@ -360,11 +363,17 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       if (!pfxGetActive(pair)) continue;
       const PfxUInt32 idA = pfxGetObjectIdA(pair);
       const PfxUInt32 idB = pfxGetObjectIdB(pair);
+      PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
+      if (param.bodiesToSetUp && param.bodiesToSetUp[idA] == 0 &&
+          param.bodiesToSetUp[idB] == 0) {
+        for (PfxJointConstraint& c : joint.m_constraints) c.m_pushImpulse = 0;
+        continue;
+      }
       const JointBodies bodies{param.offsetRigidStates[idA], param.offsetRigidStates[idB],
                                param.offsetSolverBodies[idA], param.offsetSolverBodies[idB],
                                pfxGetReceivesA(pair) ? PfxFloat(1) : PfxFloat(0),
                                pfxGetReceivesB(pair) ? PfxFloat(1) : PfxFloat(0)};
-      setupJoint(param.offsetJoints[pfxGetConstraintId(pair)], bodies, mode);
+      setupJoint(joint, bodies, mode);
     }
   });
   for (PfxUInt32 i = 0; i < param.numJointCouplings; ++i) {

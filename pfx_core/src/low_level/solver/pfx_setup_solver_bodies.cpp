@@ -8,12 +8,16 @@ namespace {
 
 constexpr PfxUInt32 kSetUpBodiesPerTask = 512;
 
-void setupSolverBody(const PfxRigidState& state, const PfxRigidBody& body,
-                     PfxSolverBody& solverBody) {
+void clearVelocityChanges(PfxSolverBody& solverBody) {
   solverBody.m_deltaLinearVelocity.setZero();
   solverBody.m_deltaAngularVelocity.setZero();
   solverBody.m_pushLinearVelocity.setZero();
   solverBody.m_pushAngularVelocity.setZero();
+}
+
+void setupSolverBody(const PfxRigidState& state, const PfxRigidBody& body,
+                     PfxSolverBody& solverBody) {
+  clearVelocityChanges(solverBody);
   solverBody.m_motionType = state.getMotionType();
   solverBody.m_stiffnessInertia = 0;
   if (pfxMotionTypeIsDynamic(state.getMotionType()) && state.isAwake()) {
@@ -42,7 +46,11 @@ PfxInt32 pfxSetupSolverBodies(const PfxSetupSolverBodiesParam& param,
   pfxParallelFor(taskManager, param.numRigidBodies, kSetUpBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
-                     setupSolverBody(param.states[i], param.bodies[i], param.solverBodies[i]);
+                     if (param.bodiesToSetUp && param.bodiesToSetUp[i] == 0) {
+                       clearVelocityChanges(param.solverBodies[i]);
+                     } else {
+                       setupSolverBody(param.states[i], param.bodies[i], param.solverBodies[i]);
+                     }
                    }
                  });
   return PFX_OK;

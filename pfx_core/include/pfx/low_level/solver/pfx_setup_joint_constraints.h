@@ -33,6 +33,13 @@ struct PfxSetupJointConstraintsParam {
   // which only a velocity solve reads, are left as they were. A friction drive still
   // measures its velocity, which its bound depends on.
   bool forPositionCorrection = false;
+  // One byte per body, or none to set up every joint. Where given, only the joints with a
+  // body flagged non-zero are set up again, and only those bodies take the geometric
+  // stiffness into their inertia (pfxSetupSolverBodies with the same flags resets it); the
+  // other joints keep the rows of the last setup, which must have been of the same kind and
+  // at the same poses of their bodies, and have their push impulses cleared. Couplings are
+  // all set up. The position correction's later passes set up only what the earlier moved.
+  const PfxUInt8* bodiesToSetUp = nullptr;
 };
 
 // Measures each joint's coordinates and sets up its rows: locked axes hold at zero (or at

@@ -13,6 +13,10 @@ struct PfxSetupSolverBodiesParam {
   const PfxRigidBody* bodies = nullptr;
   PfxSolverBody* solverBodies = nullptr;
   PfxUInt32 numRigidBodies = 0;
+  // One byte per body, or none to set up every body. Where given, a body flagged 0 keeps
+  // the mass and inertia of the last setup, which must have been at its present pose, and
+  // only has the velocities that impulses gave it cleared.
+  const PfxUInt8* bodiesToSetUp = nullptr;
 };
 
 // Bodies that impulses do not move (fixed, keyframe, trigger, asleep) get zero inverse
