@@ -242,8 +242,16 @@ struct CorrectionWork {
   CorrectionRegion::Work region;
   PfxConstraintPair* touchingPairs = nullptr;
   PfxUInt32 numTouchingPairs = 0;
-  PfxUInt8* movedBodies = nullptr;  // by the last pass
+  PfxUInt8* movedBodies = nullptr;  // by the last pass: kMovedBody, kTurnedBody
 };
+
+constexpr PfxUInt8 kMovedBody = 1;
+constexpr PfxUInt8 kTurnedBody = 2;  // by more than kLargestTurnOnKeptFactors
+
+// The largest turn of a body in a pass (rad) after which its tree is factored again for
+// the next: a Jacobian of that tree then changed by about as much, relative to itself, and
+// so does the chord step's error against a Newton step's.
+constexpr PfxFloat kLargestTurnOnKeptFactors = PfxFloat(1e-3);
 
 // Marks both bodies of the contacts at which the push velocities move them closer by more
 // than the negligible, among the pairs whose bodies' velocities changed in this iteration
@@ -281,7 +289,8 @@ void markApproachingContacts(const PfxCorrectJointPositionsParam& param,
 // that the geometric stiffness of its unmoved body still counts. The second pass of the 64
 // robots of `pfx_bench --scene robots` moves half of the bodies, the third a quarter.
 PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, const CorrectionWork& work,
-                     bool firstPass, bool lastPass, bool& moved, PfxTaskManager* taskManager) {
+                     PfxJointTreeSolver& tree, bool firstPass, bool lastPass, bool& moved,
+                     PfxTaskManager* taskManager) {
   moved = false;
   const PfxConstraintPair* const touchingPairs = work.touchingPairs;
   const PfxUInt32 numTouchingPairs = work.numTouchingPairs;
@@ -316,11 +325,20 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, const Correctio
   }
 
   // The trees are factored as the region reaches them: once most joints hold, a pass works
-  // on a few robots of many.
-  PfxJointTreeSolver tree;
-  tree.build(work.tree, work.treeBytes, param.jointPairs, param.numJointPairs,
-             param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies, taskManager,
-             PfxJointTreeSolver::Factoring::kOnFirstSolve);
+  // on a few robots of many. A tree keeps the factors of its first solve for the later
+  // passes, which measure the joints anew but solve with the masses and Jacobians of that
+  // solve: a chord step instead of a Newton step, whose error is the last pass's, already
+  // small, times how far the tree's Jacobians turned since; a tree with a body the last
+  // pass turned by more than kLargestTurnOnKeptFactors is factored again.
+  if (firstPass) {
+    tree.build(work.tree, work.treeBytes, param.jointPairs, param.numJointPairs,
+               param.offsetJoints, param.offsetSolverBodies, param.numRigidBodies, taskManager,
+               PfxJointTreeSolver::Factoring::kOnFirstSolve);
+  } else {
+    for (PfxUInt32 i = 0; i < param.numRigidBodies; ++i) {
+      if ((work.movedBodies[i] & kTurnedBody) != 0) tree.refactorTreeOf(i);
+    }
+  }
   CorrectionRegion region(work.region, tree, param.offsetSolverBodies, param.numRigidBodies);
   if (!region.takeGroupsAsked(param)) return PFX_OK;
   moved = true;
@@ -382,10 +400,15 @@ PfxInt32 correctOnce(const PfxCorrectJointPositionsParam& param, const Correctio
   pfxParallelFor(taskManager, param.numRigidBodies, kCorrectedBodiesPerTask,
                  [&](PfxUInt32 begin, PfxUInt32 end) {
                    for (PfxUInt32 i = begin; i < end; ++i) {
-                     work.movedBodies[i] =
-                         param.offsetSolverBodies[i].m_massInv != 0 &&
-                         pfxApplyPush(param.offsetRigidStates[i], param.offsetSolverBodies[i],
-                                      param.timeStep);
+                     const PfxSolverBody& body = param.offsetSolverBodies[i];
+                     work.movedBodies[i] = 0;
+                     if (body.m_massInv == 0 ||
+                         !pfxApplyPush(param.offsetRigidStates[i], body, param.timeStep)) {
+                       continue;
+                     }
+                     const bool turned = body.m_pushAngularVelocity.norm() * param.timeStep >
+                                         kLargestTurnOnKeptFactors;
+                     work.movedBodies[i] = kMovedBody | (turned ? kTurnedBody : 0);
                    }
                  });
   return PFX_OK;
@@ -452,9 +475,10 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
       work.numTouchingPairs > 0 || param.contactPassAnyway ? kNewtonPasses + 1 : kNewtonPasses;
   // A pass that leaves the bodies where they are would measure the same joints again.
   bool moved = true;
+  PfxJointTreeSolver tree;
   for (PfxUInt32 pass = 0; pass < passes && moved; ++pass) {
     const bool last = pass + 1 == passes;
-    if ((err = correctOnce(param, work, pass == 0, last, moved, taskManager)) != PFX_OK) {
+    if ((err = correctOnce(param, work, tree, pass == 0, last, moved, taskManager)) != PFX_OK) {
       return err;
     }
   }

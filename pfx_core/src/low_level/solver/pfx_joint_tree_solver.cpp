@@ -324,6 +324,16 @@ void PfxJointTreeSolver::factorTree(PfxUInt32 tree) {
 
 void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
+void PfxJointTreeSolver::refactorTreeOf(PfxUInt32 rigidBodyId) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
+  const PfxUInt32 tree = m_nodes[m_bodyNode[rigidBodyId]].tree;
+  if (!m_treeFactored[tree]) return;
+  m_treeFactored[tree] = 0;
+  for (PfxUInt32 n = m_treeStarts[tree]; n < m_treeStarts[tree + 1]; ++n) {
+    if (m_responseSlot[n] >= 0) m_responseSlot[n] = -2 - m_responseSlot[n];
+  }
+}
+
 PfxUInt32 PfxJointTreeSolver::getBoundedRowWorkBytes(PfxUInt32 numRigidBodies,
                                                      PfxUInt32 numJointPairs) {
   const std::size_t slots = kRowSlotsPerJoint * numJointPairs;
@@ -638,7 +648,9 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
     // Deeper than the path's room (a long chain): the whole tree.
     if (m_nodes[path[length - 1]].parent >= 0) length = 0;
     const Node& node = m_nodes[bodyNode];
-    PfxTreeBlock& response = m_bodyResponses[m_numBodyResponses];
+    // A response dropped by refactorTreeOf is solved again into its old place.
+    const PfxInt32 target = slot == -1 ? PfxInt32(m_numBodyResponses++) : -2 - slot;
+    PfxTreeBlock& response = m_bodyResponses[target];
     for (int axis = 0; axis < 6; ++axis) {
       if (length == 0) {
         for (std::size_t n = m_treeStarts[node.tree]; n < m_treeStarts[node.tree + 1]; ++n) {
@@ -659,7 +671,7 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
       }
       response.col(axis) = m_nodes[bodyNode].value;
     }
-    slot = static_cast<PfxInt32>(m_numBodyResponses++);
+    slot = target;
   }
   PfxTreeVector impulse;
   impulse << linear.cast<double>(), angular.cast<double>();

@@ -121,6 +121,10 @@ class PfxJointTreeSolver {
   // solveVelocities() (or solvePush()) for the one tree that holds body `rigidBodyId`, if
   // any.
   void solveTreeOf(PfxUInt32 rigidBodyId, bool push);
+  // Drops the factors of the tree that holds body `rigidBodyId`, and the impulse responses
+  // kept from them: its next solve factors it again, from the bodies' masses and the joints'
+  // rows as they are then.
+  void refactorTreeOf(PfxUInt32 rigidBodyId);
 
  private:
   struct Node;
@@ -163,7 +167,8 @@ class PfxJointTreeSolver {
   PfxUInt8* m_treeFactored = nullptr;          // per tree
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxInt32* m_bodyTreeBody = nullptr;  // getTreeBody() of each body
-  // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1.
+  // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1;
+  // -2 - slot once refactorTreeOf dropped it.
   PfxInt32* m_responseSlot = nullptr;
   PfxTreeBlock* m_bodyResponses = nullptr;  // room for every body a joint can hold
   PfxUInt32 m_numBodyResponses = 0;
