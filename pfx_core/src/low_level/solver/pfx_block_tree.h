@@ -34,6 +34,20 @@ inline PfxTreeBlock pfxTreeBodyMass(const PfxSolverBody& body) {
   return mass;
 }
 
+// The inverse of that mass matrix, from the body's inverse mass and inertia as they are: the
+// pivot of a body eliminated before anything was eliminated into it (a leaf), which then
+// needs no inversion. Symmetric, from the lower triangle, as an inverted pivot is.
+inline PfxTreeBlock pfxTreeBodyMassInverse(const PfxSolverBody& body) {
+  PfxTreeBlock inverse = PfxTreeBlock::Zero();
+  inverse.topLeftCorner<3, 3>().diagonal().setConstant(double(body.m_massInv));
+  for (int j = 0; j < 3; ++j) {
+    for (int i = j; i < 3; ++i) {
+      inverse(3 + i, 3 + j) = inverse(3 + j, 3 + i) = double(body.m_inertiaInv(i, j));
+    }
+  }
+  return inverse;
+}
+
 namespace block_tree_detail {
 
 // The top left N x N of a definite block (columns 6 apart), inverted in place by the
@@ -212,6 +226,7 @@ void backward(const double* toParent, const double* parentValue, double* value) 
 
 }  // namespace block_tree_detail
 
+// A node whose pivotInverted() is true comes with D^-1 in place of D.
 template <typename Node>
 void pfxFactorSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
   using namespace block_tree_detail;
@@ -219,7 +234,7 @@ void pfxFactorSizedBlockTree(Node* nodes, std::size_t begin, std::size_t end) {
     Node& node = nodes[k];
     withSize(node.blockSize(), [&](auto n) {
       constexpr int N = decltype(n)::value;
-      invertDefinite<N>(node.diagonalInverse.data());
+      if (!node.pivotInverted()) invertDefinite<N>(node.diagonalInverse.data());
       if (node.parent < 0) return;
       Node& parent = nodes[node.parent];
       withSize(parent.blockSize(), [&](auto p) {

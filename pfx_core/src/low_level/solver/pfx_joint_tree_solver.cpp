@@ -67,8 +67,13 @@ struct PfxJointTreeSolver::Node : PfxBlockTreeNode {
   PfxUInt32 tree;
   // solveTreeForRowImpulses(): the node is a loaded body or one of its ancestors.
   bool loaded;
+  bool leaf;  // no node has it for parent
   // Unknowns of the node in the sized elimination (pfxFactorSizedBlockTree).
   int blockSize() const { return body >= 0 ? 6 : numRows; }
+  // A leaf body's pivot is its mass matrix alone, whose inverse the solver body holds: set
+  // up inverted, it saves a 3 x 3 and a 6 x 6 inversion (a ragdoll's head, hands and feet,
+  // an arm's last link).
+  bool pivotInverted() const { return body >= 0 && leaf; }
 };
 
 // A bounded row of a joint in the forest, prepared by prepareBoundedRows().
@@ -207,6 +212,8 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
     node.jointPair = jointPair;
     node.numRows = 0;
     node.loaded = false;
+    node.leaf = true;
+    if (parent >= 0) m_nodes[parent].leaf = false;
     return static_cast<PfxInt32>(m_numNodes++);
   };
   auto grow = [&](std::size_t head) {
@@ -282,7 +289,9 @@ void PfxJointTreeSolver::factorTree(PfxUInt32 tree) {
   for (std::size_t n = m_treeStarts[tree]; n < m_treeStarts[tree + 1]; ++n) {
     Node& node = m_nodes[n];
     if (node.body >= 0) {
-      node.diagonalInverse = pfxTreeBodyMass(m_solverBodies[node.body]);
+      const PfxSolverBody& body = m_solverBodies[node.body];
+      node.diagonalInverse =
+          node.pivotInverted() ? pfxTreeBodyMassInverse(body) : pfxTreeBodyMass(body);
     } else {
       const PfxJoint& joint = m_joints[pfxGetConstraintId(m_jointPairs[node.jointPair])];
       node.numRows = 0;
