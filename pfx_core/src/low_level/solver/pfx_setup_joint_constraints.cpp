@@ -231,10 +231,12 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mod
 // A body's joints add their stiffness up, and its inverse inertia is formed once from the
 // sum (stiffenInertia): R I R^T + s 1 = R (I + s 1) R^T, one 3 x 3 inverse in the body's
 // frame, where it took two a joint end in the world's, 3.7 % of the robots' step.
-void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& arm,
+// `anchor` is the joint's anchor in the body's frame: the arm's length is its length, in any
+// pose, so the arm is not turned into the world's frame.
+void addGeometricStiffness(PfxSolverBody& body, PfxFloat impulse, const PfxVector3& anchor,
                            PfxFloat timeStep) {
   if (body.m_massInv == 0) return;
-  const PfxFloat boost = timeStep * impulse * arm.norm();
+  const PfxFloat boost = timeStep * impulse * anchor.norm();
   if (boost > 0) body.m_stiffnessInertia += boost;
 }
 
@@ -339,13 +341,11 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
       const PfxFloat impulse = linearImpulse.norm();
       if (stiffensA) {
-        addGeometricStiffness(param.offsetSolverBodies[idA], impulse,
-                              param.offsetRigidStates[idA].getOrientation() * joint.m_anchorA,
+        addGeometricStiffness(param.offsetSolverBodies[idA], impulse, joint.m_anchorA,
                               param.timeStep);
       }
       if (stiffensB) {
-        addGeometricStiffness(param.offsetSolverBodies[idB], impulse,
-                              param.offsetRigidStates[idB].getOrientation() * joint.m_anchorB,
+        addGeometricStiffness(param.offsetSolverBodies[idB], impulse, joint.m_anchorB,
                               param.timeStep);
       }
     }
