@@ -524,3 +524,52 @@ TEST(SolverStages, SetupOfTheBodiesToSetUpMatchesAFullSetup) {
   EXPECT_GT(fullBodies[5].m_stiffnessInertia, 0);
   EXPECT_NE(joints[1].m_constraints[kPfxJointAxisTwist].m_pushRhs, 0);
 }
+
+// pfxCheckContactBodies passes a body whose pose is a rigid transform and whose shapes meet
+// the narrow phase; a pair of two passed bodies skips those checks in the detection and
+// finds the points it finds without them, and a body that fails them is checked, and
+// refused, at its pairs as before.
+TEST(SolverStages, DetectionOfCheckedBodiesFindsWhatTheCheckedCallsFind) {
+  Scene s;
+  PfxUInt8 checked[2] = {7, 7};
+  pfxCheckContactBodies(s.states, s.collidables, 2, checked);
+  EXPECT_EQ(checked[0], 1);
+  EXPECT_EQ(checked[1], 1);
+  PfxDetectCollisionParam detect = detectParam(s, &s.manifold, 1);
+  detect.timeStep = 1.0f / 60;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  ASSERT_EQ(s.manifold.getNumContacts(), 4u);
+  PfxContactManifold unchecked;
+  unchecked.reset(0, 1);
+  detect.offsetContactManifolds = &unchecked;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  PfxContactManifold fromChecked;
+  fromChecked.reset(0, 1);
+  detect.offsetContactManifolds = &fromChecked;
+  detect.checkedBodies = checked;
+  ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+  ASSERT_EQ(fromChecked.getNumContacts(), unchecked.getNumContacts());
+  for (PfxUInt32 c = 0; c < unchecked.getNumContacts(); ++c) {
+    const PfxContactPoint& a = unchecked.getContactPoint(c);
+    const PfxContactPoint& b = fromChecked.getContactPoint(c);
+    EXPECT_EQ(bytes(a.m_localPointA), bytes(b.m_localPointA));
+    EXPECT_EQ(bytes(a.m_localPointB), bytes(b.m_localPointB));
+    EXPECT_EQ(bytes(a.m_constraintRow[0].m_normal), bytes(b.m_constraintRow[0].m_normal));
+    EXPECT_EQ(bytes(a.m_distance), bytes(b.m_distance));
+  }
+
+  // A pose that is no rotation (a quaternion of length 1.4) or not finite fails the check,
+  // and the pair, checked at the call, finds nothing, flags or not.
+  for (const PfxVector3& position : {PfxVector3(0, 0.99f, 0), PfxVector3(0, kNaN, 0)}) {
+    SCOPED_TRACE(testing::Message() << "position " << position.transpose());
+    const bool finite = pfxIsFinite(position);
+    s.states[1].setPosition(position);
+    s.states[1].setOrientation(finite ? PfxQuat(1, 1, 0, 0) : PfxQuat(PfxQuat::Identity()));
+    pfxCheckContactBodies(s.states, s.collidables, 2, checked);
+    EXPECT_EQ(checked[0], 1);
+    EXPECT_EQ(checked[1], 0);
+    fromChecked.reset(0, 1);
+    ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
+    EXPECT_EQ(fromChecked.getNumContacts(), 0u);
+  }
+}

@@ -343,6 +343,7 @@ void PfxWorld::sizeBodyArraysToCapacity() {
   const std::size_t capacity = m_states.capacity();
   m_solverBodies.resize(capacity);
   m_islandMarks.resize(capacity);
+  m_contactCheckedBodies.resize(capacity);
   m_proxies.resize(capacity);
   m_proxySortWork.resize(capacity);
   if (m_param.enableSleep) reserveSleepingProxies();
@@ -829,8 +830,11 @@ PfxInt32 PfxWorld::detectCollision() {
     }
   }
   StageTimer timer(m_stats, kPfxStageDetectCollision, m_param.measureStages);
+  pfxCheckContactBodies(m_states.data(), m_collidables.data(), getNumRigidBodies(),
+                        m_contactCheckedBodies.data(), &m_taskManager);
   PfxDetectCollisionParam param;
   bindContacts(param);
+  param.checkedBodies = m_contactCheckedBodies.data();
   param.offsetRigidStates = m_states.data();
   param.offsetCollidables = m_collidables.data();
   param.numRigidBodies = getNumRigidBodies();

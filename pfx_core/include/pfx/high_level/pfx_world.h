@@ -534,6 +534,7 @@ class PfxWorld {
   std::vector<PfxRigidBody> m_bodies;
   std::vector<PfxCollidable> m_collidables;
   std::vector<PfxSolverBody> m_solverBodies;
+  std::vector<PfxUInt8> m_contactCheckedBodies;  // pfxCheckContactBodies, each detection
   std::vector<PfxVector3> m_forces;
   std::vector<PfxVector3> m_torques;
   // Compound shapes live here, one block per body, so that collidables can refer to them.

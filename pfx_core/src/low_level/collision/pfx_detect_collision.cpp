@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "base_level/collision/pfx_contact_checked.h"
 #include "low_level/pfx_param_checks.h"
 #include "pfx/base_level/collision/pfx_contact_shapes.h"
 
@@ -93,6 +94,7 @@ bool sphereApart(const PfxCollidable& collA, const PfxTransform3& transformA,
 }
 
 constexpr PfxUInt32 kDetectedPairsPerTask = 32;
+constexpr PfxUInt32 kCheckedBodiesPerTask = 1024;
 
 void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
                 PfxContactCandidate* candidates, PfxContactManifold& unshared) {
@@ -106,12 +108,15 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
   const PfxTransform3 transformB = stateB.getTransform();
   const PfxFloat threshold =
       param.contactMargin + closingDistance(stateA, collA, stateB, collB, param.timeStep);
+  const bool checked = param.checkedBodies && param.checkedBodies[idA] &&
+                       param.checkedBodies[idB] && threshold >= 0 && pfxIsFinite(threshold);
+  const auto contact = checked ? pfxContactCheckedCollidables : pfxContactCollidables;
   const PfxUInt32 numCandidates =
       boundsApart(collA, transformA, collB, transformB, threshold) ||
               sphereApart(collA, transformA, collB, transformB, threshold)
           ? 0
-          : pfxContactCollidables(collA, transformA, collB, transformB, threshold, candidates,
-                                  PFX_MAX_CONTACT_CANDIDATES);
+          : contact(collA, transformA, collB, transformB, threshold, candidates,
+                    PFX_MAX_CONTACT_CANDIDATES);
   const PfxUInt32 contactId = pfxGetContactId(pair);
   const bool shared = contactId == param.sharedEmptyContactId;
   if (shared && numCandidates == 0) {
@@ -126,6 +131,22 @@ void detectPair(const PfxDetectCollisionParam& param, PfxConstraintPair& pair,
 }
 
 }  // namespace
+
+void pfxCheckContactBodies(const PfxRigidState* states, const PfxCollidable* collidables,
+                           PfxUInt32 numRigidBodies, PfxUInt8* checked,
+                           PfxTaskManager* taskManager) {
+  pfxParallelFor(taskManager, numRigidBodies, kCheckedBodiesPerTask,
+                 [&](PfxUInt32 begin, PfxUInt32 end) {
+                   for (PfxUInt32 i = begin; i < end; ++i) {
+                     bool ok = pfxIsRigidTransform(states[i].getTransform());
+                     const PfxCollidable& collidable = collidables[i];
+                     for (PfxUInt32 j = 0; ok && j < collidable.getNumShapes(); ++j) {
+                       ok = pfxIsContactShape(collidable.getShape(j));
+                     }
+                     checked[i] = ok ? 1 : 0;
+                   }
+                 });
+}
 
 PfxInt32 pfxDetectCollision(const PfxDetectCollisionParam& param, PfxTaskManager* taskManager) {
   const PfxParamNames at{"pfxDetectCollision", "PfxDetectCollisionParam"};

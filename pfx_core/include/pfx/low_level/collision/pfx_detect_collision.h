@@ -38,7 +38,19 @@ struct PfxDetectCollisionParam {
   // how many while its id still names the shared manifold: the caller gives it one of its
   // own, reset for its bodies, and detects it again. PFX_NO_SHARED_CONTACT: none.
   PfxUInt32 sharedEmptyContactId = PFX_NO_SHARED_CONTACT;
+  // One byte per body from pfxCheckContactBodies, or none. A pair of two bodies it passed
+  // skips the checks of their poses and shapes that the narrow phase makes at every call
+  // otherwise: a body of a pile is checked once, not once for each of its pairs.
+  const PfxUInt8* checkedBodies = nullptr;
 };
+
+// Writes 1 to checked[i] where body i's pose is a rigid transform and every shape of its
+// collidable meets the narrow phase (a shape that passes PfxShape::validate, whose convex
+// mesh is whole or whose large mesh has a tree), else 0; bodies in parallel with a task
+// manager. For PfxDetectCollisionParam::checkedBodies, at the poses of that detection.
+void pfxCheckContactBodies(const PfxRigidState* states, const PfxCollidable* collidables,
+                           PfxUInt32 numRigidBodies, PfxUInt8* checked,
+                           PfxTaskManager* taskManager = nullptr);
 
 // Writes each pair's manifold and sets its number of constraints (pfxGetNumConstraints);
 // pairs run in parallel with a task manager. Pairs must name distinct manifolds, but for
