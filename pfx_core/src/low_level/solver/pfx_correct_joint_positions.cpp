@@ -451,8 +451,9 @@ PfxInt32 pfxCorrectJointPositions(const PfxCorrectJointPositionsParam& param,
   }
 
   // Each pass measures the joints at the current poses and moves the bodies to cancel the
-  // errors, linearised there: a Newton step. One pass leaves tens of micrometres on a fast
-  // 100-link chain at 1/60 s, two leave a few.
+  // errors, linearised there: a Newton step (a chord step for a tree the last pass barely
+  // turned, see correctOnce). One pass leaves tens of micrometres on a fast 100-link chain
+  // at 1/60 s, two leave a few.
   // With contact points, three passes: the contacts take part in the first two, and in the
   // third only those between a tree and what does not move, so that it leaves the joints
   // closed where a tree's contacts with itself contradict them (a chain folded onto

@@ -324,15 +324,16 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
   pfxParallelFor(taskManager, numChunks, 1, [&](PfxUInt32 firstChunk, PfxUInt32 lastChunk) {
     const PfxUInt32 begin = pfxChunkBegin(param.numRigidBodies, numChunks, firstChunk);
     const PfxUInt32 end = pfxChunkBegin(param.numRigidBodies, numChunks, lastChunk);
-    auto inChunk = [&](PfxUInt32 id) {
+    // The chunk's bodies that this setup sets up.
+    auto stiffensHere = [&](PfxUInt32 id) {
       return id >= begin && id < end && (!param.bodiesToSetUp || param.bodiesToSetUp[id] != 0);
     };
     for (PfxUInt32 i = 0; i < param.numJointPairs; ++i) {
       const PfxConstraintPair& pair = param.jointPairs[i];
       if (!pfxGetActive(pair)) continue;
       const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
-      const bool stiffensA = pfxGetReceivesA(pair) && inChunk(idA);
-      const bool stiffensB = pfxGetReceivesB(pair) && inChunk(idB);
+      const bool stiffensA = pfxGetReceivesA(pair) && stiffensHere(idA);
+      const bool stiffensB = pfxGetReceivesB(pair) && stiffensHere(idB);
       if (!stiffensA && !stiffensB) continue;
       const PfxJoint& joint = param.offsetJoints[pfxGetConstraintId(pair)];
       PfxVector3 linearImpulse;
@@ -350,7 +351,7 @@ PfxInt32 pfxSetupJointConstraints(const PfxSetupJointConstraintsParam& param,
       }
     }
     for (PfxUInt32 id = begin; id < end; ++id) {
-      if (!inChunk(id)) continue;
+      if (!stiffensHere(id)) continue;
       stiffenInertia(param.offsetSolverBodies[id], param.offsetRigidBodies[id],
                      param.offsetRigidStates[id]);
     }
