@@ -15,6 +15,9 @@
 #include "pfx/low_level/solver/pfx_setup_joint_constraints.h"
 #include "pfx/low_level/solver/pfx_setup_solver_bodies.h"
 #include "pfx/low_level/solver/pfx_solve_constraints.h"
+// The joint trees' direct solver is internal to the core (tests/core/CMakeLists.txt gives
+// this suite the core's sources to include).
+#include "low_level/solver/pfx_joint_tree_solver.h"
 
 using namespace pfx;
 
@@ -571,5 +574,121 @@ TEST(SolverStages, DetectionOfCheckedBodiesFindsWhatTheCheckedCallsFind) {
     fromChecked.reset(0, 1);
     ASSERT_EQ(pfxDetectCollision(detect), PFX_OK);
     EXPECT_EQ(fromChecked.getNumContacts(), 0u);
+  }
+}
+
+// An impulse on one body of a tree whose locked axes hold moves the tree as giving the body
+// the impulse and solving the tree does: the same velocity changes of every body and the
+// same locked rows' impulses, to rounding. The contacts on a ragdoll's feet rely on it
+// (pfx_tree_contact_rows.h): only a tree's first update in a sweep solves it whole. A
+// root with two children, one of them with a child of its own, none fixed, all moving.
+TEST(SolverStages, ImpulseThroughAHeldTreeMatchesAnImpulseAndATreeSolve) {
+  constexpr int kBodies = 4;
+  PfxRigidState states[kBodies];
+  PfxRigidBody bodies[kBodies];
+  const PfxVector3 positions[kBodies] = {
+      {0, 1, 0}, {0.5f, 1, 0}, {-0.5f, 1, 0}, {1, 1, 0}};
+  for (int i = 0; i < kBodies; ++i) {
+    states[i].reset();
+    states[i].setPosition(positions[i]);
+    states[i].setRigidBodyId(i);
+    states[i].setLinearVelocity(PfxVector3(0.1f * i, -0.3f, 0.2f));
+    states[i].setAngularVelocity(PfxVector3(0.4f, 0.1f * i, -0.2f));
+    bodies[i].reset();
+    bodies[i].setMass(i == 0 ? 20.0f : 1.0f + i);
+    bodies[i].setInertia(PfxVector3(0.2f, 0.3f + 0.1f * i, 0.4f).asDiagonal());
+  }
+  PfxJoint joints[3];
+  const int ends[3][2] = {{0, 1}, {0, 2}, {1, 3}};
+  PfxBallJointInitParam ball;
+  ball.anchorPoint = PfxVector3(0.25f, 1, 0);
+  ASSERT_EQ(pfxInitializeBallJoint(joints[0], states[0], states[1], ball), PFX_OK);
+  PfxHingeJointInitParam hinge;
+  hinge.anchorPoint = PfxVector3(-0.25f, 1, 0);
+  ASSERT_EQ(pfxInitializeHingeJoint(joints[1], states[0], states[2], hinge), PFX_OK);
+  hinge.anchorPoint = PfxVector3(0.75f, 1, 0);
+  hinge.axis = PfxVector3::UnitY();
+  ASSERT_EQ(pfxInitializeHingeJoint(joints[2], states[1], states[3], hinge), PFX_OK);
+  PfxConstraintPair pairs[3];
+  for (PfxUInt32 j = 0; j < 3; ++j) {
+    pfxUpdateJointPairs(pairs[j], j, joints[j], states[ends[j][0]], states[ends[j][1]]);
+  }
+  PfxSolverBody solverBodies[kBodies];
+  PfxSetupSolverBodiesParam solverParam;
+  solverParam.states = states;
+  solverParam.bodies = bodies;
+  solverParam.solverBodies = solverBodies;
+  solverParam.numRigidBodies = kBodies;
+  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  PfxSetupJointConstraintsParam setup;
+  setup.jointPairs = pairs;
+  setup.numJointPairs = 3;
+  setup.numJoints = 3;
+  setup.offsetJoints = joints;
+  setup.offsetRigidStates = states;
+  setup.offsetRigidBodies = bodies;
+  setup.offsetSolverBodies = solverBodies;
+  setup.numRigidBodies = kBodies;
+  setup.timeStep = 1.0f / 60;
+  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+
+  std::vector<unsigned char> work(PfxJointTreeSolver::getWorkBytes(kBodies, 3));
+  PfxJointTreeSolver tree;
+  ASSERT_TRUE(tree.build(work.data(), PfxUInt32(work.size()), pairs, 3, joints, solverBodies,
+                         kBodies));
+  for (PfxUInt32 j = 0; j < 3; ++j) ASSERT_TRUE(tree.contains(j));
+  EXPECT_FALSE(tree.holdsTreeOf(3));
+  tree.solveTreeOf(0, false);
+  EXPECT_TRUE(tree.holdsTreeOf(3));
+  tree.forgetHeldTreeOf(2);
+  EXPECT_FALSE(tree.holdsTreeOf(3));
+  tree.solveTreeOf(3, false);
+  ASSERT_TRUE(tree.holdsTreeOf(0));
+
+  PfxSolverBody heldBodies[kBodies];
+  std::copy(solverBodies, solverBodies + kBodies, heldBodies);
+  const PfxJoint heldJoints[3] = {joints[0], joints[1], joints[2]};
+  const PfxVector3 linear(0.3f, -1.2f, 0.5f);
+  const PfxVector3 angular = PfxVector3(0.1f, 0.2f, -0.05f).cross(linear);
+
+  // Given to the body, then the tree solved.
+  PfxSolverBody& loaded = solverBodies[3];
+  loaded.m_deltaLinearVelocity += loaded.m_massInv * linear;
+  loaded.m_deltaAngularVelocity += loaded.m_inertiaInv * angular;
+  tree.solveTreeOf(3, false);
+  PfxSolverBody solvedBodies[kBodies];
+  std::copy(solverBodies, solverBodies + kBodies, solvedBodies);
+  const PfxJoint solvedJoints[3] = {joints[0], joints[1], joints[2]};
+
+  // Through the held tree.
+  std::copy(heldBodies, heldBodies + kBodies, solverBodies);
+  std::copy(heldJoints, heldJoints + 3, joints);
+  tree.applyImpulseThroughTree(3, linear, angular, false);
+
+  PfxFloat largestChange = 0;
+  for (int i = 0; i < kBodies; ++i) {
+    SCOPED_TRACE(testing::Message() << "body " << i);
+    const PfxVector3 change =
+        solvedBodies[i].m_deltaLinearVelocity - heldBodies[i].m_deltaLinearVelocity;
+    const PfxVector3 turn =
+        solvedBodies[i].m_deltaAngularVelocity - heldBodies[i].m_deltaAngularVelocity;
+    largestChange = std::max({largestChange, change.norm(), turn.norm()});
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(solverBodies[i].m_deltaLinearVelocity[k],
+                  solvedBodies[i].m_deltaLinearVelocity[k], 1e-5f);
+      EXPECT_NEAR(solverBodies[i].m_deltaAngularVelocity[k],
+                  solvedBodies[i].m_deltaAngularVelocity[k], 1e-5f);
+    }
+  }
+  // The impulse reached the root through both joints: the comparison is not of zeros.
+  EXPECT_GT(largestChange, 0.05f);
+  EXPECT_GT((solvedBodies[0].m_deltaLinearVelocity - heldBodies[0].m_deltaLinearVelocity).norm(),
+            0.01f);
+  for (int j = 0; j < 3; ++j) {
+    for (int axis = 0; axis < 6; ++axis) {
+      SCOPED_TRACE(testing::Message() << "joint " << j << " axis " << axis);
+      EXPECT_NEAR(joints[j].m_constraints[axis].m_constraintRow.m_accumImpulse,
+                  solvedJoints[j].m_constraints[axis].m_constraintRow.m_accumImpulse, 1e-5f);
+    }
   }
 }

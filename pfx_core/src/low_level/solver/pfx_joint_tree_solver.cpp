@@ -107,8 +107,9 @@ PfxUInt32 PfxJointTreeSolver::getWorkBytes(PfxUInt32 numRigidBodies, PfxUInt32 n
                                                       numNodes)) +  // response slots
       PfxWorkCarver::bytesFor(alignof(PfxTreeBlock),
                               sizeof(PfxTreeBlock) * maxBodiesInTrees(numRigidBodies, numJointPairs)) +
-      2 * PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // per tree: moved
-                                                                            // from outside, factored
+      3 * PfxWorkCarver::bytesFor(alignof(PfxUInt8), numRigidBodies + 1);  // per tree: moved
+                                                                            // from outside,
+                                                                            // factored, held
   return static_cast<PfxUInt32>(bytes);
 }
 
@@ -141,9 +142,10 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
   m_numBodyResponses = 0;
   m_treeMovedFromOutside = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   m_treeFactored = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
+  m_treeHeld = carver.take<PfxUInt8>(std::size_t(numRigidBodies) + 1);
   if (maxNodes == 0) return true;
   if (!m_nodes || !bodyNode || !sets || !adjacencyStart || !m_treeStarts || !m_bodyTreeBody ||
-      !m_responseSlot || !m_treeMovedFromOutside || !m_treeFactored ||
+      !m_responseSlot || !m_treeMovedFromOutside || !m_treeFactored || !m_treeHeld ||
       (numJointPairs > 0 && (!m_jointNode || !adjacency))) {
     return false;
   }
@@ -272,6 +274,7 @@ bool PfxJointTreeSolver::build(void* workBuff, PfxUInt32 workBytes,
       if (m_nodes[n].body >= 0) m_bodyTreeBody[m_nodes[n].body] = m_nodes[firstBody].body;
     }
     m_treeFactored[t] = 0;
+    m_treeHeld[t] = 0;
   }
   if (factoring == Factoring::kNow) {
     pfxParallelFor(taskManager, m_numTrees, kJointTreesPerTask,
@@ -729,9 +732,17 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
       largestMiss = std::max(largestMiss, std::abs(node.value[row]));
     }
   }
+  m_treeHeld[m_nodes[begin].tree] = 1;
   if (skipHeld && largestMiss <= kHeldLockedRowVelocity) return;
   pfxSolveSizedBlockTree(m_nodes, begin, end);
+  takeSolution(push, begin, end);
+}
 
+void PfxJointTreeSolver::takeSolution(bool push, std::size_t begin, std::size_t end) {
+  PfxVector3 PfxSolverBody::*linear =
+      push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
+  PfxVector3 PfxSolverBody::*angular =
+      push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
   // Bodies take their velocity change; rows take the impulse (the negated multiplier).
   for (std::size_t n = begin; n < end; ++n) {
     const Node& node = m_nodes[n];
@@ -743,6 +754,34 @@ void PfxJointTreeSolver::solveTree(bool push, std::size_t begin, std::size_t end
     }
     addLockedRowImpulses(node, push);
   }
+}
+
+void PfxJointTreeSolver::forgetHeldTrees() {
+  for (PfxUInt32 t = 0; t < m_numTrees; ++t) m_treeHeld[t] = 0;
+}
+
+bool PfxJointTreeSolver::holdsTreeOf(PfxUInt32 rigidBodyId) const {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return false;
+  return m_treeHeld[m_nodes[m_bodyNode[rigidBodyId]].tree] != 0;
+}
+
+void PfxJointTreeSolver::forgetHeldTreeOf(PfxUInt32 rigidBodyId) {
+  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
+  m_treeHeld[m_nodes[m_bodyNode[rigidBodyId]].tree] = 0;
+}
+
+void PfxJointTreeSolver::applyImpulseThroughTree(PfxUInt32 rigidBodyId, const PfxVector3& linear,
+                                                 const PfxVector3& angular, bool push) {
+  const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
+  const PfxUInt32 tree = m_nodes[bodyNode].tree;
+  factorIfNeeded(tree);
+  const std::size_t begin = m_treeStarts[tree], end = m_treeStarts[tree + 1];
+  for (std::size_t n = begin; n < end; ++n) m_nodes[n].value.setZero();
+  m_nodes[bodyNode].value << linear.cast<double>(), angular.cast<double>();
+  for (PfxInt32 n = bodyNode; n >= 0; n = m_nodes[n].parent) m_nodes[n].loaded = true;
+  pfxSolveSizedBlockTree(m_nodes, begin, end, [&](std::size_t n) { return m_nodes[n].loaded; });
+  for (PfxInt32 n = bodyNode; n >= 0; n = m_nodes[n].parent) m_nodes[n].loaded = false;
+  takeSolution(push, begin, end);
 }
 
 void PfxJointTreeSolver::addLockedRowImpulses(const Node& node, bool push) {

@@ -121,6 +121,23 @@ class PfxJointTreeSolver {
   // solveVelocities() (or solvePush()) for the one tree that holds body `rigidBodyId`, if
   // any.
   void solveTreeOf(PfxUInt32 rigidBodyId, bool push);
+  // Moves the tree that holds body `rigidBodyId` as it answers the generalized impulse
+  // (linear, angular) on that body, its locked axes held: the body's velocity change and
+  // every other body's, and the locked rows' impulses. Where the tree's locked axes held
+  // before (holdsTreeOf), that is what giving the body the impulse and solving the tree
+  // (solveTreeOf) gives, but the right-hand side is one body's and the elimination runs
+  // along its path to the root alone: half the work of a solve for a foot of a ragdoll,
+  // one contact update of many on the ground.
+  void applyImpulseThroughTree(PfxUInt32 rigidBodyId, const PfxVector3& linear,
+                               const PfxVector3& angular, bool push);
+  // Whether the locked axes of the tree of body `rigidBodyId` hold, as far as this solver
+  // knows: a tree solve makes them hold, and forgetHeldTrees() and forgetHeldTreeOf()
+  // forget it. Velocities changed elsewhere are not seen, so a caller trusts it only over
+  // a stretch of work where every change to the trees' bodies goes through here or is
+  // forgotten (a sweep of pfxSweepTreeContacts).
+  bool holdsTreeOf(PfxUInt32 rigidBodyId) const;
+  void forgetHeldTrees();
+  void forgetHeldTreeOf(PfxUInt32 rigidBodyId);
   // Drops the factors of the tree that holds body `rigidBodyId`, and the impulse responses
   // kept from them: its next solve factors it again, from the bodies' masses and the joints'
   // rows as they are then.
@@ -147,6 +164,9 @@ class PfxJointTreeSolver {
   // (kHeldLockedRowVelocity) is left as it is; the solves that end the velocity solve and
   // those of the position correction take that rounding out as well.
   void solveTree(bool push, std::size_t begin, std::size_t end, bool skipHeld = false);
+  // Adds the solved values of nodes [begin, end) to their bodies' velocities (the push
+  // velocities with `push`) and their locked rows' impulses.
+  void takeSolution(bool push, std::size_t begin, std::size_t end);
   // Adds a joint node's negated multipliers to its locked rows' impulses.
   void addLockedRowImpulses(const Node& node, bool push);
   PfxJointRowJacobian boundedRowJacobian(const BoundedRow& row) const;
@@ -165,6 +185,7 @@ class PfxJointTreeSolver {
   PfxUInt32 m_numTrees = 0;
   PfxUInt8* m_treeMovedFromOutside = nullptr;  // per tree, by markTreesMovedFromOutside
   PfxUInt8* m_treeFactored = nullptr;          // per tree
+  PfxUInt8* m_treeHeld = nullptr;              // per tree, holdsTreeOf()
   PfxInt32* m_bodyNode = nullptr;  // each body's node, or -1
   PfxInt32* m_bodyTreeBody = nullptr;  // getTreeBody() of each body
   // getImpulseResponse(): per node, its slot in m_bodyResponses once solved for, else -1;

@@ -108,6 +108,10 @@ inline void pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
       push ? &PfxSolverBody::m_pushLinearVelocity : &PfxSolverBody::m_deltaLinearVelocity;
   PfxVector3 PfxSolverBody::*angular =
       push ? &PfxSolverBody::m_pushAngularVelocity : &PfxSolverBody::m_deltaAngularVelocity;
+  // Whether a tree's locked axes hold is known only from what this sweep did to it: the
+  // first update of a tree through it solves the tree, and the later ones move it as it
+  // answers their impulse alone, until an update outside the trees touches it.
+  tree.forgetHeldTrees();
   for (PfxUInt32 i = 0; i < numPairs; ++i) {
     const PfxConstraintPair& pair = pairs[i];
     if (!pfxGetActive(pair)) continue;
@@ -136,12 +140,25 @@ inline void pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
       const PfxFloat previous = impulse;
       impulse = std::max(previous + shortfall / response, PfxFloat(0));
       if (impulse == previous) continue;
-      pfxApplyRowImpulse(row.m_normal, impulse - previous, a, cp.m_armA, receivesA, b,
-                         cp.m_armB, receivesB, linear, angular);
       region.impulseChanged(idA, idB, shortfall > 0, throughTrees);
-      if (!throughTrees) continue;
-      if (treeA >= 0) tree.solveTreeOf(idA, push);
-      if (treeB >= 0) tree.solveTreeOf(idB, push);
+      const PfxFloat change = impulse - previous;
+      // A pair taken through the trees moves the tree of one side, the other being fixed.
+      const PfxUInt32 treeSide = treeA >= 0 ? idA : idB;
+      if (throughTrees && (treeA < 0 || treeB < 0) && tree.holdsTreeOf(treeSide)) {
+        const PfxVector3 pushed = row.m_normal * (treeA >= 0 ? -change : change);
+        const PfxVector3& arm = treeA >= 0 ? cp.m_armA : cp.m_armB;
+        tree.applyImpulseThroughTree(treeSide, pushed, arm.cross(pushed), push);
+        continue;
+      }
+      pfxApplyRowImpulse(row.m_normal, change, a, cp.m_armA, receivesA, b, cp.m_armB,
+                         receivesB, linear, angular);
+      if (throughTrees) {
+        if (treeA >= 0) tree.solveTreeOf(idA, push);
+        if (treeB >= 0) tree.solveTreeOf(idB, push);
+      } else {
+        tree.forgetHeldTreeOf(idA);
+        tree.forgetHeldTreeOf(idB);
+      }
     }
   }
 }
