@@ -125,6 +125,35 @@ void expectSameJointRows(const PfxJoint& a, const PfxJoint& b) {
   }
 }
 
+// The setup of every body of `states`.
+PfxSetupSolverBodiesParam solverBodiesParam(const PfxRigidState* states, const PfxRigidBody* bodies,
+                                            PfxSolverBody* solverBodies, PfxUInt32 numBodies) {
+  PfxSetupSolverBodiesParam param;
+  param.states = states;
+  param.bodies = bodies;
+  param.solverBodies = solverBodies;
+  param.numRigidBodies = numBodies;
+  return param;
+}
+
+// The velocity setup of joints 0 .. numJoints - 1, one pair each, at dt 1/60.
+PfxSetupJointConstraintsParam jointSetupParam(PfxConstraintPair* pairs, PfxJoint* joints,
+                                              PfxUInt32 numJoints, const PfxRigidState* states,
+                                              const PfxRigidBody* bodies,
+                                              PfxSolverBody* solverBodies, PfxUInt32 numBodies) {
+  PfxSetupJointConstraintsParam param;
+  param.jointPairs = pairs;
+  param.numJointPairs = numJoints;
+  param.offsetJoints = joints;
+  param.numJoints = numJoints;
+  param.offsetRigidStates = states;
+  param.offsetRigidBodies = bodies;
+  param.offsetSolverBodies = solverBodies;
+  param.numRigidBodies = numBodies;
+  param.timeStep = 1.0f / 60;
+  return param;
+}
+
 }  // namespace
 
 TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
@@ -137,12 +166,7 @@ TEST(SolverStages, DetectSetupSolveRefreshRunOnAPair) {
   EXPECT_EQ(pfxGetNumConstraints(s.pair), 4u);
   EXPECT_NEAR(s.manifold.getPenetrationDepth(), 0.01f, 1e-5f);
 
-  PfxSetupSolverBodiesParam bodies;
-  bodies.states = s.states;
-  bodies.bodies = s.bodies;
-  bodies.solverBodies = s.solverBodies;
-  bodies.numRigidBodies = 2;
-  ASSERT_EQ(pfxSetupSolverBodies(bodies), PFX_OK);
+  ASSERT_EQ(pfxSetupSolverBodies(solverBodiesParam(s.states, s.bodies, s.solverBodies, 2)), PFX_OK);
   EXPECT_EQ(s.solverBodies[0].m_massInv, 0);  // fixed
   EXPECT_EQ(s.solverBodies[1].m_massInv, 1);
 
@@ -368,27 +392,14 @@ TEST(SolverStages, JointSetupForThePositionCorrectionSetsWhatItReads) {
     pfxUpdateJointPairs(pairs[i], i, joints[i], states[joints[i].m_rigidBodyIdA],
                         states[joints[i].m_rigidBodyIdB]);
   }
-  PfxSetupSolverBodiesParam solverParam;
-  solverParam.states = states;
-  solverParam.bodies = bodies;
-  solverParam.solverBodies = solverBodies;
-  solverParam.numRigidBodies = 3;
-  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
+  ASSERT_EQ(pfxSetupSolverBodies(solverBodiesParam(states, bodies, solverBodies, 3)), PFX_OK);
 
   PfxJoint full[2] = {joints[0], joints[1]};
   PfxJoint corrected[2] = {joints[0], joints[1]};
   PfxSolverBody fullBodies[3] = {solverBodies[0], solverBodies[1], solverBodies[2]};
   PfxSolverBody correctedBodies[3] = {solverBodies[0], solverBodies[1], solverBodies[2]};
-  PfxSetupJointConstraintsParam setup;
-  setup.jointPairs = pairs;
-  setup.numJointPairs = 2;
-  setup.numJoints = 2;
-  setup.offsetRigidStates = states;
-  setup.offsetRigidBodies = bodies;
-  setup.numRigidBodies = 3;
-  setup.timeStep = 1.0f / 60;
-  setup.offsetJoints = full;
-  setup.offsetSolverBodies = fullBodies;
+  PfxSetupJointConstraintsParam setup =
+      jointSetupParam(pairs, full, 2, states, bodies, fullBodies, 3);
   ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
   setup.forPositionCorrection = true;
   setup.offsetJoints = corrected;
@@ -465,21 +476,9 @@ TEST(SolverStages, SetupOfTheBodiesToSetUpMatchesAFullSetup) {
                         states[joints[j].m_rigidBodyIdB]);
   }
   PfxSolverBody solverBodies[kBodies];
-  PfxSetupSolverBodiesParam solverParam;
-  solverParam.states = states;
-  solverParam.bodies = bodies;
-  solverParam.solverBodies = solverBodies;
-  solverParam.numRigidBodies = kBodies;
-  PfxSetupJointConstraintsParam setup;
-  setup.jointPairs = pairs;
-  setup.numJointPairs = 4;
-  setup.numJoints = 4;
-  setup.offsetJoints = joints;
-  setup.offsetRigidStates = states;
-  setup.offsetRigidBodies = bodies;
-  setup.offsetSolverBodies = solverBodies;
-  setup.numRigidBodies = kBodies;
-  setup.timeStep = 1.0f / 60;
+  PfxSetupSolverBodiesParam solverParam = solverBodiesParam(states, bodies, solverBodies, kBodies);
+  PfxSetupJointConstraintsParam setup =
+      jointSetupParam(pairs, joints, 4, states, bodies, solverBodies, kBodies);
   // A velocity setup gives the rows their directions, a solve their impulses (which the
   // geometric stiffness reads), then the position correction's first pass sets up all.
   ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
@@ -586,8 +585,7 @@ TEST(SolverStages, ImpulseThroughAHeldTreeMatchesAnImpulseAndATreeSolve) {
   constexpr int kBodies = 4;
   PfxRigidState states[kBodies];
   PfxRigidBody bodies[kBodies];
-  const PfxVector3 positions[kBodies] = {
-      {0, 1, 0}, {0.5f, 1, 0}, {-0.5f, 1, 0}, {1, 1, 0}};
+  const PfxVector3 positions[kBodies] = {{0, 1, 0}, {0.5f, 1, 0}, {-0.5f, 1, 0}, {1, 1, 0}};
   for (int i = 0; i < kBodies; ++i) {
     states[i].reset();
     states[i].setPosition(positions[i]);
@@ -614,28 +612,15 @@ TEST(SolverStages, ImpulseThroughAHeldTreeMatchesAnImpulseAndATreeSolve) {
     pfxUpdateJointPairs(pairs[j], j, joints[j], states[ends[j][0]], states[ends[j][1]]);
   }
   PfxSolverBody solverBodies[kBodies];
-  PfxSetupSolverBodiesParam solverParam;
-  solverParam.states = states;
-  solverParam.bodies = bodies;
-  solverParam.solverBodies = solverBodies;
-  solverParam.numRigidBodies = kBodies;
-  ASSERT_EQ(pfxSetupSolverBodies(solverParam), PFX_OK);
-  PfxSetupJointConstraintsParam setup;
-  setup.jointPairs = pairs;
-  setup.numJointPairs = 3;
-  setup.numJoints = 3;
-  setup.offsetJoints = joints;
-  setup.offsetRigidStates = states;
-  setup.offsetRigidBodies = bodies;
-  setup.offsetSolverBodies = solverBodies;
-  setup.numRigidBodies = kBodies;
-  setup.timeStep = 1.0f / 60;
-  ASSERT_EQ(pfxSetupJointConstraints(setup), PFX_OK);
+  ASSERT_EQ(pfxSetupSolverBodies(solverBodiesParam(states, bodies, solverBodies, kBodies)), PFX_OK);
+  ASSERT_EQ(pfxSetupJointConstraints(
+                jointSetupParam(pairs, joints, 3, states, bodies, solverBodies, kBodies)),
+            PFX_OK);
 
   std::vector<unsigned char> work(PfxJointTreeSolver::getWorkBytes(kBodies, 3));
   PfxJointTreeSolver tree;
-  ASSERT_TRUE(tree.build(work.data(), PfxUInt32(work.size()), pairs, 3, joints, solverBodies,
-                         kBodies));
+  ASSERT_TRUE(
+      tree.build(work.data(), PfxUInt32(work.size()), pairs, 3, joints, solverBodies, kBodies));
   for (PfxUInt32 j = 0; j < 3; ++j) ASSERT_TRUE(tree.contains(j));
   EXPECT_FALSE(tree.holdsTreeOf(3));
   tree.solveTreeOf(0, false);
