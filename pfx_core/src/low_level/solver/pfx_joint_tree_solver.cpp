@@ -337,8 +337,9 @@ void PfxJointTreeSolver::factorTree(PfxUInt32 tree) {
 void PfxJointTreeSolver::solvePush(PfxTaskManager* taskManager) { solve(true, taskManager); }
 
 void PfxJointTreeSolver::refactorTreeOf(PfxUInt32 rigidBodyId) {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
-  const PfxUInt32 tree = m_nodes[m_bodyNode[rigidBodyId]].tree;
+  const PfxInt32 node = nodeOfBody(rigidBodyId);
+  if (node < 0) return;
+  const PfxUInt32 tree = m_nodes[node].tree;
   if (!m_treeFactored[tree]) return;
   m_treeFactored[tree] = 0;
   for (PfxUInt32 n = m_treeStarts[tree]; n < m_treeStarts[tree + 1]; ++n) {
@@ -643,8 +644,8 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
 
 PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
                                                 const PfxVector3& angular) {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return -1;
-  const PfxInt32 bodyNode = m_bodyNode[rigidBodyId];
+  const PfxInt32 bodyNode = nodeOfBody(rigidBodyId);
+  if (bodyNode < 0) return -1;
   PfxInt32& slot = m_responseSlot[bodyNode];
   if (slot < 0) {
     factorIfNeeded(m_nodes[bodyNode].tree);
@@ -691,8 +692,9 @@ PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const Pfx
 }
 
 void PfxJointTreeSolver::solveTreeOf(PfxUInt32 rigidBodyId, bool push) {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
-  const Node& node = m_nodes[m_bodyNode[rigidBodyId]];
+  const PfxInt32 bodyNode = nodeOfBody(rigidBodyId);
+  if (bodyNode < 0) return;
+  const Node& node = m_nodes[bodyNode];
   solveTree(push, m_treeStarts[node.tree], m_treeStarts[node.tree + 1]);
 }
 
@@ -761,13 +763,13 @@ void PfxJointTreeSolver::forgetHeldTrees() {
 }
 
 bool PfxJointTreeSolver::holdsTreeOf(PfxUInt32 rigidBodyId) const {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return false;
-  return m_treeHeld[m_nodes[m_bodyNode[rigidBodyId]].tree] != 0;
+  const PfxInt32 node = nodeOfBody(rigidBodyId);
+  return node >= 0 && m_treeHeld[m_nodes[node].tree] != 0;
 }
 
 void PfxJointTreeSolver::forgetHeldTreeOf(PfxUInt32 rigidBodyId) {
-  if (!m_bodyNode || rigidBodyId >= m_numRigidBodies || m_bodyNode[rigidBodyId] < 0) return;
-  m_treeHeld[m_nodes[m_bodyNode[rigidBodyId]].tree] = 0;
+  const PfxInt32 node = nodeOfBody(rigidBodyId);
+  if (node >= 0) m_treeHeld[m_nodes[node].tree] = 0;
 }
 
 void PfxJointTreeSolver::applyImpulseThroughTree(PfxUInt32 rigidBodyId, const PfxVector3& linear,

@@ -155,6 +155,10 @@ class PfxJointTreeSolver {
     return m_treeRowStarts[tree] != m_treeRowStarts[tree + 1];
   }
   void markTreeOfBody(PfxUInt32 rigidBodyId);
+  // The node of body `rigidBodyId`, or -1 for a body in no tree (or any body before build()).
+  PfxInt32 nodeOfBody(PfxUInt32 rigidBodyId) const {
+    return m_bodyNode && rigidBodyId < m_numRigidBodies ? m_bodyNode[rigidBodyId] : -1;
+  }
   // Sets up the blocks of the tree's nodes from the rows and the bodies, and factors them.
   void factorTree(PfxUInt32 tree);
   void factorIfNeeded(PfxUInt32 tree) {
