@@ -816,10 +816,9 @@ constexpr PfxUInt32 kParticleThreadCounts[] = {1, 2, 4};
 TEST(WorldParticles, SameBitsWithAnyNumberOfThreads) {
   constexpr int kRuns = int(std::size(kParticleThreadCounts));
   std::vector<PfxParticle> results[kRuns];
-  const PfxUInt32* const threads = kParticleThreadCounts;
   for (int run = 0; run < kRuns; ++run) {
     PfxWorldParam param = particleWorldParam(4);
-    param.numThreads = threads[run];
+    param.numThreads = kParticleThreadCounts[run];
     PfxWorld world;
     ASSERT_EQ(world.initialize(param), PFX_OK);
     addGround(world);
@@ -849,6 +848,6 @@ TEST(WorldParticles, SameBitsWithAnyNumberOfThreads) {
     EXPECT_EQ(std::memcmp(results[0].data(), results[run].data(),
                           results[0].size() * sizeof(PfxParticle)),
               0)
-        << threads[run] << " threads";
+        << kParticleThreadCounts[run] << " threads";
   }
 }
