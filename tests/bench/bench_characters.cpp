@@ -6,13 +6,12 @@
 #include <limits>
 #include <random>
 
-#include "bench_rays.h"
+#include "bench_run.h"
 
 namespace pfxbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180;
 constexpr int kLanes = 20;
 constexpr int kRowsPerBlock = 5;

@@ -10,8 +10,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // Like std::max, but a NaN on either side wins, so that a blown-up run shows as NaN.
 double maxKeepingNaN(double a, double b) {
   if (std::isnan(a) || std::isnan(b)) return kNaN;

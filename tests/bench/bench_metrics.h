@@ -9,6 +9,9 @@
 
 namespace pfxbench {
 
+// A figure the run could not give (it blew up, or its reference did).
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 // Follows one run. observe() is called with the initial states and then at every sample
 // time, the last one at the end of the run; observeJoints() with the joints' anchors at the
 // start and after every step.

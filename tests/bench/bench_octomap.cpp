@@ -5,6 +5,7 @@
 #include <random>
 
 #include "bench_rays.h"
+#include "bench_run.h"
 
 #ifdef PFX_BENCH_HAVE_LOADERS
 #include "pfx/loaders/pfx_octomap_loader.h"

@@ -25,17 +25,17 @@ double distance(const ParticlePoint& a, const ParticlePoint& b) {
                    (a.z - b.z) * (a.z - b.z));
 }
 
-struct Engine {
+struct ParticleEngine {
   const char* name;
   bool wanted;
 };
 
-std::vector<Engine> selectedEngines(const Options& options) {
+std::vector<ParticleEngine> selectedEngines(const Options& options) {
   auto asked = [&](const char* name) {
     return options.engines.empty() ||
            std::find(options.engines.begin(), options.engines.end(), name) != options.engines.end();
   };
-  std::vector<Engine> engines = {{"pfx", asked("pfx")}};
+  std::vector<ParticleEngine> engines = {{"pfx", asked("pfx")}};
 #ifdef PFX_BENCH_HAVE_BULLET
   engines.push_back({"bullet", asked("bullet")});
 #else
@@ -134,7 +134,7 @@ int runRopeScene(const Options& options, std::vector<ResultRow>& rows) {
       "  engine       dt      sub  it  catenary error (mm)  stretch (%%)  cpu ms per sim s\n",
       seconds);
   for (const double dt : timeSteps(options)) {
-    for (const Engine& engine : selectedEngines(options)) {
+    for (const ParticleEngine& engine : selectedEngines(options)) {
       if (!engine.wanted) continue;
       const bool pfx = std::string(engine.name) == "pfx";
       for (const bool tethers : pfx ? std::vector<bool>{false, true} : std::vector<bool>{false}) {
@@ -176,7 +176,7 @@ int runRopeScene(const Options& options, std::vector<ResultRow>& rows) {
                "%.3g s\n  engine       dt      sub  it  largest stretch (%%)  cpu ms per sim s\n",
                seconds);
   for (const double dt : timeSteps(options)) {
-    for (const Engine& engine : selectedEngines(options)) {
+    for (const ParticleEngine& engine : selectedEngines(options)) {
       if (!engine.wanted) continue;
       const bool pfx = std::string(engine.name) == "pfx";
       for (const bool tethers : pfx ? std::vector<bool>{false, true} : std::vector<bool>{false}) {
@@ -222,7 +222,7 @@ int runClothScene(const Options& options, std::vector<ResultRow>& rows) {
                seconds);
   for (const double dt : timeSteps(options)) {
     for (const int side : {64, 128}) {
-      for (const Engine& engine : selectedEngines(options)) {
+      for (const ParticleEngine& engine : selectedEngines(options)) {
         if (!engine.wanted) continue;
         const bool pfx = std::string(engine.name) == "pfx";
         const SolverSetting& setting = pfx ? pfxSetting : bulletSetting;

@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "bench_particles.h"
-#include "bench_rays.h"
+#include "bench_run.h"
 
 namespace pfxbench {
 

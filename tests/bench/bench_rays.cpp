@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
-#include <time.h>
 
 namespace pfxbench {
 
@@ -96,12 +95,6 @@ const std::vector<RayEngine>& rayEngines() {
 }
 
 }  // namespace
-
-double processCpuSeconds() {
-  timespec now;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
-}
 
 RayTerrain makeRayTerrain() {
   RayTerrain terrain;

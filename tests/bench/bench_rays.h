@@ -65,6 +65,7 @@
 #include <vector>
 
 #include "bench_report.h"
+#include "bench_run.h"
 
 namespace pfxbench {
 
@@ -108,9 +109,6 @@ struct RayEngineFigures {
   std::vector<RayBuildFigures> builds;
   std::vector<RayCastFigures> casts;
 };
-
-// CPU seconds the process has used so far, all its threads together.
-double processCpuSeconds();
 
 // Casts every ray once untimed (which fills `distances`), then times kRayTimedPasses
 // more passes and returns the fastest, so that a pass whose caches another process on

@@ -18,7 +18,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kReferenceStepDivisor = 16;
 constexpr int kReferenceIterationFactor = 4;
 // States are sampled for the metrics at 60 Hz, or every step when steps are longer.
@@ -59,12 +58,6 @@ bool withinSpeedLimit(const Scene& scene, const std::vector<BodyState>& states,
     return false;
   }
   return true;
-}
-
-double processCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 struct Simulation {
@@ -273,6 +266,12 @@ RunResult runScene(const EngineInfo& engine, const Scene& scene, const EngineSet
   }
   result.ok = true;
   return result;
+}
+
+double processCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 }  // namespace pfxbench

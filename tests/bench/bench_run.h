@@ -32,6 +32,9 @@ struct RunResult {
   std::uint64_t stateDigest = 0;
 };
 
+// CPU seconds the process has used so far, all its threads together.
+double processCpuSeconds();
+
 // Relative cost of a run for the progress bar (body steps, reference included).
 double runWork(const Scene& scene, const EngineSettings& settings, double seconds);
 

@@ -8,8 +8,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct SceneEntry {
   const char* name;
   void (*build)(std::vector<Scene>&);

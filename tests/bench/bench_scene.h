@@ -15,6 +15,8 @@
 
 namespace pfxbench {
 
+constexpr double kPi = 3.14159265358979323846;
+
 using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 

@@ -13,7 +13,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kCubeHalf = 0.5;  // stacks are made of 1 m cubes of 1 kg
 constexpr double kCubeMass = 1;
 

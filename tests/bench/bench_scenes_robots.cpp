@@ -16,7 +16,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kArmSpacing = 1.2;  // m between neighbouring arms' bases
 // Centre heights of the lying ragdolls in a stack: the arm stands 1.13 m tall.
 constexpr double kStackHeights[] = {1.6, 2.1};

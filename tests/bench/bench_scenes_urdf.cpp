@@ -33,8 +33,6 @@ namespace pfxbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 using Matrix3 = Eigen::Matrix3d;
 
 struct Pose {
