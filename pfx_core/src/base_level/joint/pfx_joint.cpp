@@ -159,6 +159,22 @@ void calcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
   coordinates[kPfxJointAxisSwing2] = swing.z() * scale;
 }
 
+// With all three translations locked at zero the anchors simply coincide, and world axes
+// make the rows exact: rows along A's axes would turn with A, which the Jacobian leaves
+// out, and the position correction would need more passes to converge.
+bool anchorsCoincide(const PfxJoint& joint) {
+  for (int i = 0; i < 3; ++i) {
+    const PfxJointConstraint& c = joint.m_constraints[i];
+    if (c.m_lock != kPfxJointLockLocked || c.m_drive != kPfxJointDriveNone) return false;
+  }
+  return true;
+}
+
+PfxVector3 anchorGap(const PfxRigidState& stateA, const PfxRigidState& stateB,
+                     const PfxVector3& armA, const PfxVector3& armB) {
+  return stateB.getPosition() + armB - stateA.getPosition() - armA;
+}
+
 }  // namespace
 
 void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
@@ -169,6 +185,15 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
                        coordinates);
 }
 
+void pfxCalcJointRowPositions(const PfxJoint& joint, const PfxRigidState& stateA,
+                              const PfxRigidState& stateB, PfxFloat positions[6]) {
+  pfxCalcJointCoordinates(joint, stateA, stateB, positions);
+  if (!anchorsCoincide(joint)) return;
+  const PfxVector3 gap = anchorGap(stateA, stateB, stateA.getOrientation() * joint.m_anchorA,
+                                   stateB.getOrientation() * joint.m_anchorB);
+  for (int i = 0; i < 3; ++i) positions[i] = gap[i];
+}
+
 void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRigidState& stateB) {
   const PfxMatrix3 rotationA = stateA.getOrientation().toRotationMatrix();
   const PfxMatrix3 rotationB = stateB.getOrientation().toRotationMatrix();
@@ -177,16 +202,8 @@ void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRig
   joint.m_armA = stateA.getOrientation() * joint.m_anchorA;
   joint.m_armB = stateB.getOrientation() * joint.m_anchorB;
 
-  // With all three translations locked at zero the anchors simply coincide, and world axes
-  // make the rows exact: rows along A's axes would turn with A, which the Jacobian leaves
-  // out, and the position correction would need more passes to converge.
-  bool anchorsCoincide = true;
-  for (int i = 0; i < 3; ++i) {
-    const PfxJointConstraint& c = joint.m_constraints[i];
-    anchorsCoincide =
-        anchorsCoincide && c.m_lock == kPfxJointLockLocked && c.m_drive == kPfxJointDriveNone;
-  }
-  const PfxMatrix3 linearAxes = anchorsCoincide ? PfxMatrix3::Identity() : frameA;
+  const bool coincide = anchorsCoincide(joint);
+  const PfxMatrix3 linearAxes = coincide ? PfxMatrix3::Identity() : frameA;
   for (int i = 0; i < 3; ++i) joint.m_axes[i] = linearAxes.col(i);
   const PfxVector3 twist = frameA.col(0) + frameB.col(0);
   joint.m_axes[kPfxJointAxisTwist] =
@@ -198,9 +215,8 @@ void pfxCalcJointAxes(PfxJoint& joint, const PfxRigidState& stateA, const PfxRig
   calcJointCoordinates(joint, stateA, stateB, rotationA, rotationB, frameA, coordinates);
   for (int i = 0; i < 6; ++i) joint.m_constraints[i].m_position = coordinates[i];
   if (joint.m_rotation == kPfxJointRotationEulerYZX) setEulerAxes(joint, frameA);
-  if (anchorsCoincide) {
-    const PfxVector3 gap = stateB.getPosition() + joint.m_armB -
-                           stateA.getPosition() - joint.m_armA;
+  if (coincide) {
+    const PfxVector3 gap = anchorGap(stateA, stateB, joint.m_armA, joint.m_armB);
     for (int i = 0; i < 3; ++i) joint.m_constraints[i].m_position = gap[i];
   }
 }

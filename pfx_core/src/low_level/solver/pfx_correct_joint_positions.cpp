@@ -112,56 +112,24 @@ bool asksToMove(PfxFloat pushRhs, const PfxConstraintRow& row, PfxFloat timeStep
 }
 
 // Whether a joint whose bodies the last pass moved may ask to move them again, measured at
-// their poses now without setting the joint up. It measures the coordinates and each locked
-// axis's error, or how far a limit is passed, as pfxCalcJointAxes and the setup do, to the
-// bit, and finds a joint asking wherever a setup would (asksToMove): the rows' effective
-// masses, which the setup multiplies the push by and asksToMove divides it by again, are
-// left out, and the bound is a thousandth lower for the rounding that leaves; so is the
-// speed limit, which only shortens the push.
+// their poses now without setting the joint up: its lock rows as a setup would measure them
+// (pfxCalcJointRowPositions, pfxLockRow), to the bit. It finds a joint asking wherever a
+// setup would (asksToMove): the rows' effective masses, which the setup multiplies the push
+// by and asksToMove divides it by again, are left out, and the bound is a thousandth lower
+// for the rounding that leaves; so is the speed limit, which only shortens the push.
 bool mayAskToMove(const PfxJoint& joint, const PfxRigidState& stateA,
                   const PfxRigidState& stateB, PfxFloat timeStep) {
-  PfxFloat coordinates[6];
-  pfxCalcJointCoordinates(joint, stateA, stateB, coordinates);
-  bool anchorsCoincide = true;
-  for (PfxUInt32 axis = 0; axis < 3; ++axis) {
-    const PfxJointConstraint& c = joint.m_constraints[axis];
-    anchorsCoincide =
-        anchorsCoincide && c.m_lock == kPfxJointLockLocked && c.m_drive == kPfxJointDriveNone;
-  }
-  if (anchorsCoincide) {
-    const PfxVector3 gap = stateB.getPosition() + stateB.getOrientation() * joint.m_anchorB -
-                           stateA.getPosition() - stateA.getOrientation() * joint.m_anchorA;
-    for (PfxUInt32 axis = 0; axis < 3; ++axis) coordinates[axis] = gap[axis];
-  }
-  const double bound = 0.999 * kNegligibleCorrection;
+  PfxFloat positions[6];
+  pfxCalcJointRowPositions(joint, stateA, stateB, positions);
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
-    const PfxJointConstraint& c = joint.m_constraints[axis];
-    if (c.m_lock == kPfxJointLockFree) continue;
-    PfxFloat position = coordinates[axis];
-    PfxFloat lower = c.m_movableLowerLimit;
-    const PfxFloat upper = c.m_movableUpperLimit;
-    if (joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1) {
-      const PfxFloat s1 = coordinates[kPfxJointAxisSwing1];
-      const PfxFloat s2 = coordinates[kPfxJointAxisSwing2];
-      position = std::sqrt(s1 * s1 + s2 * s2);
-      lower = -std::numeric_limits<PfxFloat>::max();
-    }
-    if (c.m_lock == kPfxJointLockLimit && axis >= 3 && lower <= -PFX_PI && upper >= PFX_PI) {
-      continue;
-    }
-    PfxFloat error;
-    if (c.m_lock == kPfxJointLockLocked || lower == upper) {
-      error = position - c.getLockedValue();
-    } else {
-      const bool atLower = position - lower < upper - position;
-      const PfxFloat gap = atLower ? position - lower : upper - position;
-      if (!(gap < 0) && !std::isnan(gap)) continue;
-      error = gap;
-    }
-    const PfxFloat push = -c.m_bias * error / timeStep;
+    const PfxFloat push =
+        pfxLockRowPushVelocity(joint.m_constraints[axis], pfxLockRow(joint, axis, positions),
+                               timeStep);
     if (push == 0) continue;
     // Not a number asks, as it does of asksToMove.
-    if (!(std::abs(double(push)) * double(timeStep) <= bound)) return true;
+    if (!(std::abs(double(push)) * double(timeStep) <= 0.999 * kNegligibleCorrection)) {
+      return true;
+    }
   }
   return false;
 }

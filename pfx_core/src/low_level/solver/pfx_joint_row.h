@@ -4,11 +4,60 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "pfx/base_level/joint/pfx_joint.h"
 #include "pfx/base_level/solver/pfx_solver_body.h"
 
 namespace pfx {
+
+// An axis's lock row as a setup makes it from the joint's coordinates (m_position, or the
+// same six measured elsewhere): none (a free axis, or a turn limited to no less than a whole
+// turn), equality, or the nearer limit as a one-sided row. `error` is how far the row is to
+// move its coordinate back: an equality row's distance from the locked value, a limit row's
+// gap inside its limit (negative past it). A swing-twist joint's first swing measures the
+// cone: the swing angle against the upper limit.
+struct PfxLockRow {
+  PfxJointRowType type;
+  PfxFloat position;
+  PfxFloat error;
+  bool atLower;
+};
+
+inline PfxLockRow pfxLockRow(const PfxJoint& joint, PfxUInt32 axis,
+                             const PfxFloat positions[6]) {
+  const PfxJointConstraint& c = joint.m_constraints[axis];
+  PfxFloat position = positions[axis];
+  PfxFloat lower = c.m_movableLowerLimit;
+  const PfxFloat upper = c.m_movableUpperLimit;
+  if (joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1) {
+    const PfxFloat s1 = positions[kPfxJointAxisSwing1];
+    const PfxFloat s2 = positions[kPfxJointAxisSwing2];
+    position = std::sqrt(s1 * s1 + s2 * s2);
+    lower = -std::numeric_limits<PfxFloat>::max();
+  }
+  const bool rotation = axis >= 3;
+  if (c.m_lock == kPfxJointLockFree ||
+      (c.m_lock == kPfxJointLockLimit && rotation && lower <= -PFX_PI && upper >= PFX_PI)) {
+    return {kPfxJointRowNone, position, 0, false};
+  }
+  if (c.m_lock == kPfxJointLockLocked || lower == upper) {
+    return {kPfxJointRowEquality, position, position - c.getLockedValue(), false};
+  }
+  const bool atLower = position - lower < upper - position;
+  return {kPfxJointRowLimit, position, atLower ? position - lower : upper - position, atLower};
+}
+
+// The velocity along the row that moves its coordinate back over the step, at the joint's
+// bias, before the speed limit; 0 for a limit row within its limit.
+inline PfxFloat pfxLockRowPushVelocity(const PfxJointConstraint& c, const PfxLockRow& row,
+                                       PfxFloat timeStep) {
+  if (row.type == kPfxJointRowEquality || (row.type == kPfxJointRowLimit && row.error < 0)) {
+    return -c.m_bias * row.error / timeStep;
+  }
+  return 0;
+}
 
 struct PfxJointRowJacobian {
   PfxVector3 linearA, angularA, linearB, angularB;

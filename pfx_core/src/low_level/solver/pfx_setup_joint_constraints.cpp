@@ -87,44 +87,32 @@ void unsetRow(PfxConstraintRow& row) {
   row.m_accumImpulse = 0;
 }
 
-// The lock row of one axis: equality, the nearer limit, or nothing.
+// The lock row of one axis, as pfxLockRow measures it: equality, the nearer limit, or
+// nothing.
 void setupLockRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
-                  PfxFloat position, PfxFloat lower, PfxFloat upper, const SetupMode& mode,
-                  const JointBodies& bodies) {
+                  const PfxLockRow& lock, const SetupMode& mode, const JointBodies& bodies) {
   const PfxFloat timeStep = mode.timeStep;
   PfxJointConstraint& c = joint.m_constraints[axis];
   c.m_pushRhs = 0;
   c.m_pushImpulse = 0;
-  const bool rotation = axis >= 3;
-  const bool unbounded =
-      c.m_lock == kPfxJointLockFree ||
-      (c.m_lock == kPfxJointLockLimit && rotation && lower <= -PFX_PI && upper >= PFX_PI);
-  if (unbounded) {
-    c.m_rowType = kPfxJointRowNone;
+  c.m_rowType = lock.type;
+  if (lock.type == kPfxJointRowNone) {
     unsetRow(c.m_constraintRow);
     return;
   }
-  if (c.m_lock == kPfxJointLockLocked || lower == upper) {
-    const PfxFloat error = position - c.getLockedValue();
-    c.m_rowType = kPfxJointRowEquality;
+  if (lock.type == kPfxJointRowEquality) {
     setRow(c.m_constraintRow, joint, axis, direction, 0, -kUnboundedImpulse, kUnboundedImpulse,
            c.m_weight, mode, bodies);
-    c.m_pushRhs =
-        withinSpeedLimit(axis, -c.m_bias * error / timeStep) * c.m_constraintRow.m_jacDiagInv;
-    return;
+  } else {
+    // The nearer limit, as a one-sided row along +direction (lower) or -direction (upper).
+    // Away from it, the gap may close within the step but no further, as for contacts.
+    const PfxFloat gap = lock.error;
+    setRow(c.m_constraintRow, joint, axis, lock.atLower ? direction : PfxVector3(-direction),
+           gap > 0 ? -gap / timeStep : 0, 0, kUnboundedImpulse, c.m_weight, mode, bodies);
+    if (!(gap < 0)) return;
   }
-  // The nearer limit, as a one-sided row along +direction (lower) or -direction (upper).
-  // Away from it, the gap may close within the step but no further, as for contacts.
-  const bool atLower = position - lower < upper - position;
-  const PfxFloat gap = atLower ? position - lower : upper - position;
-  const PfxVector3 signedDirection = atLower ? direction : PfxVector3(-direction);
-  c.m_rowType = kPfxJointRowLimit;
-  setRow(c.m_constraintRow, joint, axis, signedDirection, gap > 0 ? -gap / timeStep : 0, 0,
-         kUnboundedImpulse, c.m_weight, mode, bodies);
-  if (gap < 0) {
-    c.m_pushRhs =
-        withinSpeedLimit(axis, -c.m_bias * gap / timeStep) * c.m_constraintRow.m_jacDiagInv;
-  }
+  c.m_pushRhs = withinSpeedLimit(axis, pfxLockRowPushVelocity(c, lock, timeStep)) *
+                c.m_constraintRow.m_jacDiagInv;
 }
 
 // The velocities along an axis that keep it within its limits over the step (beyond a
@@ -193,27 +181,25 @@ void setupDriveRow(PfxJoint& joint, PfxUInt32 axis, const PfxVector3& direction,
 
 void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mode) {
   pfxCalcJointAxes(joint, bodies.stateA, bodies.stateB);
+  PfxFloat positions[6];
+  for (PfxUInt32 axis = 0; axis < 6; ++axis) positions[axis] = joint.m_constraints[axis].m_position;
   for (PfxUInt32 axis = 0; axis < 6; ++axis) {
-    PfxJointConstraint& c = joint.m_constraints[axis];
-    PfxFloat position = c.m_position;
-    PfxFloat lower = c.m_movableLowerLimit;
-    PfxFloat upper = c.m_movableUpperLimit;
+    const PfxJointConstraint& c = joint.m_constraints[axis];
+    const PfxLockRow lock = pfxLockRow(joint, axis, positions);
     PfxVector3 direction = joint.m_axes[axis];
     const bool cone = joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1;
     if (cone) {
-      // The cone: the swing angle, about the axis the swing turns about, below the limit.
-      const PfxFloat s1 = c.m_position;
-      const PfxFloat s2 = joint.m_constraints[kPfxJointAxisSwing2].m_position;
-      position = std::sqrt(s1 * s1 + s2 * s2);
-      if (position > PFX_EPSILON) {
+      // The cone's row turns about the axis the swing turns about.
+      if (lock.position > PFX_EPSILON) {
         const PfxMatrix3 frameA =
             bodies.stateA.getOrientation().toRotationMatrix() * joint.m_frameA;
-        direction = frameA * PfxVector3(0, s1, s2) / position;
+        direction = frameA * PfxVector3(0, positions[kPfxJointAxisSwing1],
+                                        positions[kPfxJointAxisSwing2]) /
+                    lock.position;
       }
-      lower = -kUnboundedImpulse;
       joint.m_axes[axis] = direction;
     }
-    setupLockRow(joint, axis, direction, position, lower, upper, mode, bodies);
+    setupLockRow(joint, axis, direction, lock, mode, bodies);
     // The cone's limit row measures the swing angle, not the drive's coordinate.
     const AllowedVelocities allowed =
         cone ? AllowedVelocities() : allowedVelocities(c, mode.timeStep);

@@ -85,6 +85,12 @@ void pfxCalcJointCoordinates(const PfxJoint& joint, const PfxRigidState& stateA,
 void pfxCalcJointPositions(PfxJoint& joint, const PfxRigidState& stateA,
                            const PfxRigidState& stateB);
 
+// The six coordinates as the solver's rows measure them, which pfxCalcJointAxes leaves in
+// m_position: pfxCalcJointCoordinates, but with all three translations locked and undriven
+// the anchors' world gap.
+void pfxCalcJointRowPositions(const PfxJoint& joint, const PfxRigidState& stateA,
+                              const PfxRigidState& stateB, PfxFloat positions[6]);
+
 // Sets m_armA, m_armB, the six row directions m_axes and the coordinates from the two
 // bodies' states, as the solver's rows use them: a row's coordinate changes at the rate of
 // its direction dotted with the bodies' relative motion, so an impulse along it is one
