@@ -35,22 +35,26 @@ PfxUInt32 tableSizeFor(PfxUInt32 numParticles) {
 std::size_t particleDetectionWorkBytes(PfxUInt32 numParticles, ParticleDetectionWork* work, void* base) {
   const PfxUInt32 tableSize = tableSizeFor(numParticles);
   std::size_t offset = 0;
+  // Offsets first, pointers only into a buffer: the sizing call passes none, and an offset
+  // added to a null pointer is undefined.
   auto take = [&](std::size_t bytes) {
     const std::size_t at = offset;
     offset += pfxAlignBytes(bytes);
-    return static_cast<char*>(base) + at;
+    return at;
   };
-  char* slots = take(sizeof(PfxParticleContact) * numParticles * PFX_MAX_PARTICLE_RIGID_CONTACTS);
-  char* counts = take(sizeof(PfxUInt32) * numParticles);
-  char* cellStart = take(sizeof(PfxUInt32) * (tableSize + 1));
-  char* cellParticles = take(sizeof(PfxUInt32) * numParticles);
-  char* particleCell = take(sizeof(PfxUInt32) * numParticles);
+  const std::size_t slots =
+      take(sizeof(PfxParticleContact) * numParticles * PFX_MAX_PARTICLE_RIGID_CONTACTS);
+  const std::size_t counts = take(sizeof(PfxUInt32) * numParticles);
+  const std::size_t cellStart = take(sizeof(PfxUInt32) * (tableSize + 1));
+  const std::size_t cellParticles = take(sizeof(PfxUInt32) * numParticles);
+  const std::size_t particleCell = take(sizeof(PfxUInt32) * numParticles);
   if (work) {
-    work->rigidSlots = reinterpret_cast<PfxParticleContact*>(slots);
-    work->rigidCounts = reinterpret_cast<PfxUInt32*>(counts);
-    work->cellStart = reinterpret_cast<PfxUInt32*>(cellStart);
-    work->cellParticles = reinterpret_cast<PfxUInt32*>(cellParticles);
-    work->particleCell = reinterpret_cast<PfxUInt32*>(particleCell);
+    char* const bytes = static_cast<char*>(base);
+    work->rigidSlots = reinterpret_cast<PfxParticleContact*>(bytes + slots);
+    work->rigidCounts = reinterpret_cast<PfxUInt32*>(bytes + counts);
+    work->cellStart = reinterpret_cast<PfxUInt32*>(bytes + cellStart);
+    work->cellParticles = reinterpret_cast<PfxUInt32*>(bytes + cellParticles);
+    work->particleCell = reinterpret_cast<PfxUInt32*>(bytes + particleCell);
     work->tableSize = tableSize;
   }
   return offset;
