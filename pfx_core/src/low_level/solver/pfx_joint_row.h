@@ -17,12 +17,13 @@ namespace pfx {
 // turn), equality, or the nearer limit as a one-sided row. `error` is how far the row is to
 // move its coordinate back: an equality row's distance from the locked value, a limit row's
 // gap inside its limit (negative past it). A swing-twist joint's first swing measures the
-// cone: the swing angle against the upper limit.
+// cone (`cone`): the swing angle against the upper limit.
 struct PfxLockRow {
   PfxJointRowType type;
   PfxFloat position;
   PfxFloat error;
   bool atLower;
+  bool cone;
 };
 
 inline PfxLockRow pfxLockRow(const PfxJoint& joint, PfxUInt32 axis,
@@ -31,7 +32,8 @@ inline PfxLockRow pfxLockRow(const PfxJoint& joint, PfxUInt32 axis,
   PfxFloat position = positions[axis];
   PfxFloat lower = c.m_movableLowerLimit;
   const PfxFloat upper = c.m_movableUpperLimit;
-  if (joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1) {
+  const bool cone = joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1;
+  if (cone) {
     const PfxFloat s1 = positions[kPfxJointAxisSwing1];
     const PfxFloat s2 = positions[kPfxJointAxisSwing2];
     position = std::sqrt(s1 * s1 + s2 * s2);
@@ -40,13 +42,14 @@ inline PfxLockRow pfxLockRow(const PfxJoint& joint, PfxUInt32 axis,
   const bool rotation = axis >= 3;
   if (c.m_lock == kPfxJointLockFree ||
       (c.m_lock == kPfxJointLockLimit && rotation && lower <= -PFX_PI && upper >= PFX_PI)) {
-    return {kPfxJointRowNone, position, 0, false};
+    return {kPfxJointRowNone, position, 0, false, cone};
   }
   if (c.m_lock == kPfxJointLockLocked || lower == upper) {
-    return {kPfxJointRowEquality, position, position - c.getLockedValue(), false};
+    return {kPfxJointRowEquality, position, position - c.getLockedValue(), false, cone};
   }
   const bool atLower = position - lower < upper - position;
-  return {kPfxJointRowLimit, position, atLower ? position - lower : upper - position, atLower};
+  return {kPfxJointRowLimit, position, atLower ? position - lower : upper - position, atLower,
+          cone};
 }
 
 // The velocity along the row that moves its coordinate back over the step, at the joint's

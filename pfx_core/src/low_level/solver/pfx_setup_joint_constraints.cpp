@@ -187,8 +187,7 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mod
     const PfxJointConstraint& c = joint.m_constraints[axis];
     const PfxLockRow lock = pfxLockRow(joint, axis, positions);
     PfxVector3 direction = joint.m_axes[axis];
-    const bool cone = joint.m_type == kPfxJointSwingTwist && axis == kPfxJointAxisSwing1;
-    if (cone) {
+    if (lock.cone) {
       // The cone's row turns about the axis the swing turns about.
       if (lock.position > PFX_EPSILON) {
         const PfxMatrix3 frameA =
@@ -202,7 +201,7 @@ void setupJoint(PfxJoint& joint, const JointBodies& bodies, const SetupMode& mod
     setupLockRow(joint, axis, direction, lock, mode, bodies);
     // The cone's limit row measures the swing angle, not the drive's coordinate.
     const AllowedVelocities allowed =
-        cone ? AllowedVelocities() : allowedVelocities(c, mode.timeStep);
+        lock.cone ? AllowedVelocities() : allowedVelocities(c, mode.timeStep);
     setupDriveRow(joint, axis, direction, allowed, mode, bodies);
   }
 }
