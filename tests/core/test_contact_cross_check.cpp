@@ -253,17 +253,23 @@ Reference referenceBounds(const ReferenceShape& a, const Placement& pa, const Re
   return ref;
 }
 
+// The draws of this file each take a statement of their own, in the order GCC evaluated
+// them as a call's arguments (last first) when the fixed poses below were found: that
+// order is unspecified, and clang's is the reverse, which gave other meshes.
 Mat3 randomRotation(std::mt19937& rng) {
   std::normal_distribution<double> gauss;
-  Eigen::Quaterniond q(gauss(rng), gauss(rng), gauss(rng), gauss(rng));
-  return q.normalized().toRotationMatrix();
+  const double z = gauss(rng), y = gauss(rng), x = gauss(rng), w = gauss(rng);
+  return Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
 }
 
 // A uniformly random unit vector.
 Vec3 randomDirection(std::mt19937& rng) {
   std::normal_distribution<double> gauss;
   Vec3 v;
-  do v = Vec3(gauss(rng), gauss(rng), gauss(rng)); while (v.norm() < 1e-6);
+  do {
+    const double z = gauss(rng), y = gauss(rng), x = gauss(rng);
+    v = Vec3(x, y, z);
+  } while (v.norm() < 1e-6);
   return v.normalized();
 }
 
@@ -283,7 +289,8 @@ class ContactCrossCheck : public ::testing::Test {
     for (int i = 0; i < kNumMeshes; ++i) {
       const TriangleList& source = sources[i % 2];
       const double radius = i % 2 ? std::sqrt(1 + 2.618 * 2.618) : std::sqrt(3.0);
-      const Vec3 stretch = Vec3(scale(rng), scale(rng), scale(rng)) / radius;
+      const double z = scale(rng), y = scale(rng), x = scale(rng);
+      const Vec3 stretch = Vec3(x, y, z) / radius;
       TriangleList scaled = source;
       for (std::size_t k = 0; k < scaled.vertices.size(); ++k) {
         scaled.vertices[k] = PfxFloat(scaled.vertices[k] * stretch[k % 3]);
@@ -311,9 +318,18 @@ class ContactCrossCheck : public ::testing::Test {
     std::uniform_real_distribution<PfxFloat> size(PfxFloat(0.05), PfxFloat(0.6));
     switch (type) {
       case kPfxShapeSphere: return referenceOf(makeSphere(size(rng)));
-      case kPfxShapeBox: return referenceOf(makeBox(size(rng), size(rng), size(rng)));
-      case kPfxShapeCapsule: return referenceOf(makeCapsule(size(rng), size(rng) * PfxFloat(0.6)));
-      case kPfxShapeCylinder: return referenceOf(makeCylinder(size(rng), size(rng)));
+      case kPfxShapeBox: {
+        const PfxFloat z = size(rng), y = size(rng), x = size(rng);
+        return referenceOf(makeBox(x, y, z));
+      }
+      case kPfxShapeCapsule: {
+        const PfxFloat radius = size(rng) * PfxFloat(0.6), halfLength = size(rng);
+        return referenceOf(makeCapsule(halfLength, radius));
+      }
+      case kPfxShapeCylinder: {
+        const PfxFloat radius = size(rng), halfLength = size(rng);
+        return referenceOf(makeCylinder(halfLength, radius));
+      }
       default: return m_meshShapes[rng() % kNumMeshes];
     }
   }
@@ -490,7 +506,8 @@ TEST_F(ContactCrossCheck, EveryPairOfConvexTypesAgreesWithTheReference) {
         // B is placed along a random direction u so that the shapes' separation along u is
         // a chosen gap, from deep overlap to beyond the threshold; the signed distance is
         // that gap or more.
-        const PfxTransform3 poseA = roundedPose(randomRotation(rng), 0.3 * randomDirection(rng));
+        const Vec3 positionA = 0.3 * randomDirection(rng);
+        const PfxTransform3 poseA = roundedPose(randomRotation(rng), positionA);
         const Mat3 rotationB = randomRotation(rng);
         const Vec3 u = randomDirection(rng);
         const Placement pa = placementOf(poseA);
