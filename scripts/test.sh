@@ -52,8 +52,16 @@ ctest --test-dir build --output-on-failure -j"$jobs" --repeat until-pass:2
 
 stage "sanitizer build"
 # -O1 -g1: a quarter of the compile time of -O2 -g (pfx_gjk.cpp: 12 against 50 CPU seconds)
-# with line tables, which is what the sanitizers' stack traces need.
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPFX_SANITIZE=address,undefined \
+# with line tables, which is what the sanitizers' stack traces need. Built by clang, which
+# the fuzz stage installs anyway: the core and its 43 suites compile in 624 CPU seconds
+# against GCC's 1,133 and run in 371 against 316 (cold, 2026-11-29), and clang's
+# UndefinedBehaviorSanitizer checks more (it found an offset added to a null pointer that
+# GCC's passed). The release, double and thread sanitizer builds stay GCC's.
+if [ -x /usr/lib/llvm-14/bin/llvm-symbolizer ]; then
+  export ASAN_SYMBOLIZER_PATH=/usr/lib/llvm-14/bin/llvm-symbolizer
+fi
+CC=clang CXX=clang++ \
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPFX_SANITIZE=address,undefined \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" $batched \
   -DPFX_BUILD_SAMPLES=OFF -DPFX_BUILD_BENCH=OFF -DPFX_BUILD_ROS=OFF >/dev/null
 # Only the programs of the core tests, the ones run here: the loaders, their tests and the
