@@ -642,6 +642,11 @@ PfxInt32 PfxJointTreeSolver::getTreeBody(PfxUInt32 rigidBodyId) const {
   return m_bodyTreeBody[rigidBodyId];
 }
 
+bool PfxJointTreeSolver::isTreeHeldByGround(PfxUInt32 rigidBodyId) const {
+  const PfxInt32 node = nodeOfBody(rigidBodyId);
+  return node >= 0 && m_nodes[m_treeStarts[m_nodes[node].tree]].body < 0;
+}
+
 PfxFloat PfxJointTreeSolver::getImpulseResponse(PfxUInt32 rigidBodyId, const PfxVector3& linear,
                                                 const PfxVector3& angular) {
   const PfxInt32 bodyNode = nodeOfBody(rigidBodyId);

@@ -111,6 +111,9 @@ class PfxJointTreeSolver {
   // tree, or -1 for a body in no tree: a joint row that moves its tree
   // (applyBoundedRowImpulse) touches every body of the tree.
   PfxInt32 getTreeBody(PfxUInt32 rigidBodyId) const;
+  // Whether the tree that holds body `rigidBodyId` is joined to a body that does not move
+  // (an arm on its base); false for a body in no tree.
+  bool isTreeHeldByGround(PfxUInt32 rigidBodyId) const;
   // How fast the generalized impulse (linear, angular) on body `rigidBodyId` moves it
   // along itself per unit, its tree's locked axes held (j^T M^-1 j over the tree): the
   // effective inverse mass of a contact on a body of a tree. -1 for a body in no tree. The

@@ -395,20 +395,20 @@ void solveJoint(PfxJoint& joint, const PairBodies& p, PfxJointTreeSolver& tree,
 constexpr PfxUInt32 kSolvedBodiesPerTask = 512;
 
 // The contact pairs with points that touch a body of a joint tree: first, in their order,
-// those between a tree's body and one that does not move (the pairs that
-// pfxSweepTreeContacts takes with PfxTreeContactPairs::kOnTrees), then the others. Each
+// those sized through the trees (the pairs that pfxSweepTreeContacts takes with
+// PfxTreeContactPairs::kOnTrees), then the others. Each
 // iteration's sweep of those pairs through the trees, and its marking of the trees that
 // contacts move, went through every pair the broad phase found, most of them without a
 // point (three quarters of the piled ragdolls' pairs).
 struct TreeContactPairs {
   const PfxConstraintPair* pairs;
-  PfxUInt32 numOnFixed;
+  PfxUInt32 numThroughTrees;
   PfxUInt32 numPairs;
 };
 
 TreeContactPairs gatherTreeContactPairs(const PfxSolveConstraintsParam& param,
                                         const PfxJointTreeSolver& tree, PfxConstraintPair* pairs) {
-  PfxUInt32 numOnFixed = 0, numOthers = 0;
+  PfxUInt32 numThroughTrees = 0, numOthers = 0;
   // The others are gathered from the end backwards (their order does not matter), then
   // moved up behind the first.
   PfxConstraintPair* const others = pairs + param.numContactPairs;
@@ -421,13 +421,13 @@ TreeContactPairs gatherTreeContactPairs(const PfxSolveConstraintsParam& param,
     const PfxUInt32 idA = pfxGetObjectIdA(pair), idB = pfxGetObjectIdB(pair);
     if (tree.getTreeBody(idA) < 0 && tree.getTreeBody(idB) < 0) continue;
     if (pfxTreeContactSides(pair, param.offsetSolverBodies, tree).throughTrees) {
-      pairs[numOnFixed++] = pair;
+      pairs[numThroughTrees++] = pair;
     } else {
       *(others - ++numOthers) = pair;
     }
   }
-  std::copy(others - numOthers, others, pairs + numOnFixed);
-  return {pairs, numOnFixed, numOnFixed + numOthers};
+  std::copy(others - numOthers, others, pairs + numThroughTrees);
+  return {pairs, numThroughTrees, numThroughTrees + numOthers};
 }
 
 // The work buffer: the joints' forest and its bounded rows, the contacts' forest, the
@@ -702,7 +702,7 @@ PfxInt32 pfxSolveConstraints(const PfxSolveConstraintsParam& param, PfxTaskManag
       // The contacts on the trees' bodies again, as the trees answer them
       // (pfx_tree_contact_rows.h): the sweep above leaves a landing foot sinking with the
       // body's momentum. Before the joints' limits, which the trees' solve does not hold.
-      pfxSweepTreeContacts(treeContacts.pairs, treeContacts.numOnFixed,
+      pfxSweepTreeContacts(treeContacts.pairs, treeContacts.numThroughTrees,
                            param.offsetContactManifolds, param.offsetSolverBodies, tree,
                            PfxTreeContactVelocities::kVelocity, PfxTreeContactPairs::kOnTrees,
                            kNegligibleTreeContactShortfall / param.timeStep);
