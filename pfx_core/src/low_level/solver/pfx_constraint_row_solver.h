@@ -32,6 +32,16 @@ inline PfxVector3 pfxRelativeDeltaVelocity(const PfxSolverBody& a, const PfxVect
          a.m_deltaAngularVelocity.cross(rA);
 }
 
+// Adds to one body's chosen velocities what the generalized impulse (linear, and angular
+// about its centre of mass) gives it.
+inline void pfxApplyBodyImpulse(PfxSolverBody& body, const PfxVector3& linear,
+                                const PfxVector3& angular,
+                                PfxVector3 PfxSolverBody::*linearVelocity,
+                                PfxVector3 PfxSolverBody::*angularVelocity) {
+  body.*linearVelocity += body.m_massInv * linear;
+  body.*angularVelocity += body.m_inertiaInv * angular;
+}
+
 // By default to the solved velocities; the split impulses pass the push velocities.
 inline void pfxApplyRowImpulse(
     const PfxVector3& normal, PfxFloat impulse, PfxSolverBody& a, const PfxVector3& rA,
@@ -40,12 +50,10 @@ inline void pfxApplyRowImpulse(
     PfxVector3 PfxSolverBody::*angularVelocity = &PfxSolverBody::m_deltaAngularVelocity) {
   const PfxVector3 linear = normal * impulse;
   if (pfxTakesImpulse(a, receivesA)) {
-    a.*linearVelocity -= a.m_massInv * linear;
-    a.*angularVelocity -= a.m_inertiaInv * rA.cross(linear);
+    pfxApplyBodyImpulse(a, -linear, -rA.cross(linear), linearVelocity, angularVelocity);
   }
   if (pfxTakesImpulse(b, receivesB)) {
-    b.*linearVelocity += b.m_massInv * linear;
-    b.*angularVelocity += b.m_inertiaInv * rB.cross(linear);
+    pfxApplyBodyImpulse(b, linear, rB.cross(linear), linearVelocity, angularVelocity);
   }
 }
 
@@ -74,14 +82,8 @@ inline void pfxApplyNormalImpulses(const PfxContactManifold& manifold, const Pfx
     torqueA += cp.m_armA.cross(impulse);
     torqueB += cp.m_armB.cross(impulse);
   }
-  if (pfxTakesImpulse(a, receivesA)) {
-    a.*linear -= a.m_massInv * force;
-    a.*angular -= a.m_inertiaInv * torqueA;
-  }
-  if (pfxTakesImpulse(b, receivesB)) {
-    b.*linear += b.m_massInv * force;
-    b.*angular += b.m_inertiaInv * torqueB;
-  }
+  if (pfxTakesImpulse(a, receivesA)) pfxApplyBodyImpulse(a, -force, -torqueA, linear, angular);
+  if (pfxTakesImpulse(b, receivesB)) pfxApplyBodyImpulse(b, force, torqueB, linear, angular);
 }
 
 // One Gauss-Seidel update: the impulse that brings the row to its target velocity, with the

@@ -126,8 +126,7 @@ inline void pfxSweepTreeContacts(const PfxConstraintPair* pairs, PfxUInt32 numPa
       tree.applyImpulseThroughTree(id, impulse, arm.cross(impulse), push);
       return;
     }
-    body.*linear += body.m_massInv * impulse;
-    body.*angular += body.m_inertiaInv * arm.cross(impulse);
+    pfxApplyBodyImpulse(body, impulse, arm.cross(impulse), linear, angular);
     if (treeOf >= 0) tree.solveTreeOf(id, push);
   };
   for (PfxUInt32 i = 0; i < numPairs; ++i) {
