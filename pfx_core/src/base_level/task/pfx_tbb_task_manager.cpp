@@ -13,7 +13,14 @@
 // state exactly what TBB guarantees, no more: a piece starts after the call that launched
 // it, and the call returns after every piece ends. Pieces are not ordered among themselves,
 // so a race between two of them is still reported.
-#if defined(__SANITIZE_THREAD__)
+// GCC says it builds with ThreadSanitizer by __SANITIZE_THREAD__, clang only through
+// __has_feature: without the second, clang's build reported such a race in castRays.
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define PFX_THREAD_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__) || defined(PFX_THREAD_SANITIZER)
 extern "C" void __tsan_acquire(void* address);
 extern "C" void __tsan_release(void* address);
 #define PFX_TSAN_ACQUIRE(address) __tsan_acquire(address)
