@@ -40,7 +40,7 @@ inline void addBoxPileInBin(PfxWorld& world, int count) {
     init.position = PfxVector3((cell % n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng),
                                0.3f + layer * 0.62f,
                                (cell / n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng));
-    const PfxVector3 axis(jitter(rng), jitter(rng), jitter(rng));
+    const PfxVector3 axis{jitter(rng), jitter(rng), jitter(rng)};
     init.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(0.3f * jitter(rng), axis.normalized()));
     EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.25f, 0.25f, 0.25f)), init), PFX_OK);
   }

@@ -78,9 +78,9 @@ inline MeshSource makeRandomTriangles(PfxUInt32 count, PfxFloat extent, PfxFloat
   std::uniform_real_distribution<PfxFloat> off(-size, size);
   MeshSource m;
   for (PfxUInt32 t = 0; t < count; ++t) {
-    const PfxVector3 c(pos(rng), pos(rng) * PfxFloat(0.2), pos(rng));
+    const PfxVector3 c{pos(rng), pos(rng) * PfxFloat(0.2), pos(rng)};
     PfxVector3 p[3];
-    for (auto& v : p) v = c + PfxVector3(off(rng), off(rng) * PfxFloat(0.3), off(rng));
+    for (auto& v : p) v = c + PfxVector3{off(rng), off(rng) * PfxFloat(0.3), off(rng)};
     if ((p[1] - p[0]).cross(p[2] - p[0]).y() < 0) std::swap(p[1], p[2]);
     for (const auto& v : p) m.vertices.insert(m.vertices.end(), {v.x(), v.y(), v.z()});
     m.triangles.insert(m.triangles.end(), {3 * t, 3 * t + 1, 3 * t + 2});

@@ -142,9 +142,9 @@ TEST(UpdateBroadphaseProxy, QuantizationIsConservativeAndTight) {
   for (int trial = 0; trial < 2000; ++trial) {
     Scene scene;
     BodyDesc d;
-    d.position = PfxVector3(pos(rng), pos(rng), pos(rng));
-    d.half = PfxVector3(size(rng), size(rng), size(rng));
-    d.orientation = PfxQuat(unit(rng), unit(rng), unit(rng), unit(rng)).normalized();
+    d.position = PfxVector3{pos(rng), pos(rng), pos(rng)};
+    d.half = PfxVector3{size(rng), size(rng), size(rng)};
+    d.orientation = PfxQuat{unit(rng), unit(rng), unit(rng), unit(rng)}.normalized();
     addBody(scene, d);
     PfxBroadphaseProxy proxy;
     ASSERT_EQ(PFX_OK, pfxUpdateBroadphaseProxy(proxy, scene.states[0], scene.collidables[0],
@@ -275,8 +275,8 @@ Scene randomScene(PfxUInt32 n, std::mt19937& rng, PfxFloat spread) {
   for (PfxUInt32 i = 0; i < n; ++i) {
     BodyDesc d;
     d.id = ids[i];
-    d.position = PfxVector3(pos(rng), pos(rng), pos(rng));
-    d.half = PfxVector3(size(rng), size(rng), size(rng));
+    d.position = PfxVector3{pos(rng), pos(rng), pos(rng)};
+    d.half = PfxVector3{size(rng), size(rng), size(rng)};
     d.type = static_cast<PfxMotionType>(type(rng));
     d.asleep = asleep(rng);
     d.self = 1u << bit(rng);
@@ -580,7 +580,7 @@ TEST(ChooseSweepAxis, PicksTheAxisOfLargestSpread) {
     std::vector<PfxRigidState> states(100);
     for (auto& s : states) {
       s.reset();
-      PfxVector3 p(narrow(rng), narrow(rng), narrow(rng));
+      PfxVector3 p{narrow(rng), narrow(rng), narrow(rng)};
       p[axis] = wide(rng) + 1000;  // far from the origin: the spread is what counts
       s.setPosition(p);
     }

@@ -44,8 +44,8 @@ bool usesEpa(const PfxShape& shape) {
 
 PfxTransform3 randomPose(std::mt19937& rng, PfxFloat spread) {
   std::uniform_real_distribution<PfxFloat> unit(-1, 1);
-  const PfxQuat q = PfxQuat(unit(rng), unit(rng), unit(rng), unit(rng) + 1e-3f).normalized();
-  return pose(PfxVector3(unit(rng), unit(rng), unit(rng)) * spread, q);
+  const PfxQuat q = PfxQuat{unit(rng), unit(rng), unit(rng), unit(rng) + 1e-3f}.normalized();
+  return pose(PfxVector3{unit(rng), unit(rng), unit(rng)} * spread, q);
 }
 
 TEST_F(ContactRobustness, RandomPosesOfEveryPairGiveWellFormedContacts) {
@@ -104,7 +104,7 @@ TEST_F(ContactRobustness, DeepestDistanceMatchesAnIndependentMeasure) {
   for (int trial = 0; trial < 500; ++trial) {
     const PfxShape sphere = makeSphere(0.2f + 0.3f * std::abs(unit(rng)));
     const PfxTransform3 tBox = randomPose(rng, 0.3f);
-    const PfxTransform3 tSphere = pose(PfxVector3(unit(rng), unit(rng), unit(rng)));
+    const PfxTransform3 tSphere = pose(PfxVector3{unit(rng), unit(rng), unit(rng)});
     const Contacts exact = collide(box, tBox, sphere, tSphere, 0.05f);
     const Contacts viaGjk = collide(meshBox, tBox, sphere, tSphere, 0.05f);
     ASSERT_EQ(exact.n > 0, viaGjk.n > 0) << "trial " << trial;

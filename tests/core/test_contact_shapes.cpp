@@ -331,8 +331,8 @@ TEST(ContactBoxBox, MatchesTheGeneralPolyhedraRoutine) {
   };
   int compared = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    const PfxVector3 halfA(uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1));
-    const PfxVector3 halfB(uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1));
+    const PfxVector3 halfA{uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1)};
+    const PfxVector3 halfB{uniform(0.1f, 1), uniform(0.1f, 1), uniform(0.1f, 1)};
     const PfxQuat qa = PfxQuat(PfxVector4::Random()).normalized();
     const PfxQuat qb = PfxQuat(PfxVector4::Random()).normalized();
     // Along a random direction, at a distance between deep overlap and just apart.

@@ -426,8 +426,8 @@ TEST(LargeTriMesh, RayCastMatchesBruteForceInEveryVariant) {
     const std::vector<ReferenceTriangle> triangles = referenceTriangles(owner.mesh);
     PfxUInt32 hits = 0;
     for (int r = 0; r < kBruteForceRays; ++r) {
-      const PfxVector3 start(u(rng) * 25, u(rng) * 8 + 10, u(rng) * 25);
-      const PfxVector3 dir(u(rng) * 20, -30 + u(rng) * 5, u(rng) * 20);
+      const PfxVector3 start{u(rng) * 25, u(rng) * 8 + 10, u(rng) * 25};
+      const PfxVector3 dir{u(rng) * 20, -30 + u(rng) * 5, u(rng) * 20};
       const ReferenceHit ref = bruteForceRay(triangles, start, dir);
       PfxFloat fraction = -1;
       PfxVector3 normal;
@@ -522,7 +522,7 @@ TEST(LargeTriMesh, RaysAimedAtTheCentreOfAClosedSphereAllHit) {
     ASSERT_EQ(pfxCreateLargeTriMesh(owner.mesh, sphere.param(flags)), PFX_OK);
     PfxUInt32 misses = 0;
     for (int r = 0; r < 20000; ++r) {
-      PfxVector3 d(g(rng), g(rng), g(rng));
+      PfxVector3 d{g(rng), g(rng), g(rng)};
       d.normalize();
       // Every fourth ray aims at a vertex (the pole or a ring point), where most triangles meet.
       PfxVector3 target = PfxVector3::Zero();
@@ -568,8 +568,8 @@ TEST(LargeTriMesh, DeformationRefitsBoundsAndRays) {
     std::mt19937 rng(9);
     std::uniform_real_distribution<PfxFloat> u(-15, 15);
     for (int r = 0; r < 200; ++r) {
-      const PfxVector3 start(u(rng), 4, u(rng));
-      const PfxVector3 dir(u(rng) * PfxFloat(0.2), -6, u(rng) * PfxFloat(0.2));
+      const PfxVector3 start{u(rng), 4, u(rng)};
+      const PfxVector3 dir{u(rng) * PfxFloat(0.2), -6, u(rng) * PfxFloat(0.2)};
       const ReferenceHit ref = bruteForceRay(triangles, start, dir);
       if (!ref.hit || ref.margin < 1e-6) continue;
       ASSERT_TRUE(pfxRayCastLargeTriMesh(owner.mesh, start, dir, fraction, normal, triangle));

@@ -137,9 +137,10 @@ class MeshContactReference : public ::testing::Test {
     std::uniform_real_distribution<PfxFloat> u(-1, 1);
     std::vector<PfxTransform3> poses;
     for (int i = 0; i < 40; ++i) {
-      const PfxQuat q = PfxQuat(Eigen::AngleAxis<PfxFloat>(
-          u(rng) * PFX_PI, PfxVector3(u(rng), u(rng), u(rng)).normalized()));
-      poses.push_back(pfxMakeTransform(q, PfxVector3(u(rng) * 10, u(rng) * 2, u(rng) * 10)));
+      const PfxFloat angle = u(rng) * PFX_PI;
+      const PfxQuat q =
+          PfxQuat(Eigen::AngleAxis<PfxFloat>(angle, PfxVector3{u(rng), u(rng), u(rng)}.normalized()));
+      poses.push_back(pfxMakeTransform(q, PfxVector3{u(rng) * 10, u(rng) * 2, u(rng) * 10}));
     }
     struct Reference {
       std::vector<PfxFloat> corners;
@@ -515,14 +516,14 @@ TEST(MeshContacts, CylindersOnTheGroundReportNoFalseOverlap) {
       };
       PfxBodyInit init;
       init.mass = 1;
-      const PfxVector3 turn(uniform(random), uniform(random), uniform(random));
+      const PfxVector3 turn{uniform(random), uniform(random), uniform(random)};
       init.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(3 * uniform(random), turn.normalized()));
       init.position = PfxVector3(0.3f * uniform(random),
                                  reachBelowCentre(init.orientation * PfxVector3::UnitX()) +
                                      0.01f * (uniform(random) + 1),
                                  0.3f * uniform(random));
-      init.angularVelocity = 2 * PfxVector3(uniform(random), uniform(random), uniform(random));
-      init.linearVelocity = PfxVector3(uniform(random), 0, uniform(random));
+      init.angularVelocity = 2 * PfxVector3{uniform(random), uniform(random), uniform(random)};
+      init.linearVelocity = PfxVector3{uniform(random), 0, uniform(random)};
       PfxUInt32 id = 0;
       ASSERT_EQ(pfxAddBody(world, pfxMakeShape(PfxCylinder(halfLength, radius)), init, &id),
                 PFX_OK);

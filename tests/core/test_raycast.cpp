@@ -82,19 +82,19 @@ class RandomSource {
   int index(int n) { return std::uniform_int_distribution<int>(0, n - 1)(m_engine); }
   Vec3d unit() {
     for (;;) {
-      const Vec3d v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+      const Vec3d v{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)};
       const double n = v.norm();
       if (n > 0.1 && n <= 1) return v / n;
     }
   }
   PfxQuat rotation() {
-    const Eigen::Vector4d v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+    const Eigen::Vector4d v{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)};
     const Eigen::Vector4d u = v.normalized();
     return PfxQuat(PfxFloat(u[0]), PfxFloat(u[1]), PfxFloat(u[2]), PfxFloat(u[3])).normalized();
   }
   PfxVector3 position(double range) {
-    return PfxVector3(PfxFloat(uniform(-range, range)), PfxFloat(uniform(-range, range)),
-                      PfxFloat(uniform(-range, range)));
+    return PfxVector3{PfxFloat(uniform(-range, range)), PfxFloat(uniform(-range, range)),
+                      PfxFloat(uniform(-range, range))};
   }
 
  private:

@@ -214,7 +214,7 @@ TEST_F(OctomapRoom, HundredThousandRandomRaysDownHitKnownHeights) {
   std::vector<PfxRayOutput> hits(kRays);
   for (PfxRayInput& ray : rays) {
     ray.reset();
-    ray.m_startPosition = toWorld(PfxVector3(x(rng), y(rng), 3));
+    ray.m_startPosition = toWorld(PfxVector3{x(rng), y(rng), 3});
     ray.m_direction = PfxVector3(0, 0, -4);
   }
   ASSERT_EQ(m_world.castRays(rays.data(), hits.data(), 1), PFX_OK);  // builds the rays' proxies
