@@ -37,9 +37,9 @@ inline void addBoxPileInBin(PfxWorld& world, int count) {
   for (int i = 0; i < count; ++i) {
     const int layer = i / (n * n), cell = i % (n * n);
     PfxBodyInit init;
-    init.position = PfxVector3((cell % n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng),
+    init.position = PfxVector3{(cell % n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng),
                                0.3f + layer * 0.62f,
-                               (cell / n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng));
+                               (cell / n - 0.5f * (n - 1)) * 0.62f + 0.05f * jitter(rng)};
     const PfxVector3 axis{jitter(rng), jitter(rng), jitter(rng)};
     init.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(0.3f * jitter(rng), axis.normalized()));
     EXPECT_EQ(pfxAddBody(world, pfxMakeShape(PfxBox(0.25f, 0.25f, 0.25f)), init), PFX_OK);

@@ -1090,10 +1090,12 @@ std::vector<PfxBroadphasePair> randomPairSet(std::mt19937& rng, double density,
   for (PfxUInt32 a = 0; a < 40; ++a) {
     for (PfxUInt32 b = a + 1; b < 40; ++b) {
       if (!take(rng)) continue;
-      pairs.push_back(makePair(a, b, static_cast<PfxMotionType>(type(rng)),
-                               static_cast<PfxMotionType>(type(rng)),
-                               withContacts ? contact(rng) : 0,
-                               withContacts ? constraints(rng) : 0));
+      // One draw a statement: a call's arguments are taken in no fixed order.
+      const auto typeA = static_cast<PfxMotionType>(type(rng));
+      const auto typeB = static_cast<PfxMotionType>(type(rng));
+      const PfxUInt32 contactId = withContacts ? contact(rng) : 0;
+      const PfxUInt32 numConstraints = withContacts ? constraints(rng) : 0;
+      pairs.push_back(makePair(a, b, typeA, typeB, contactId, numConstraints));
     }
   }
   return pairs;

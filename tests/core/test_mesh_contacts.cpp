@@ -518,10 +518,10 @@ TEST(MeshContacts, CylindersOnTheGroundReportNoFalseOverlap) {
       init.mass = 1;
       const PfxVector3 turn{uniform(random), uniform(random), uniform(random)};
       init.orientation = PfxQuat(Eigen::AngleAxis<PfxFloat>(3 * uniform(random), turn.normalized()));
-      init.position = PfxVector3(0.3f * uniform(random),
+      init.position = PfxVector3{0.3f * uniform(random),
                                  reachBelowCentre(init.orientation * PfxVector3::UnitX()) +
                                      0.01f * (uniform(random) + 1),
-                                 0.3f * uniform(random));
+                                 0.3f * uniform(random)};
       init.angularVelocity = 2 * PfxVector3{uniform(random), uniform(random), uniform(random)};
       init.linearVelocity = PfxVector3{uniform(random), 0, uniform(random)};
       PfxUInt32 id = 0;

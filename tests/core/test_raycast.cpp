@@ -279,8 +279,8 @@ TEST(RayAnalytic, EveryConvexShapeTypeAtRandomPoses) {
         break;
       }
       case kPfxShapeBox: {
-        const PfxVector3 half(PfxFloat(rng.uniform(0.05, 3)), PfxFloat(rng.uniform(0.05, 3)),
-                              PfxFloat(rng.uniform(0.05, 3)));
+        const PfxVector3 half{PfxFloat(rng.uniform(0.05, 3)), PfxFloat(rng.uniform(0.05, 3)),
+                              PfxFloat(rng.uniform(0.05, 3))};
         shape = makeBox(half[0], half[1], half[2]);
         s = sampleBox(rng, half.cast<double>());
         break;
